@@ -1,0 +1,1 @@
+"""adcskit.attitude (see design.md)."""

@@ -1,0 +1,245 @@
+"""Typed configuration: TOML files and mappings loaded into frozen dataclasses.
+
+Every study's configuration is a frozen, keyword-only dataclass. :func:`load_config` builds
+one from a mapping (for example a parsed TOML file) and checks every key against the
+dataclass fields: an unknown key, a missing required key or a value of the wrong type is a
+:class:`~adcskit.errors.ConfigError` that names the key (with its dotted path for nested
+tables), the value and what is allowed — never silently ignored (house style rule 4).
+
+Supported field types: ``bool``, ``int``, ``float`` (ints are accepted and converted),
+``str``, ``typing.Literal[...]``, ``tuple[T, ...]``, ``tuple[T1, T2]``, ``X | None``, and
+nested config dataclasses (TOML tables). Lists in the file become tuples, so loaded
+configs are hashable and immutable.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+import types
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
+
+from adcskit.errors import ConfigError
+
+__all__ = ["load_config", "config_to_dict", "dump_toml", "read_toml", "merge_mappings"]
+
+C = TypeVar("C")
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file, turning a syntax error into a :class:`ConfigError`."""
+    p = Path(path)
+    if not p.is_file():
+        raise ConfigError(f"config file must be an existing TOML file; got {str(p)!r} (not found)")
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"config file {str(p)!r} is not valid TOML: {exc}") from None
+
+
+def merge_mappings(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
+    """Recursive merge: tables are merged key by key, other values are replaced."""
+    out: dict[str, Any] = dict(base)
+    for key, value in override.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = merge_mappings(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def _type_name(tp: Any) -> str:
+    origin = get_origin(tp)
+    if origin is Literal:
+        return "one of " + ", ".join(repr(a) for a in get_args(tp))
+    if origin in (Union, types.UnionType):
+        return " or ".join(_type_name(a) for a in get_args(tp))
+    if origin is tuple:
+        args = get_args(tp)
+        if len(args) == 2 and args[1] is Ellipsis:
+            return f"list of {_type_name(args[0])}"
+        return "list [" + ", ".join(_type_name(a) for a in args) + "]"
+    if tp is type(None):
+        return "nothing (omit the key)"
+    if dataclasses.is_dataclass(tp):
+        return f"table ({tp.__name__})"
+    return getattr(tp, "__name__", str(tp))
+
+
+def _convert(path: str, value: Any, tp: Any) -> Any:
+    origin = get_origin(tp)
+    if tp is Any:
+        return value
+    if origin in (Union, types.UnionType):
+        args = get_args(tp)
+        if value is None and type(None) in args:
+            return None
+        for arg in args:
+            if arg is type(None):
+                continue
+            try:
+                return _convert(path, value, arg)
+            except ConfigError:
+                continue
+        raise ConfigError(f"{path} must be {_type_name(tp)}; got {value!r}")
+    if origin is Literal:
+        if value not in get_args(tp):
+            raise ConfigError(f"{path} must be {_type_name(tp)}; got {value!r}")
+        return value
+    if origin is tuple:
+        if isinstance(value, str | bytes) or not isinstance(value, list | tuple):
+            raise ConfigError(f"{path} must be {_type_name(tp)}; got {value!r}")
+        args = get_args(tp)
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(_convert(f"{path}[{i}]", v, args[0]) for i, v in enumerate(value))
+        if len(value) != len(args):
+            raise ConfigError(
+                f"{path} must be a list of {len(args)} items ({_type_name(tp)}); got {value!r}"
+            )
+        return tuple(_convert(f"{path}[{i}]", v, a) for i, (v, a) in enumerate(zip(value, args)))
+    if dataclasses.is_dataclass(tp):
+        if dataclasses.is_dataclass(value) and isinstance(value, tp):
+            return value
+        if not isinstance(value, Mapping):
+            raise ConfigError(f"{path} must be a table ({tp.__name__}); got {value!r}")
+        return _build(tp, value, prefix=path + ".")
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{path} must be a boolean (true/false); got {value!r}")
+        return value
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{path} must be an integer; got {value!r}")
+        return value
+    if tp is float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ConfigError(f"{path} must be a number; got {value!r}")
+        v = float(value)
+        if math.isnan(v):
+            raise ConfigError(f"{path} must be a number, not NaN; got {value!r}")
+        return v
+    if tp is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{path} must be a string; got {value!r}")
+        return value
+    raise TypeError(f"unsupported config field type {tp!r} for {path}")  # programming error
+
+
+def _build(cls: type[C], data: Mapping[str, Any], prefix: str = "") -> C:
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"{prefix.rstrip('.') or 'config'} must be a table; got {data!r}")
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    hints = get_type_hints(cls)
+    unknown = [k for k in data if k not in fields]
+    if unknown:
+        allowed = ", ".join(sorted(fields)) or "(none)"
+        raise ConfigError(
+            f"unknown config key {prefix}{unknown[0]!s} = {data[unknown[0]]!r}; "
+            f"allowed keys{' in ' + prefix.rstrip('.') if prefix else ''}: {allowed}"
+        )
+    kwargs = {}
+    for name, f in fields.items():
+        if name in data:
+            kwargs[name] = _convert(prefix + name, data[name], hints[name])
+        elif f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            raise ConfigError(f"config key {prefix}{name} is required ({_type_name(hints[name])})")
+    try:
+        return cls(**kwargs)
+    except ConfigError:
+        raise
+    except (ValueError, TypeError) as exc:
+        raise ConfigError(f"invalid config{' table ' + prefix.rstrip('.') if prefix else ''}: {exc}") from None
+
+
+def load_config(
+    cls: type[C],
+    source: Mapping[str, Any] | str | Path | None = None,
+    overrides: Mapping[str, Any] | None = None,
+) -> C:
+    """Build the frozen config dataclass ``cls`` from a mapping or TOML file.
+
+    Parameters
+    ----------
+    cls : dataclass type
+        The configuration class (frozen, keyword-only).
+    source : mapping, path or None
+        Parsed TOML data or the path of a TOML file. ``None`` uses the defaults.
+    overrides : mapping, optional
+        Merged under ``source`` (``source`` wins): used for the ``--quick`` settings, so a
+        user file can still override them.
+
+    Raises
+    ------
+    ConfigError
+        On an unknown key (the message lists the allowed ones), a missing required key, or a
+        value of the wrong type.
+    """
+    if source is None:
+        data: Mapping[str, Any] = {}
+    elif isinstance(source, str | Path):
+        data = read_toml(source)
+    elif isinstance(source, Mapping):
+        data = source
+    else:
+        raise ConfigError(f"config must be a mapping or a TOML path; got {source!r}")
+    if overrides:
+        data = merge_mappings(overrides, data)
+    return _build(cls, data)
+
+
+def config_to_dict(config: Any) -> dict[str, Any]:
+    """Plain-JSON view of a config dataclass (tuples become lists)."""
+
+    def plain(v: Any) -> Any:
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            return {f.name: plain(getattr(v, f.name)) for f in dataclasses.fields(v)}
+        if isinstance(v, tuple | list):
+            return [plain(x) for x in v]
+        if isinstance(v, Mapping):
+            return {str(k): plain(x) for k, x in v.items()}
+        return v
+
+    return plain(config)
+
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {v!r} as a TOML value")
+
+
+def dump_toml(data: Mapping[str, Any], _prefix: str = "") -> str:
+    """Write a plain mapping (as from :func:`config_to_dict`) as TOML text.
+
+    ``None`` values are written as comments, since TOML has no null.
+    """
+    lines: list[str] = []
+    tables = []
+    for key, value in data.items():
+        if isinstance(value, Mapping):
+            tables.append((key, value))
+        elif value is None:
+            lines.append(f"# {key} = (unset)")
+        else:
+            lines.append(f"{key} = {_toml_value(value)}")
+    for key, value in tables:
+        name = f"{_prefix}{key}"
+        lines.append("")
+        lines.append(f"[{name}]")
+        lines.append(dump_toml(value, name + ".").rstrip("\n"))
+    return "\n".join(lines).lstrip("\n") + "\n"

@@ -1,0 +1,1 @@
+"""adcskit.control (see design.md)."""

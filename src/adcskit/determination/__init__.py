@@ -1,0 +1,1 @@
+"""adcskit.determination (see design.md)."""

@@ -1,0 +1,1 @@
+"""adcskit.dynamics (see design.md)."""

@@ -1,0 +1,1 @@
+"""adcskit.environment (see design.md)."""

@@ -1,0 +1,35 @@
+"""Exception types of adcskit.
+
+Every error raised on bad input is a subclass of the built-in :class:`ValueError` or
+:class:`TypeError`, so ``except ValueError`` keeps working for callers that do not know
+adcskit, and its message names the parameter, the offending value and what is allowed
+(house style rule 6 of ``design.md``).
+"""
+
+from __future__ import annotations
+
+__all__ = ["AdcskitError", "InputError", "InputTypeError", "ConfigError", "SolverError"]
+
+
+class AdcskitError(Exception):
+    """Base class of every exception adcskit raises on purpose."""
+
+
+class InputError(AdcskitError, ValueError):
+    """A parameter has the right type but a value outside what is allowed."""
+
+
+class InputTypeError(AdcskitError, TypeError):
+    """A parameter has a type that cannot be converted to what is expected."""
+
+
+class ConfigError(InputError):
+    """A configuration file or mapping has an unknown, missing or ill-typed key."""
+
+
+class SolverError(AdcskitError, RuntimeError):
+    """A numerical solver could not be run at all (not: ran and did not converge).
+
+    A solver that runs and fails to converge returns a result with ``success=False``;
+    this exception is for conditions such as a missing optional dependency.
+    """

@@ -1,0 +1,1 @@
+"""adcskit.estimation (see design.md)."""

@@ -1,0 +1,1 @@
+"""adcskit.optimal_control (see design.md)."""

@@ -1,0 +1,1 @@
+"""adcskit.sensors (see design.md)."""

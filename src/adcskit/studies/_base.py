@@ -1,0 +1,193 @@
+"""Study framework: the :class:`Study` descriptor and the :class:`StudyResult` it returns.
+
+A study reproduces one paper's experiment. Its module defines
+
+* ``Config`` — a frozen keyword-only dataclass whose defaults are the paper's settings;
+* ``run(config, *, quick=False, rng=None, executor=None) -> StudyResult``;
+* ``STUDY = Study(...)`` — the descriptor the registry loads, with the ``quick`` overrides
+  (a reduced but honest run: fewer trials, coarser meshes, never different physics).
+
+The runner (:mod:`adcskit.studies._runner`) resolves the configuration, times the run,
+fills ``seed``/``runtime_s``/``quick`` and writes ``result.json``, the figures and CSVs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Check", "Comparison", "Study", "StudyResult", "new_figure", "to_jsonable"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Check:
+    """A verdict on one of the paper's claims (``kind="claim"``) or a sanity check.
+
+    Attributes
+    ----------
+    name : str
+        The claim in the paper's words, or what the check verifies.
+    passed : bool
+        For a claim: it held in our measurement. For a check: it passed.
+    detail : str
+        The evidence: numbers, with units, and how they were obtained.
+    kind : {"claim", "check"}
+        Claims are the paper's statements; checks are our own consistency tests.
+    """
+
+    name: str
+    passed: bool
+    detail: str
+    kind: str = "claim"
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("claim", "check"):
+            raise ValueError(f"Check.kind must be 'claim' or 'check'; got {self.kind!r}")
+        object.__setattr__(self, "passed", bool(self.passed))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "passed": self.passed, "detail": self.detail, "kind": self.kind}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Comparison:
+    """One row of the paper-vs-ours table shown in the report."""
+
+    quantity: str
+    paper: Any
+    measured: Any
+    unit: str = ""
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "quantity": self.quantity,
+            "paper": to_jsonable(self.paper),
+            "measured": to_jsonable(self.measured),
+            "unit": self.unit,
+            "note": self.note,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StudyResult:
+    """Everything a study run produced.
+
+    ``figures`` maps a file stem to a :class:`matplotlib.figure.Figure`; ``tables`` maps a
+    file stem to a list of row mappings (one CSV each). Both are written by the runner and
+    only their names go into ``result.json``.
+    """
+
+    study: str
+    title: str = ""
+    summary: str = ""
+    config: Mapping[str, Any] = field(default_factory=dict)
+    paper: Mapping[str, Any] = field(default_factory=dict)
+    measured: Mapping[str, Any] = field(default_factory=dict)
+    checks: Sequence[Check] = ()
+    comparison: Sequence[Comparison] = ()
+    differences: Sequence[str] = ()
+    figures: Mapping[str, Any] = field(default_factory=dict)
+    tables: Mapping[str, Sequence[Mapping[str, Any]]] = field(default_factory=dict)
+    doc: str = ""
+    seed: int | None = None
+    quick: bool = False
+    runtime_s: float = math.nan
+    executor: str = "serial"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``result.json`` document (schema of ``design.md`` plus report fields)."""
+        from adcskit import __version__
+
+        return {
+            "study": self.study,
+            "title": self.title,
+            "summary": self.summary,
+            "adcskit_version": __version__,
+            "config": to_jsonable(self.config),
+            "seed": self.seed,
+            "quick": bool(self.quick),
+            "runtime_s": to_jsonable(self.runtime_s),
+            "executor": self.executor,
+            "paper": to_jsonable(self.paper),
+            "measured": to_jsonable(self.measured),
+            "checks": [c.to_dict() for c in self.checks],
+            "comparison": [c.to_dict() for c in self.comparison],
+            "differences": list(self.differences),
+            "figures": [f"{name}.png" for name in self.figures],
+            "tables": [f"{name}.csv" for name in self.tables],
+            "doc": self.doc,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Study:
+    """Registry entry of one study.
+
+    Attributes
+    ----------
+    name : str
+        CLI name, e.g. ``"wahba-table1"``.
+    title : str
+        One line for ``adcskit list`` and the report.
+    paper : str
+        Source paper id (``"S0"`` .. ``"S4"``) and short citation.
+    config_cls : type
+        The study's frozen config dataclass; its defaults are the paper's settings.
+    run : callable
+        ``run(config, *, quick=False, rng=None, executor=None) -> StudyResult``.
+    quick : mapping
+        Config overrides for ``--quick``.
+    doc : str
+        Path of the study's documentation page in the repository.
+    """
+
+    name: str
+    title: str
+    paper: str
+    config_cls: type
+    run: Callable[..., StudyResult]
+    quick: Mapping[str, Any] = field(default_factory=dict)
+    doc: str = ""
+
+
+def to_jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays, tuples, dataclasses and non-finite floats for JSON.
+
+    NaN and infinities become ``None`` (JSON has no NaN); arrays become nested lists.
+    """
+    if isinstance(value, Mapping):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        if hasattr(value, "to_dict"):
+            return to_jsonable(value.to_dict())
+        return {f.name: to_jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, list | tuple):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, np.bool_ | bool):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, float | np.floating):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    return value
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] = (6.4, 4.0), **kw: Any):
+    """A matplotlib Figure and its axes, without pyplot's global state (Agg, thread-safe).
+
+    Returns ``(fig, axes)`` like :func:`matplotlib.pyplot.subplots`.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    axes = fig.subplots(nrows, ncols, **kw)
+    return fig, axes

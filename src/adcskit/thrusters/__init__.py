@@ -1,0 +1,1 @@
+"""adcskit.thrusters (see design.md)."""
