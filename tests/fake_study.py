@@ -1,0 +1,52 @@
+"""A small registered-at-test-time study used to exercise the framework end to end."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+
+
+def draw(seed: np.random.SeedSequence) -> float:
+    """One task of a toy campaign: the mean of 1000 normal draws."""
+    return float(np.random.default_rng(seed).normal(size=1000).mean())
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    n_tasks: int = 8
+    fail: bool = False
+
+    def __post_init__(self) -> None:
+        if self.n_tasks < 1:
+            raise ValueError(f"n_tasks must be >= 1; got {self.n_tasks}")
+
+
+def run(config: Config, *, quick=False, rng=None, executor=None) -> StudyResult:
+    if config.fail:
+        raise RuntimeError("fake study asked to fail")
+    seeds = np.random.SeedSequence(int(rng.integers(2**32))).spawn(config.n_tasks)
+    means = executor.map(draw, seeds, description="fake tasks")
+    fig, ax = new_figure()
+    ax.plot(means, "o-")
+    ax.set_title("fake study")
+    m = float(np.mean(means))
+    return StudyResult(
+        study="fake",
+        summary="A fake study for framework tests.",
+        paper={"mean": 0.0, "source": "none"},
+        measured={"mean": m, "means": means, "nan_value": float("nan")},
+        checks=[
+            Check(name="mean is near zero", passed=abs(m) < 0.2, detail=f"mean {m:.4f}"),
+            Check(name="ran", passed=True, detail="", kind="check"),
+        ],
+        comparison=[Comparison(quantity="mean", paper=0.0, measured=m, unit="-", note="toy")],
+        differences=["It is fake."],
+        figures={"means": fig},
+        tables={"means": [{"i": i, "mean": v} for i, v in enumerate(means)]},
+    )
+
+
+STUDY = Study(name="fake", title="Fake study", paper="none", config_cls=Config, run=run, quick={"n_tasks": 3})

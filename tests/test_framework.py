@@ -1,0 +1,155 @@
+"""Study runner, result writing, report and CLI, on a fake study registered for the test."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+import adcskit.studies._registry as registry
+from adcskit.cli import main
+from adcskit.errors import ConfigError, InputError
+from adcskit.report.html import build_report, format_value
+from adcskit.studies import run_study
+
+
+@pytest.fixture
+def fake(monkeypatch):
+    studies = dict(registry.STUDIES)
+    studies["fake"] = registry.StudyInfo("fake", "fake_study", "none", "A fake study")
+    monkeypatch.setattr(registry, "STUDIES", studies)
+    return "fake"
+
+
+def test_run_study_writes_complete_result(fake, tmp_path):
+    result = run_study(fake, quick=True, seed=3, out=tmp_path)
+    d = tmp_path / "fake"
+    data = json.loads((d / "result.json").read_text())
+    for key in ("study", "adcskit_version", "config", "seed", "quick", "runtime_s", "paper", "measured", "checks", "figures"):
+        assert key in data
+    assert data["config"] == {"n_tasks": 3, "fail": False}  # quick override applied and recorded
+    assert data["seed"] == 3 and data["quick"] is True
+    assert data["measured"]["nan_value"] is None  # NaN -> null, JSON stays valid
+    assert (d / "means.png").stat().st_size > 1000
+    assert (d / "means.csv").read_text().splitlines()[0] == "i,mean"
+    assert len(result.measured["means"]) == 3
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp dirs left
+
+
+def test_same_seed_same_result_different_seed_differs(fake, tmp_path):
+    a = run_study(fake, seed=1, out=None).measured["means"]
+    b = run_study(fake, seed=1, out=None).measured["means"]
+    c = run_study(fake, seed=2, out=None).measured["means"]
+    assert a == b and a != c
+
+
+def test_failed_rerun_keeps_previous_result(fake, tmp_path):
+    run_study(fake, out=tmp_path)
+    before = (tmp_path / "fake" / "result.json").read_text()
+    with pytest.raises(RuntimeError, match="asked to fail"):
+        run_study(fake, config={"fail": True}, out=tmp_path)
+    assert (tmp_path / "fake" / "result.json").read_text() == before
+
+
+def test_config_errors(fake, tmp_path):
+    with pytest.raises(ConfigError, match="unknown config key n_task"):
+        run_study(fake, config={"n_task": 2}, out=None)
+    with pytest.raises(InputError, match="study must be one of"):
+        run_study("no-such-study", out=None)
+    with pytest.raises(InputError, match="seed must be an integer"):
+        run_study(fake, seed=-1, out=None)
+
+
+def test_report_renders_claims_figures_and_missing_studies(fake, tmp_path):
+    run_study(fake, quick=True, out=tmp_path)
+    page = build_report(tmp_path).read_text()
+    assert 'id="fake"' in page and "fake/means.png" in page
+    assert "mean is near zero" in page and "It is fake." in page
+    assert "wahba-table1" in page  # every registered study listed, run or not
+
+
+def test_report_on_missing_dir(tmp_path):
+    with pytest.raises(InputError, match="existing directory"):
+        build_report(tmp_path / "nope")
+
+
+def test_format_value():
+    assert format_value(None) == "—"
+    assert format_value(1.23456789) == "1.235"
+    assert format_value(1.5e-7) == "1.500e-07"
+    assert format_value(True) == "yes"
+    assert format_value([1.0, 2.0]) == "[1, 2]"
+    assert format_value(math.inf) == "inf"
+
+
+def test_cli_run_reproduce_report(fake, tmp_path, capsys):
+    out = tmp_path / "res"
+    assert main(["run", "fake", "--quick", "--out", str(out), "--quiet"]) == 0
+    assert (out / "fake" / "result.json").is_file() and (out / "index.html").is_file()
+    assert main(["reproduce", "--quick", "--only", "fake", "--out", str(out), "--quiet"]) == 0
+    assert main(["report", str(out)]) == 0
+    assert main(["list"]) == 0
+    listing = capsys.readouterr().out
+    assert "fake" in listing and "wahba-table1" in listing
+
+
+def test_cli_failure_is_recorded_and_report_still_written(fake, tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("fail = true\n")
+    out = tmp_path / "res"
+    # 'run' with a failing study exits 1, records the error and writes the report
+    assert main(["run", "fake", "--config", str(cfg), "--out", str(out), "--quiet"]) == 1
+    errors = json.loads((out / "errors.json").read_text())
+    assert "asked to fail" in errors["fake"]["message"]
+    assert "failed" in (out / "index.html").read_text()
+    # a later success clears the error
+    assert main(["run", "fake", "--out", str(out), "--quiet"]) == 0
+    assert "fake" not in json.loads((out / "errors.json").read_text())
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run", "no-such-study", "--quiet"],
+        ["run", "fake", "--executor", "threads", "--quiet"],
+        ["reproduce", "--only", "nope", "--quiet"],
+        ["report", "/nonexistent/dir"],
+    ],
+)
+def test_cli_bad_arguments_exit_2(fake, argv, tmp_path, capsys):
+    assert main([*argv, *(["--out", str(tmp_path)] if argv[0] != "report" else [])]) == 2
+    assert "adcskit: error:" in capsys.readouterr().err
+
+
+def test_cli_bad_seed_is_argparse_error(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "fake", "--seed", "-3"])
+    assert exc.value.code == 2
+
+
+def test_cli_config_prints_loadable_toml(fake, tmp_path, capsys):
+    assert main(["config", "fake", "--quick"]) == 0
+    text = capsys.readouterr().out
+    p = tmp_path / "c.toml"
+    p.write_text(text)
+    import fake_study
+    from adcskit.config import load_config
+
+    assert load_config(fake_study.Config, p).n_tasks == 3
+
+
+def test_every_available_study_default_config_roundtrips(tmp_path):
+    from adcskit.config import config_to_dict, dump_toml, load_config
+    from adcskit.studies import get_study, is_available, study_names
+
+    for name in study_names():
+        if not is_available(name):
+            continue
+        study = get_study(name)
+        for quick in (False, True):
+            cfg = load_config(study.config_cls, None, overrides=study.quick if quick else None)
+            p = tmp_path / f"{name}-{quick}.toml"
+            p.write_text(dump_toml(config_to_dict(cfg)))
+            assert load_config(study.config_cls, p) == cfg, name
+

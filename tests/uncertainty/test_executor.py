@@ -1,0 +1,74 @@
+"""Executors give the same results, in task order, whatever runs them (design.md: same seed ->
+bit-identical results)."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from adcskit.errors import InputError
+from adcskit.uncertainty import SerialExecutor, make_executor
+
+TESTS = Path(__file__).resolve().parents[1]
+
+
+def _tasks(n: int = 12):
+    return np.random.SeedSequence(2024).spawn(n)
+
+
+def _expected():
+    import fake_study
+
+    return [fake_study.draw(s) for s in _tasks()]
+
+
+def test_serial_executor_order_and_values():
+    import fake_study
+
+    with make_executor("serial") as ex:
+        assert isinstance(ex, SerialExecutor) and ex.n_workers == 1
+        assert ex.map(fake_study.draw, _tasks()) == _expected()
+
+
+@pytest.fixture
+def tests_on_path(monkeypatch):
+    # worker processes import the task function's module by name
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(TESTS), *sys.path]))
+
+
+def test_process_pool_is_bit_identical(tests_on_path):
+    import fake_study
+
+    with make_executor("processes:2") as ex:
+        assert ex.n_workers == 2
+        assert ex.map(fake_study.draw, _tasks()) == _expected()
+
+
+def test_dask_local_is_bit_identical(tests_on_path):
+    pytest.importorskip("dask.distributed")
+    import fake_study
+
+    with make_executor("dask-local:2") as ex:
+        assert ex.spec == "dask-local:2"
+        assert ex.dashboard_link.startswith("http://127.0.0.1:")
+        assert ex.map(fake_study.draw, _tasks()) == _expected()
+
+
+@pytest.mark.parametrize(
+    ("spec", "fragment"),
+    [
+        ("threads", "executor must be one of serial, processes[:N], dask-local[:N], dask://HOST:PORT; got 'threads'"),
+        ("processes:0", "must end with a positive worker count"),
+        ("processes:x", "must end with a positive worker count"),
+        ("dask://nohost", "needs a host and a numeric port"),
+        (3, "executor must be one of"),
+    ],
+)
+def test_bad_specs(spec, fragment):
+    with pytest.raises(InputError) as err:
+        make_executor(spec)
+    assert fragment in str(err.value)
