@@ -26,3 +26,12 @@ __all__ = [
     "solve_wahba",
     "wahba_loss",
 ]
+
+from adcskit.determination.robust import (  # noqa: E402
+    ROBUST_METHODS,
+    RobustWahbaResult,
+    interval_objectives,
+    robust_wahba,
+)
+
+__all__ += ["ROBUST_METHODS", "RobustWahbaResult", "interval_objectives", "robust_wahba"]
