@@ -67,7 +67,6 @@ References
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -76,7 +75,8 @@ import numpy as np
 from scipy.optimize import minimize
 
 from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
-from adcskit.determination.wahba import _k_from, quat_to_dcm_np, solve_wahba
+from adcskit.determination._box import box_sphere_max
+from adcskit.determination.wahba import _k_from, solve_wahba
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = ["ROBUST_METHODS", "RobustWahbaResult", "robust_wahba", "interval_objectives"]
@@ -262,21 +262,16 @@ def _minmax(p: _Problem, search_range, solver: str, delta: str, maxiter: int):
         if _in_box(q_opt, lb, ub):
             Lm = max(1.0 - w[3], 0.0)
             return q_opt, zeros, zeros, Lm, 0, 0, 1, "global optimum: q-method point inside the search box"
-        # box active: min L^m(q) on the sphere inside the box
-        x0 = np.clip(q_start, lb, ub)
-        res = minimize(
-            lambda q: 1.0 - q @ p.Km @ q,
-            x0,
-            jac=lambda q: -2.0 * p.Km @ q,
-            method="SLSQP",
-            bounds=list(zip(lb, ub)),
-            constraints=[{"type": "eq", "fun": lambda q: q @ q - 1.0, "jac": lambda q: 2.0 * q}],
-            options={"maxiter": maxiter, "ftol": 1e-14},
-        )
-        q = res.x / np.linalg.norm(res.x)
-        status = 0 if res.success else 1
-        return q, zeros, zeros, float(1.0 - q @ p.Km @ q), status, int(res.nit), int(res.nfev), (
-            "search box active: " + str(res.message)
+        # box active: min L^m(q) = max qᵀK^m q on the sphere inside the box, solved exactly
+        # by enumerating the KKT active sets (adcskit.determination._box)
+        qb = np.empty(4)
+        val = box_sphere_max(p.Km, lb, ub, qb)
+        if np.isfinite(val):
+            return qb, zeros, zeros, max(1.0 - val, 0.0), 0, 1, 81, (
+                "search box active: optimum on the box boundary (KKT active-set enumeration)"
+            )
+        return q_start, zeros, zeros, float(1.0 - q_start @ p.Km @ q_start), 1, 1, 81, (
+            "no feasible point of the unit sphere inside the search box"
         )
     # full epigraph problem x = (q 4, α 3n, β 3n, γ)
     m = 3 * n
