@@ -65,8 +65,8 @@ def test_angle_box_is_tight():
         e = np.eye(3)[i]
         axis = np.cross(v, e)
         axis /= np.linalg.norm(axis)
-        for sign, edge in ((-1, hi[i]), (1, lo[i])):
-            # rotate v about axis by sign*th (Rodrigues); -th turns v towards e_i
+        for sign, edge in ((1, hi[i]), (-1, lo[i])):
+            # rotate v about v x e_i by sign*th (Rodrigues); +th turns v towards e_i
             c, s = np.cos(sign * th), np.sin(sign * th)
             w = v * c + np.cross(axis, v) * s + axis * (axis @ v) * (1 - c)
             assert w[i] == pytest.approx(edge, abs=1e-12)
