@@ -58,3 +58,23 @@ def test_unit_vectors_batched_and_annual_motion():
 def test_numbers_rejected():
     with pytest.raises(InputTypeError, match="times"):
         sun_direction(2451545.0)
+
+
+def test_in_shadow_cylindrical_fraction():
+    # Closed form: for an orbit plane containing the Sun line (beta angle 0), the cylindrical
+    # shadow covers the arc |u - pi| < arcsin(R / a): fraction arcsin(R/a) / pi (Vallado 2013,
+    # sec. 5.3). Build that orbit around the Sun direction of the epoch.
+    from adcskit.environment import R_EARTH, in_shadow
+
+    t0 = np.datetime64("2024-03-20T03:06", "ns")
+    s = sun_direction(t0)
+    z = np.array([0.0, 0.0, 1.0])
+    p = np.cross(s, z)
+    p /= np.linalg.norm(p)
+    a = R_EARTH + 800e3
+    u = np.linspace(0, 2 * np.pi, 36000, endpoint=False)
+    r = a * (np.outer(np.cos(u), s) + np.outer(np.sin(u), p))
+    shadow = in_shadow(r, t0)
+    assert shadow.mean() == pytest.approx(np.arcsin(R_EARTH / a) / np.pi, abs=2 / 36000)
+    assert not shadow[0] and shadow[18000]  # sunward point lit, anti-sun point dark
+    assert in_shadow(r[18000], t0).shape == ()

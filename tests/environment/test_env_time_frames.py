@@ -54,6 +54,7 @@ def test_time_inputs_equivalent():
     aware = dt.datetime(2024, 1, 1, 7, tzinfo=dt.timezone(dt.timedelta(hours=1)))
     assert as_utc(aware) == iso
     assert as_utc(np.datetime64("2024-01-01T06:00")) == iso
+    assert as_utc("2024-01-01T06:00:00Z") == iso
     assert as_utc([aware, "2024-01-01T06:00"]).shape == (2,)
     assert decimal_year("2025-01-01") == pytest.approx(2025.0)
     assert decimal_year("2024-07-02T00:00") == pytest.approx(2024.5, abs=1.5 / 366)

@@ -44,7 +44,7 @@ from adcskit.environment.orbits import (
     sgp4_orbit,
     solve_kepler,
 )
-from adcskit.environment.sun import AU, sun_direction, sun_position
+from adcskit.environment.sun import AU, in_shadow, sun_direction, sun_position
 from adcskit.environment.time import (
     J2000,
     as_utc,
@@ -82,6 +82,7 @@ __all__ = [
     "geocentric_to_ecef",
     "geodetic_to_ecef",
     "gmst",
+    "in_shadow",
     "julian_centuries",
     "julian_date",
     "kepler_orbit",

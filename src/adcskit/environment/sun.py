@@ -23,7 +23,7 @@ import numpy as np
 
 from adcskit.environment.time import _days_since_j2000, as_utc
 
-__all__ = ["AU", "sun_position", "sun_direction"]
+__all__ = ["AU", "sun_position", "sun_direction", "in_shadow"]
 
 AU = 149_597_870_700.0  #: astronomical unit, m (IAU 2012)
 
@@ -89,3 +89,45 @@ def sun_direction(times: Any) -> np.ndarray:
     """
     r = _sun_mod_au(_days_since_j2000(as_utc(times)))
     return r / np.linalg.norm(r, axis=-1, keepdims=True)
+
+
+def in_shadow(r_eci: Any, times: Any, *, radius: float = 6378137.0) -> np.ndarray:
+    """Whether positions are in the Earth's shadow (cylindrical model, no penumbra).
+
+    A point is in shadow when it is behind the Earth (``r . s < 0``) and within ``radius`` of
+    the Earth-Sun line (``|r - (r . s) s| < radius``), ``s`` = :func:`sun_direction`.
+
+    Parameters
+    ----------
+    r_eci : array_like, m, shape (3,) or (N, 3)
+        ECI positions.
+    times : datetime-like or array_like, shape () or (N,)
+        UTC instants, one or one per position.
+    radius : float, m
+        Shadow cylinder radius (WGS-84 equatorial radius by default).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape () or (N,)
+
+    References
+    ----------
+    Vallado (2013), sec. 5.3 and Algorithm 34 (SHADOW), cylindrical variant.
+    """
+    from adcskit._validation import as_batch, check_positive
+    from adcskit.errors import InputError
+
+    R = check_positive("radius", radius, unit="m")
+    r, batched = as_batch("r_eci", r_eci, (3,))
+    t = as_utc(times)
+    if t.ndim > 1:
+        raise InputError(f"times must be one instant or a 1-D array; got shape {t.shape}")
+    s = np.atleast_2d(sun_direction(t))
+    if len(s) not in (1, len(r)) and len(r) != 1:
+        raise InputError(
+            f"times must have one instant or as many as r_eci has rows ({len(r)}); got {len(s)}"
+        )
+    along = np.sum(r * s, axis=1)
+    perp = np.linalg.norm(r - along[:, None] * s, axis=1)
+    out = (along < 0) & (perp < R)
+    return out if (batched or t.ndim == 1) else out[0]

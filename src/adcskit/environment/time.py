@@ -40,6 +40,11 @@ _UNIX_EPOCH_JD = 2440587.5
 _NS_PER_DAY = 86_400 * 10**9
 
 
+def _strip_z(text: str) -> str:
+    # numpy parses a trailing "Z" (UTC designator) with a DeprecationWarning; it is UTC anyway.
+    return text[:-1] if text.endswith(("Z", "z")) else text
+
+
 def as_utc(times: Any, name: str = "times") -> np.ndarray:
     """Convert UTC instants to a ``datetime64[ns]`` array.
 
@@ -47,7 +52,8 @@ def as_utc(times: Any, name: str = "times") -> np.ndarray:
     ----------
     times : datetime64, datetime, ISO-8601 str, or array_like of these
         UTC instants. Timezone-aware ``datetime`` objects are converted to UTC; naive ones
-        and strings are read as UTC. Numbers are refused (seconds or Julian days would be
+        and strings are read as UTC (a trailing ``Z`` is accepted; other UTC offsets are
+        not). Numbers are refused (seconds or Julian days would be
         ambiguous): use :func:`utc_times` for an epoch plus offsets in seconds.
     name : str
         Parameter name for error messages.
@@ -67,6 +73,10 @@ def as_utc(times: Any, name: str = "times") -> np.ndarray:
             else v
             for v in value
         ]
+    if isinstance(value, str):
+        value = _strip_z(value)
+    elif isinstance(value, list | tuple):
+        value = [_strip_z(v) if isinstance(v, str) else v for v in value]
     arr = np.asarray(value)
     if arr.dtype.kind in "iufcb":
         raise InputTypeError(
