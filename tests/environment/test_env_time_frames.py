@@ -143,3 +143,22 @@ def test_enu_ned_matrices():
     assert np.allclose(M[:, 2], up / np.linalg.norm(up), atol=1e-12)
     assert np.allclose(N[:, 2], -M[:, 2]) and np.allclose(N[:, 0], M[:, 1])
     assert enu_to_ecef_matrix(np.zeros(4), np.zeros(4)).shape == (4, 3, 3)
+
+
+def test_state_transform_earth_fixed_point_and_round_trip():
+    # A point fixed on the rotating Earth has zero ECEF velocity; its ECI velocity is
+    # omega x r (transport theorem). GMST's rate (1.00273790935 rev/day) and WGS-84's omega
+    # differ by 5e-12 relative: 1e-6 m/s tolerance.
+    from adcskit.environment import EARTH_ROTATION_RATE, ecef_to_eci_state, eci_to_ecef_state
+
+    t = utc_times("2024-02-01", np.arange(4) * 900.0)
+    r_ecef = np.tile(geodetic_to_ecef(0.3, 1.2, 100.0), (4, 1))
+    r_eci, v_eci = ecef_to_eci_state(r_ecef, np.zeros((4, 3)), t)
+    assert np.allclose(np.linalg.norm(v_eci, axis=1), EARTH_ROTATION_RATE * np.hypot(*r_ecef[0, :2]),
+                       rtol=1e-12)
+    # finite difference of the ECI track agrees with the transformed velocity
+    t2 = utc_times("2024-02-01", [-0.5, 0.5])
+    r2 = ecef_to_eci(np.tile(r_ecef[0], (2, 1)), t2)
+    assert np.allclose(r2[1] - r2[0], v_eci[0], atol=1e-6)
+    r_back, v_back = eci_to_ecef_state(r_eci, v_eci, t)
+    assert np.allclose(r_back, r_ecef, atol=1e-7) and np.allclose(v_back, 0.0, atol=1e-9)

@@ -43,6 +43,8 @@ __all__ = [
     "eci_to_ecef_matrix",
     "eci_to_ecef",
     "ecef_to_eci",
+    "eci_to_ecef_state",
+    "ecef_to_eci_state",
     "geodetic_to_ecef",
     "ecef_to_geodetic",
     "ecef_to_geocentric",
@@ -126,6 +128,34 @@ def ecef_to_eci(r_ecef: Any, times: Any) -> np.ndarray:
     """Rotate position vectors from ECEF to ECI (inverse of :func:`eci_to_ecef`)."""
     vec, t, batched = _vectors_and_times(r_ecef, times, "r_ecef")
     return _transform(np.swapaxes(_rot3(gmst(t)), -1, -2), vec, batched)
+
+
+def eci_to_ecef_state(r_eci: Any, v_eci: Any, times: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Position and velocity from ECI to ECEF: ``r' = R r``, ``v' = R v - ω × r'``.
+
+    Parameters
+    ----------
+    r_eci : array_like, m, shape (3,) or (N, 3)
+    v_eci : array_like, m/s, same shape as ``r_eci``
+    times : datetime-like or array_like, shape () or (N,)
+        UTC instants.
+
+    Returns
+    -------
+    r_ecef, v_ecef : numpy.ndarray
+        ``ω = [0, 0, EARTH_ROTATION_RATE]`` (transport theorem; Vallado 2013, sec. 3.7).
+    """
+    r = eci_to_ecef(r_eci, times)
+    v = eci_to_ecef(as_array("v_eci", v_eci, shape=np.shape(r_eci)), times)
+    return r, v - np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]), r)
+
+
+def ecef_to_eci_state(r_ecef: Any, v_ecef: Any, times: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Position and velocity from ECEF to ECI (inverse of :func:`eci_to_ecef_state`)."""
+    vv = as_array("v_ecef", v_ecef, shape=np.shape(r_ecef))
+    v_inertial_ecef = vv + np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]),
+                                    as_array("r_ecef", r_ecef))
+    return ecef_to_eci(r_ecef, times), ecef_to_eci(v_inertial_ecef, times)
 
 
 def geodetic_to_ecef(lat: Any, lon: Any, h: Any = 0.0) -> np.ndarray:
