@@ -161,3 +161,14 @@ def test_bad_measure_inputs():
         VectorSensor(normalize=1)
     with pytest.raises(TypeError):
         SunSensor(0.1)  # keyword-only
+
+
+def test_sensor_pickles_for_workers():
+    import pickle
+
+    s = Magnetometer(angle_bound=0.01, bias=[1e-7, 0.0, 0.0], misalignment=[0.0, 1e-3, 0.0])
+    s2 = pickle.loads(pickle.dumps(s))
+    assert isinstance(s2, Magnetometer) and np.array_equal(s2.bias, s.bias)
+    assert np.array_equal(s2.measure(np.eye(3), [3e-5, 0, 0], rng=1), s.measure(np.eye(3), [3e-5, 0, 0], rng=1))
+    assert s == s2 and hash(s) == hash(s2)  # value comparison (see Notes)
+    assert s != Magnetometer(angle_bound=0.01) and s != SunSensor(angle_bound=0.01)

@@ -73,7 +73,7 @@ def _perturb_in_cap(b: np.ndarray, bound: float, rng: np.random.Generator) -> np
     return norm * d
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class VectorSensor:
     """Generic vector sensor (base of :class:`SunSensor` and :class:`Magnetometer`).
 
@@ -92,6 +92,11 @@ class VectorSensor:
         Rotation vector of the sensor frame relative to the body frame (|θ| < π).
     normalize : bool
         Re-normalise the output to unit length.
+
+    Notes
+    -----
+    Instances compare and hash by value (arrays compared elementwise) and pickle, so they can
+    be sent to process or dask workers.
     """
 
     noise_std: float = 0.0
@@ -123,6 +128,18 @@ class VectorSensor:
         object.__setattr__(self, "misalignment", mis)
         if not isinstance(self.normalize, bool):
             raise InputTypeError(f"normalize must be a bool; got {self.normalize!r}")
+
+    def _key(self) -> tuple:
+        return (type(self), self.noise_std, self.angle_bound, self.component_fraction,
+                self.bias.tobytes(), self.misalignment.tobytes(), self.normalize)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, VectorSensor):
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
 
     @property
     def misalignment_matrix(self) -> np.ndarray:
@@ -197,7 +214,7 @@ class VectorSensor:
                                fraction=self.component_fraction, normalized=self.normalize)
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class SunSensor(VectorSensor):
     """Sun sensor: unit sun vector in the body frame.
 
@@ -226,7 +243,7 @@ class SunSensor(VectorSensor):
         return r / n
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class Magnetometer(VectorSensor):
     """Three-axis magnetometer: magnetic field in the body frame, tesla.
 
