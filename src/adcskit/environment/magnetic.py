@@ -144,7 +144,7 @@ def magnetic_field(r_eci: Any, times: Any, model: str = "dipole") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, T, shape (3,) or (N, 3)
-        Field in ECI, tesla. At 800 km its magnitude is ~20-50 µT.
+        Field in ECI, tesla. At 800 km its magnitude is ~16-46 µT.
 
     Examples
     --------
