@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._validation import as_array, as_batch
+from adcskit.constants import OMEGA_EARTH, R_EARTH
 from adcskit.environment.time import as_utc, gmst
 from adcskit.errors import InputError
 
@@ -53,10 +54,10 @@ __all__ = [
     "enu_to_ecef_matrix",
 ]
 
-WGS84_A = 6378137.0  #: WGS-84 equatorial radius, m
+WGS84_A = R_EARTH  #: WGS-84 equatorial radius, m (adcskit.constants)
 WGS84_F = 1.0 / 298.257223563  #: WGS-84 flattening
 WGS84_E2 = WGS84_F * (2.0 - WGS84_F)  #: WGS-84 first eccentricity squared
-EARTH_ROTATION_RATE = 7.292115e-5  #: Earth rotation rate (WGS-84), rad/s
+EARTH_ROTATION_RATE = OMEGA_EARTH  #: Earth rotation rate (WGS-84), rad/s (adcskit.constants)
 
 
 def _rot3(angle: np.ndarray) -> np.ndarray:

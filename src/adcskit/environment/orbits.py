@@ -45,7 +45,8 @@ __all__ = [
     "sgp4_orbit",
 ]
 
-MU_EARTH = 3.986004418e14  #: Earth's gravitational parameter (WGS-84 / IERS), m^3/s^2
+from adcskit.constants import MU_EARTH  # noqa: E402  (EGM-96 / WGS-84, m^3/s^2)
+
 R_EARTH = WGS84_A  #: Earth's equatorial radius used for altitudes, m
 
 
