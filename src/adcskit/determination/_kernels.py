@@ -83,13 +83,13 @@ def _dcm_to_quat(A, q):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _normalise_quat(q):
-    s = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    s = 1.0 / np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     if q[3] < 0.0:
         s = -s
-    q[0] /= s
-    q[1] /= s
-    q[2] /= s
-    q[3] /= s
+    q[0] *= s
+    q[1] *= s
+    q[2] *= s
+    q[3] *= s
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -260,11 +260,12 @@ def _esoq2_quat(B, lam, q, Bk, qp):
     q' ∝ [(λ − σ) e; zᵀ e]. The frame (none/x/y/z 180° rotation) maximising λ − σ is used,
     which keeps M of rank two (Mortari's sequential rotation).
     """
+    # trace of B in each frame: rotating about axis k flips the signs of the other diagonals
+    b0, b1, b2 = B[0, 0], B[1, 1], B[2, 2]
     bestk = -1
-    best = -1e300
-    for k in range(-1, 3):
-        _rotated_B(B, k, Bk)
-        t = lam - (Bk[0, 0] + Bk[1, 1] + Bk[2, 2])
+    best = lam - (b0 + b1 + b2)
+    for k in range(3):
+        t = lam - ((b0 if k == 0 else -b0) + (b1 if k == 1 else -b1) + (b2 if k == 2 else -b2))
         if t > best:
             best = t
             bestk = k
@@ -466,12 +467,16 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         for k in range(3):
             B[j, k] = 0.0
             F[j, k] = 0.0
+    iw = 1.0 / wsum
     for i in range(n):
-        a = w[i] / wsum
+        a = w[i] * iw
+        wi = w[i]
         for j in range(3):
+            abj = a * b[i, j]
+            wbj = wi * b[i, j]
             for k in range(3):
-                B[j, k] += a * b[i, j] * r[i, k]
-                F[j, k] -= w[i] * b[i, j] * b[i, k]
+                B[j, k] += abj * r[i, k]
+                F[j, k] -= wbj * b[i, k]
         F[0, 0] += w[i]
         F[1, 1] += w[i]
         F[2, 2] += w[i]
@@ -551,12 +556,13 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
     c22 = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
     detF = F[0, 0] * c00 + F[0, 1] * (F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]) + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0])
     if detF > 0.0:
-        cov[0, 0] = c00 / detF
-        cov[0, 1] = cov[1, 0] = c01 / detF
-        cov[0, 2] = cov[2, 0] = c02 / detF
-        cov[1, 1] = c11 / detF
-        cov[1, 2] = cov[2, 1] = c12 / detF
-        cov[2, 2] = c22 / detF
+        idet = 1.0 / detF
+        cov[0, 0] = c00 * idet
+        cov[0, 1] = cov[1, 0] = c01 * idet
+        cov[0, 2] = cov[2, 0] = c02 * idet
+        cov[1, 1] = c11 * idet
+        cov[1, 2] = cov[2, 1] = c12 * idet
+        cov[2, 2] = c22 * idet
         nf = 0.0
         nc = 0.0
         for i in range(3):
