@@ -276,3 +276,17 @@ def test_invariances(seed, scale, wscale):
     A3 = quat_to_dcm_np(q3[None])[0]
     A0 = quat_to_dcm_np(q0[None])[0]
     np.testing.assert_allclose(A3, A0 @ C.T, atol=1e-12)
+
+
+def test_read_only_and_non_contiguous_inputs():
+    rng = np.random.default_rng(9)
+    body, ref, _ = random_problems(rng, 4, 3)
+    expected = solve_wahba(body, ref, method="esoq2").q
+    b_ro, r_ro = body.copy(), ref.copy()
+    b_ro.flags.writeable = False
+    r_ro.flags.writeable = False
+    np.testing.assert_array_equal(solve_wahba(b_ro, r_ro, method="esoq2").q, expected)
+    big = np.zeros((4, 3, 6))
+    big[..., ::2] = body
+    np.testing.assert_array_equal(solve_wahba(big[..., ::2], ref, method="esoq2").q, expected)
+    np.testing.assert_array_equal(solve_wahba(body.tolist(), ref.tolist(), method="esoq2").q, expected)

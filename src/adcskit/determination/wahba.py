@@ -165,8 +165,13 @@ def _prepare(body: Any, ref: Any, weights: Any) -> tuple[np.ndarray, np.ndarray,
         if np.any(w[np.isfinite(w)] <= 0):
             bad = w[np.isfinite(w) & (w <= 0)][0]
             raise InputError(f"weights must be > 0 (they are 1/σ² of each observation); got {bad:g}")
-        w = np.ascontiguousarray(w)
-    return np.ascontiguousarray(b), np.ascontiguousarray(r), w, batched
+    return _kernel_ready(b), _kernel_ready(r), _kernel_ready(w), batched
+
+
+def _kernel_ready(a: np.ndarray) -> np.ndarray:
+    """C-contiguous and writeable (numba compiles read-only arrays as a separate type)."""
+    a = np.ascontiguousarray(a)
+    return a if a.flags.writeable else a.copy()
 
 
 def solve_wahba(
