@@ -203,7 +203,7 @@ def _unrotate(qp, k, q):
         q[0], q[1], q[2], q[3] = qp[2], qp[3], -qp[0], -qp[1]
     else:
         q[0], q[1], q[2], q[3] = -qp[1], qp[0], qp[3], -qp[2]
-    _normalise_quat(q)
+    # not normalised here: the caller's refinement step normalises
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -500,13 +500,7 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
                 a2 = w[1] / wsum
                 db = b[0, 0] * b[1, 0] + b[0, 1] * b[1, 1] + b[0, 2] * b[1, 2]
                 dr = r[0, 0] * r[1, 0] + r[0, 1] * r[1, 1] + r[0, 2] * r[1, 2]
-                cb0 = b[0, 1] * b[1, 2] - b[0, 2] * b[1, 1]
-                cb1 = b[0, 2] * b[1, 0] - b[0, 0] * b[1, 2]
-                cb2 = b[0, 0] * b[1, 1] - b[0, 1] * b[1, 0]
-                cr0 = r[0, 1] * r[1, 2] - r[0, 2] * r[1, 1]
-                cr1 = r[0, 2] * r[1, 0] - r[0, 0] * r[1, 2]
-                cr2 = r[0, 0] * r[1, 1] - r[0, 1] * r[1, 0]
-                cc = np.sqrt((cb0 * cb0 + cb1 * cb1 + cb2 * cb2) * (cr0 * cr0 + cr1 * cr1 + cr2 * cr2))
+                cc = maxsb * maxsr  # |b1 x b2| |r1 x r2| from the collinearity check
                 lam2 = np.sqrt(max(a1 * a1 + a2 * a2 + 2.0 * a1 * a2 * (db * dr + cc), 0.0))
             lam, ok = _lambda_max(B, n, lam2)
             if ok:
@@ -527,7 +521,7 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
                 q[i] = qp[i]
             _normalise_quat(q)
         # residual check: above RESIDUAL_TOL the problem is re-solved by the eigen-solver
-        if not ok or not np.isfinite(q[0]) or _residual(K, q, _rayleigh(K, q)) > RESIDUAL_TOL:
+        if not ok or not np.isfinite(q[0]) or _residual(K, q, _rayleigh(K, q) if method == FOAM else lam) > RESIDUAL_TOL:
             _eig_quat(K, q)
             out[2] = 1.0
     # loss from the residuals (the eigenvalue form Σa(1 − qᵀKq) loses all digits of small losses)
