@@ -156,3 +156,14 @@ def test_input_errors():
     keep = B9.copy()
     robust_wahba(B9, 0.1, R9, 0.1)
     np.testing.assert_array_equal(B9, keep)
+
+
+def test_minmax_box_centre_q0():
+    # the search box follows q0: centred on the q-method answer, min-max returns it exactly
+    rng = np.random.default_rng(7)
+    b, r = noisy(rng)
+    q_qm = solve_wahba(b, r).q
+    res = robust_wahba(b, 0.2 * np.abs(b), r, 0.2 * np.abs(r), q0=q_qm)
+    assert qangle(res.q, q_qm) < 1e-12
+    with pytest.raises(InputError, match="q0"):
+        robust_wahba(b, 0.1, r, 0.1, q0=[0, 0, 0, 0])

@@ -13,7 +13,8 @@ from adcskit.studies._runner import run_study
 def test_quick_run_writes_complete_result(tmp_path):
     run_study("wahba-table1", quick=True, out=tmp_path, seed=0)
     d = json.loads((tmp_path / "wahba-table1" / "result.json").read_text())
-    rows = {"q-method", "minmax", "nsga2-knee", "nsga2-truth-pick", "worst-case", "quest", "svd"}
+    rows = {"q-method", "minmax", "nsga2-knee", "nsga2-truth-pick", "worst-case", "quest", "svd",
+            "minmax-box-at-exact-triad", "minmax-box-at-truth"}
     assert set(d["measured"]["methods"]) == rows
     for v in d["measured"]["methods"].values():
         assert {"mean_deg", "var_deg2", "runtime_s"} <= set(v)

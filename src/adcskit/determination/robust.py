@@ -234,9 +234,10 @@ def _canon(q: np.ndarray) -> np.ndarray:
     return -q if q[3] < 0 else q
 
 
-def _start_box(p: _Problem, search_range: float | None):
-    """TRIAD start and the ±search_range box around it (S0 §4-1)."""
-    q0 = solve_wahba(p.bm, p.rm, p.a, method="triad").q
+def _start_box(p: _Problem, search_range: float | None, q0: np.ndarray | None = None):
+    """TRIAD start (or the caller's ``q0``) and the ±search_range box around it (S0 §4-1)."""
+    if q0 is None:
+        q0 = solve_wahba(p.bm, p.rm, p.a, method="triad").q
     if search_range is None:
         return q0, -np.ones(4), np.ones(4)
     half = search_range * np.abs(q0)
@@ -250,9 +251,9 @@ def _in_box(q, lb, ub) -> bool:
 # ----------------------------------------------------------------------------- min-max
 
 
-def _minmax(p: _Problem, search_range, solver: str, delta: str, maxiter: int):
+def _minmax(p: _Problem, search_range, solver: str, delta: str, maxiter: int, q0=None):
     n = p.bm.shape[0]
-    q_start, lb, ub = _start_box(p, search_range)
+    q_start, lb, ub = _start_box(p, search_range, q0)
     zeros = np.zeros((n, 3))
     if solver == "closed-form":
         w, v = np.linalg.eigh(p.Km)
@@ -332,7 +333,7 @@ def _knee(F: np.ndarray) -> int:
     return int(np.argmax(dist))
 
 
-def _nsga2(p: _Problem, search_range, delta, pop_size, n_gen, select, rng):
+def _nsga2(p: _Problem, search_range, delta, pop_size, n_gen, select, rng, q0=None):
     try:
         from pymoo.algorithms.moo.nsga2 import NSGA2
         from pymoo.core.problem import Problem
@@ -343,7 +344,7 @@ def _nsga2(p: _Problem, search_range, delta, pop_size, n_gen, select, rng):
         raise SolverError(f"method 'nsga2' needs pymoo: {exc}") from None
     n = p.bm.shape[0]
     m = 3 * n
-    q_start, lb, ub = _start_box(p, search_range)
+    q_start, lb, ub = _start_box(p, search_range, q0)
     xl = np.concatenate([np.minimum(lb, ub), -np.ones(2 * m)])
     xu = np.concatenate([np.maximum(lb, ub), np.ones(2 * m)])
     xu = np.where(xu - xl < 1e-12, xl + 1e-12, xu)
@@ -470,6 +471,7 @@ def robust_wahba(
     method: str = "minmax",
     *,
     search_range: float | None = 0.1,
+    q0: Any = None,
     solver: str = "closed-form",
     delta: str | None = None,
     pop_size: int = 100,
@@ -494,6 +496,9 @@ def robust_wahba(
     search_range : float or None
         Half-width of the box around the TRIAD quaternion, relative to each component
         (S0: 0.1). ``None``: no box. Used by ``minmax`` and ``nsga2``.
+    q0 : array_like (4,), optional
+        Centre of the search box and start point (default: TRIAD of the midpoints, as in
+        S0), e.g. the previous epoch's estimate. Scalar last.
     solver : {"closed-form", "slsqp"}
         ``minmax`` only: the closed-form-aware solver (default) or SLSQP on the full
         epigraph problem in ``(q, α, β, γ)``.
@@ -535,8 +540,13 @@ def robust_wahba(
         raise InputError(f"select must be 'knee' or a callable select(F, Q) -> index; got {select!r}")
     p = _problem(body_mid, body_radius, ref_mid, ref_radius, weights)
     n = p.bm.shape[0]
+    if q0 is not None:
+        q0 = as_array("q0", q0, shape=(4,))
+        if not np.linalg.norm(q0) > 0:
+            raise InputError("q0 must be a non-zero quaternion")
+        q0 = q0 / np.linalg.norm(q0)
     if method == "minmax":
-        q, al, be, g, status, nit, nfev, msg = _minmax(p, search_range, solver, delta, maxiter)
+        q, al, be, g, status, nit, nfev, msg = _minmax(p, search_range, solver, delta, maxiter, q0)
         q = _canon(q)
         fun = np.array(_objectives(p, q, al, be, normalise=False))
         return RobustWahbaResult(
@@ -545,7 +555,7 @@ def robust_wahba(
         )
     if method == "nsga2":
         gen = as_rng(rng)
-        q, al, be, f, Q, F, nit, nfev = _nsga2(p, search_range, delta, pop_size, n_gen, select, gen)
+        q, al, be, f, Q, F, nit, nfev = _nsga2(p, search_range, delta, pop_size, n_gen, select, gen, q0)
         return RobustWahbaResult(
             q=q, alpha=al, beta=be, fun=np.asarray(f, float), objective=float(f[0]), pareto_q=Q,
             pareto_f=F, success=True, status=0,
