@@ -49,7 +49,6 @@ from adcskit.estimation.identification import (
     RecursiveLeastSquares,
     _check_opts,
     _resolve_options,
-    _solve,
 )
 from adcskit.estimation.kalman import KALMAN_FORMS, KalmanFilter, _check_cov, _check_model
 
@@ -192,7 +191,6 @@ def joint_estimate(
 
 def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, start, passes, form, gen):
     N, n = y.shape
-    p = B.shape[1]
     Tp = np.hstack([A_prior, B]) if estimate_B else A_prior.copy()
     Theta = Tp.copy()
     Z_all = y[1:] if estimate_B else y[1:] - u[:-1] @ B.T  # targets of pairs s = 0..N-2
