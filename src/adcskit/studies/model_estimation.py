@@ -598,11 +598,11 @@ def _figures(cfg, by, sigmas):
         r0 = next(r for r in by[(sigma, c)] if r["seed_index"] == 0)
         t = np.arange(r0["angle_true"].size) * cfg.dt
         ax.plot(t, r0["angle_meas"], ".", color="0.75", ms=2, label="measurement")
-        ax.plot(t, r0["angle_true"], "k-", lw=1.5, label="truth")
-        for m in ("adaptive-gmres-online", "qr", "augmented-ekf"):
+        ax.plot(t, r0["angle_true"], "k-", lw=2.0, label="truth")
+        for m, col in (("adaptive-gmres-online", "C5"), ("qr", "C0"), ("augmented-ekf", "C8")):
             if m in cfg.methods:
-                ax.plot(t, r0["methods"][m]["angle"], color=_STYLE[m][0], lw=1, label=f"estimate ({m})")
-        lim = 4 * max(np.abs(r0["angle_true"]).max(), 1e-3)
+                ax.plot(t, r0["methods"][m]["angle"], color=col, lw=1, label=f"estimate ({m})")
+        lim = 2 * max(np.abs(r0["angle_true"]).max(), 1e-3)
         ax.set_ylim(-lim, lim)
         ax.set_title(f"{c}: {'pitch θ' if c.startswith('3dof') else 'angle'} (seed 0)")
         ax.set_xlabel("time [s]")
