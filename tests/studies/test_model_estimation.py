@@ -80,3 +80,15 @@ def test_models_match_the_paper():
     poles = np.array([-7.5034, -0.2041 + 0.4115j, -0.2041 - 0.4115j, -0.5441, -0.2536 + 0.4550j, -0.2536 - 0.4550j])
     z = np.sort_complex((1 + poles / 2) / (1 - poles / 2))
     np.testing.assert_allclose(np.sort_complex(np.linalg.eigvals(three.A)), z, atol=1e-3)
+
+
+@pytest.mark.parametrize("gyro", ["derived", "printed"])
+def test_fast_3dof_model_equals_dynamics_api(gyro):
+    # The study's unvalidated fast path must equal lvlh_attitude_model + discretize
+    # (same arithmetic, rounding-level agreement).
+    case = build_case("3dof-random", Config(gyroscopic=gyro))
+    for p in ([1.0, 1.0, 1.0], [0.7, 1.2, 0.9]):
+        Af, Bf = case.model(np.array(p))
+        Ar, Br = case.model.reference(np.array(p))
+        np.testing.assert_allclose(Af, Ar, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(Bf, Br, rtol=1e-12, atol=1e-14)

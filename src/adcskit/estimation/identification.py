@@ -27,6 +27,10 @@ Solvers (registry :data:`IDENTIFICATION_METHODS`):
     condition number (``kappa(Phi)^2``); the alternative with the same solution, the
     augmented system ``[[I, Phi], [Phi^T, 0]]``, is indefinite and twice as large, which
     slows every method here. Run to convergence, all of them reach the ``qr`` solution.
+    Note that ``I_n kron G`` has the minimal polynomial of the ``q x q`` matrix ``G``, so a
+    Krylov space of this system has dimension at most ``q``: GMRES reaches the exact
+    least-squares solution in at most ``q`` steps (2 for the 1-DOF, 6 for the 3-DOF model).
+    S1's "k <= n" cap in Algorithm (21) therefore allows the full solution.
 ``lsqr``
     ``scipy.sparse.linalg.lsqr`` on the tall operator ``I_n kron Phi`` (no squaring).
 ``adaptive-gmres-offline``
