@@ -10,7 +10,7 @@ Measures in one run:
    ``identify_model(method="gmres")`` against a bare ``scipy.sparse.linalg.gmres`` call on
    the same normal equations (ratio = our wrapper's overhead).
 
-Usage: ``python benchmarks/bench_model_estimation.py [--quick] [--json PATH]``.
+Usage: ``python benchmarks/bench_model_estimation.py [--quick] [--json PATH] [--out DIR]``.
 Timings on the shared 2-core machine are noisy (other jobs run concurrently).
 """
 
@@ -88,10 +88,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="time the quick study instead of the full one")
     ap.add_argument("--json", type=Path, help="write the measurements to this JSON file")
+    ap.add_argument("--out", type=Path, default=None, help="also write the study's outputs here")
     args = ap.parse_args(argv)
     res: dict = {"quick": args.quick}
     t0 = time.perf_counter()
-    run_study("model-estimation", quick=args.quick, seed=0, out=None, executor="serial")
+    run_study("model-estimation", quick=args.quick, seed=0, out=args.out, executor="serial")
     res["study_wall_s"] = time.perf_counter() - t0
     print(f"model-estimation ({'quick' if args.quick else 'full'}, serial): {res['study_wall_s']:.1f} s")
     with threadpool_limits(limits=1, user_api="blas"):
