@@ -92,3 +92,18 @@ def test_fast_3dof_model_equals_dynamics_api(gyro):
         Ar, Br = case.model.reference(np.array(p))
         np.testing.assert_allclose(Af, Ar, rtol=1e-12, atol=1e-14)
         np.testing.assert_allclose(Bf, Br, rtol=1e-12, atol=1e-14)
+
+
+def test_printed_model_option_runs():
+    # S1 eq. (13) as the truth, printed gyroscopic matrix for the prior/EKF model: a tiny
+    # honest run through the study's run() (structure only; numbers are not asserted).
+    from adcskit.studies.model_estimation import run
+
+    cfg = Config(n_seeds=1, n_steps=30, cases=("3dof-random",), methods=("qr", "adaptive-gmres-online", "augmented-ekf"),
+                 model_3dof="printed", gyroscopic="printed", noise_std_low=0.0)
+    res = run(cfg, rng=np.random.default_rng(1))
+    assert set(res.measured["table"]) == {"qr", "adaptive-gmres-online", "augmented-ekf"}
+    assert res.measured["table_low_noise"] == {}
+    assert res.measured["converged_solver_max_rel_diff"] < 1e-6
+    with pytest.raises(ValueError, match="cases must be a subset"):
+        Config(cases=("2dof",))
