@@ -4,7 +4,7 @@
 MU_EARTH = 3.986004418e14
 #: Earth's equatorial radius, m (WGS-84).
 R_EARTH = 6378137.0
-#: Earth's rotation rate, rad/s (IERS).
-OMEGA_EARTH = 7.292115146706979e-5
+#: Earth's rotation rate, rad/s (WGS-84).
+OMEGA_EARTH = 7.292115e-5
 #: Standard gravity, m/s² (for Isp conversions).
 G0 = 9.80665
