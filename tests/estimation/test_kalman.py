@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from adcskit.errors import InputError
 from adcskit.estimation import KalmanFilter, kalman_filter, simulate_linear
@@ -137,3 +139,24 @@ def test_bad_inputs():
         kalman_filter(A, B, C, np.zeros((3, 3)))
     with pytest.raises(InputError, match="form must be one of 'predict-update', 'predictor'"):
         kalman_filter(A, B, C, np.zeros((3, 2)), form="ukf")
+
+
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(1, 5), m=st.integers(1, 3), seed=st.integers(0, 2**31 - 1))
+def test_forms_agree_property(n, m, seed):
+    # Property: for any stable system and any prior, predictor == predict/update (1e-9;
+    # 30 steps of O(1) quantities, the Riccati map is contractive for stable A).
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(n, n))
+    A *= 0.9 / max(max(abs(np.linalg.eigvals(A))), 1e-9)
+    B, C = rng.normal(size=(n, 1)), rng.normal(size=(m, n))
+    L = rng.normal(size=(m, m))
+    R = L @ L.T + 0.1 * np.eye(m)
+    y, u = rng.normal(size=(30, m)), rng.normal(size=(30, 1))
+    kw = dict(Q=0.05, R=R, P0=np.eye(n) * 3.0)
+    r1 = kalman_filter(A, B, C, y, u, form="predict-update", **kw)
+    r2 = kalman_filter(A, B, C, y, u, form="predictor", **kw)
+    np.testing.assert_allclose(r1.x_pred, r2.x_pred, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(r1.P_pred, r2.P_pred, rtol=1e-9, atol=1e-9)
+    # Joseph-form covariances stay symmetric positive semi-definite
+    assert np.all(np.linalg.eigvalsh(r2.P_pred) > -1e-12)
