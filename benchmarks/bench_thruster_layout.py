@@ -77,13 +77,19 @@ def _timeit(fn) -> float:
 
 
 def bench_study(quick: bool, executor: str) -> dict:
+    import os
+
     from adcskit.studies._runner import run_study
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), os.times()
     res = run_study("thruster-layout", quick=quick, out=None, executor=executor)
-    wall = time.perf_counter() - t0
-    return {"quick": quick, "executor": executor, "wall_s": wall, "target_s": 120.0,
-            "ratio_to_target": wall / 120.0,
+    wall, c1 = time.perf_counter() - t0, os.times()
+    # CPU time of this process and its finished children (worker processes): independent of
+    # how many other jobs share the machine, unlike the wall time
+    cpu = (c1.user - c0.user) + (c1.system - c0.system) + (c1.children_user - c0.children_user) + (
+        c1.children_system - c0.children_system)
+    return {"quick": quick, "executor": executor, "wall_s": wall, "cpu_s": cpu, "target_s": 120.0,
+            "ratio_to_target": wall / 120.0, "load_avg_1min_after": os.getloadavg()[0],
             "sum_of_run_times_s": res.measured["total_optimisation_time_s"]}
 
 
@@ -100,7 +106,8 @@ def main() -> None:
               f"(max rel. disagreement {v['max_rel_disagreement']:.1e})")
     st = bench_study(args.quick, args.executor)
     print(f"study thruster-layout ({'quick' if args.quick else 'full'}, {args.executor}): "
-          f"{st['wall_s']:.1f} s vs target 120 s -> ratio {st['ratio_to_target']:.2f}")
+          f"{st['wall_s']:.1f} s wall ({st['cpu_s']:.1f} s CPU, load average {st['load_avg_1min_after']:.1f}) "
+          f"vs target 120 s -> ratio {st['ratio_to_target']:.2f}")
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump({"machine": platform.platform(), "eval": ev, "study": st}, fh, indent=2)

@@ -346,7 +346,7 @@ def check_controllability(torque_matrix: Any, *, tol: float = 1e-9) -> Controlla
         c, A_ub=A_ub, b_ub=np.zeros(n), A_eq=A_eq, b_eq=np.zeros(3),
         bounds=[(0.0, 1.0)] * n + [(None, 1.0)], method="highs",
     )
-    margin = float(-res.fun) if res.status == 0 else 0.0
+    margin = max(0.0, float(-res.fun)) if res.status == 0 else 0.0
     if margin > tol:
         return Controllability(
             success=True, rank=3, margin=margin, unreachable=np.zeros(3),

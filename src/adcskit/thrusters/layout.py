@@ -578,7 +578,7 @@ def design_layout(
     return LayoutResult(
         x=x, thrusters=ts, fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
         sum_tp=float(sum_tp[0]), torque_matrix=A, success=True, status=0,
-        message=f"{algorithm}: {algo.n_gen - 1 if algo.n_gen else n_gen} generations of {pop_size}",
+        message=f"{algorithm}: {len(cb.best)} generations of {pop_size}",
         nit=len(cb.best), nfev=int(algo.evaluator.n_eval), history=history, runtime_s=runtime,
         algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}",
     )
