@@ -439,6 +439,9 @@ class LayoutResult:
         Best F_best after each generation.
     runtime_s : float
         Wall-clock time of the optimisation.
+    cpu_s : float
+        CPU time of the optimisation in this process (insensitive to other jobs on the
+        machine, unlike ``runtime_s``).
     algorithm : str
     """
 
@@ -456,6 +459,7 @@ class LayoutResult:
     nfev: int
     history: np.ndarray
     runtime_s: float
+    cpu_s: float
     algorithm: str
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -465,7 +469,7 @@ class LayoutResult:
             "error": self.error, "e_min": self.e_min, "sum_tp": self.sum_tp,
             "torque_matrix": self.torque_matrix.tolist(), "success": self.success,
             "status": self.status, "message": self.message, "nit": self.nit, "nfev": self.nfev,
-            "history": self.history.tolist(), "runtime_s": self.runtime_s,
+            "history": self.history.tolist(), "runtime_s": self.runtime_s, "cpu_s": self.cpu_s,
             "algorithm": self.algorithm,
         }
 
@@ -566,10 +570,10 @@ def design_layout(
     problem = _make_problem(n, faces, D, fmax, tmin, t_s, gain, w, com)
     algo = _make_algorithm(algorithm, pop_size, de_strategy, de_F, de_CR)
     cb = _Best()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     res = minimize(problem, algo, ("n_gen", n_gen), seed=seed, verbose=False, callback=cb,
                    copy_algorithm=False)
-    runtime = time.perf_counter() - t0
+    runtime, cpu = time.perf_counter() - t0, time.process_time() - c0
     x = np.atleast_2d(res.X)[0]
     ts = decode_layout(x, faces, com=com, f_max=fmax, t_min=tmin, mdot=mdot)
     A = ts.torque_matrix()
@@ -579,6 +583,6 @@ def design_layout(
         x=x, thrusters=ts, fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
         sum_tp=float(sum_tp[0]), torque_matrix=A, success=True, status=0,
         message=f"{algorithm}: {len(cb.best)} generations of {pop_size}",
-        nit=len(cb.best), nfev=int(algo.evaluator.n_eval), history=history, runtime_s=runtime,
+        nit=len(cb.best), nfev=int(algo.evaluator.n_eval), history=history, runtime_s=runtime, cpu_s=cpu,
         algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}",
     )
