@@ -8,6 +8,7 @@ import pytest
 from adcskit.errors import InputError
 from adcskit.thrusters import (
     fuel_mass,
+    manoeuvre_fuel,
     min_impulse_bit,
     min_reachable_error,
     pulse_width,
@@ -39,3 +40,12 @@ def test_fuel_and_min_on_time():
     np.testing.assert_allclose(
         realisable_pulses([0.001, 0.002, 0.01], t_min=3e-3, mode="round"), [0, 0.003, 0.01]
     )
+
+
+def test_manoeuvre_fuel_sums_pulses():
+    # two samples, two thrusters: forces 5 and 10 N then 0.1 and 0 N with t_s = 0.2 s:
+    # t_p = 0.1, 0.2, 0.002, 0 s -> 0.302 s x 3.5 g/s = 1.057 g (S3 eq. 6-7); with t_min = 3 ms
+    # the 2 ms pulse is dropped -> 0.3 s -> 1.05 g
+    F = [[5.0, 10.0], [0.1, 0.0]]
+    assert manoeuvre_fuel(F) == pytest.approx(0.302 * 3.5e-3)
+    assert manoeuvre_fuel(F, t_min=3e-3) == pytest.approx(0.3 * 3.5e-3)

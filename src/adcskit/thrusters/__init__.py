@@ -34,6 +34,7 @@ from adcskit.thrusters.layout import (
 )
 from adcskit.thrusters.pulse import (
     fuel_mass,
+    manoeuvre_fuel,
     min_impulse_bit,
     min_reachable_error,
     pulse_width,
@@ -46,5 +47,5 @@ __all__ = [
     "check_controllability", "direction_from_angles", "torque_matrix",
     "DE_STRATEGIES", "DEFAULT_WEIGHTS", "DESIGN_ALGORITHMS", "LayoutResult", "LayoutScore",
     "MountingFace", "box_faces", "decode_layout", "design_layout", "score_layout",
-    "fuel_mass", "min_impulse_bit", "min_reachable_error", "pulse_width", "realisable_pulses",
+    "fuel_mass", "manoeuvre_fuel", "min_impulse_bit", "min_reachable_error", "pulse_width", "realisable_pulses",
 ]

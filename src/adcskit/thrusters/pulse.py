@@ -46,6 +46,7 @@ __all__ = [
     "min_reachable_error",
     "fuel_mass",
     "realisable_pulses",
+    "manoeuvre_fuel",
 ]
 
 
@@ -148,3 +149,29 @@ def fuel_mass(t_p: Any, *, mdot: Any = 3.5e-3) -> np.ndarray:
     if np.any(tp < 0):
         raise InputError(f"t_p must be >= 0 s; got minimum {tp.min():g}")
     return tp * as_array("mdot", mdot)
+
+
+def manoeuvre_fuel(
+    forces: Any, *, f_max: Any = 10.0, t_s: float = 0.2, mdot: Any = 3.5e-3, t_min: Any = None
+) -> float:
+    """Propellant of a whole manoeuvre (kg): sum over samples and thrusters of ``mdot t_p``.
+
+    Parameters
+    ----------
+    forces : array_like (..., n), N
+        Allocated mean forces per sample (e.g. ``allocate(...).x`` for each demand).
+    f_max, mdot : float or (n,)
+        Thruster force (N) and mass flow (kg/s).
+    t_s : float, s
+    t_min : float or (n,), optional
+        If given, pulses shorter than the minimum on-time are dropped
+        (:func:`realisable_pulses`).
+
+    References
+    ----------
+    S3 eq. 6-7.
+    """
+    tp = pulse_width(forces, f_max=f_max, t_s=t_s)
+    if t_min is not None:
+        tp = realisable_pulses(tp, t_min=t_min)
+    return float(np.sum(fuel_mass(tp, mdot=mdot)))
