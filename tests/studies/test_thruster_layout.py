@@ -80,3 +80,14 @@ def test_manoeuvre_and_config():
         Config(algorithms=("pso",))
     with pytest.raises(ConfigError, match="max_cant_deg"):
         Config(max_cant_deg=120.0)
+
+
+def test_same_results_on_process_pool():
+    # every optimisation carries its own SeedSequence: serial and process-pool runs must agree
+    tiny = {"n_thrusters": [4, 6], "n_seeds": 1, "n_gen": 4, "pop_size": 8,
+            "n_random_layouts": 2, "de_sensitivity": []}
+    a = run_study("thruster-layout", config=tiny, seed=3, out=None, executor="serial")
+    b = run_study("thruster-layout", config=tiny, seed=3, out=None, executor="processes:2")
+    for n in ("4", "6"):
+        for alg in ("ga", "de"):
+            assert a.measured["runs"][n][alg]["f_best_seeds"] == b.measured["runs"][n][alg]["f_best_seeds"]
