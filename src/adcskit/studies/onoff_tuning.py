@@ -417,7 +417,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         summary=(
             (f"Pareto front of {len(pareto_list)} points (error {pareto.F[0, 0]:.4f}-{pareto.F[-1, 0]:.3f}°). "
              if pareto.success else "NSGA-II found no feasible gains; S4 Table 4 used instead. ")
-            + 
+            +
             f"Robust gains lowered the std of |error| in {sum(std_lower.values())}/5 cases and raised the mean in "
             f"{sum(mean_higher.values())}/5 ({config.n_mc} LHS runs each). Printed gain order consistent with the "
             f"paper: {consistent_order}."
