@@ -166,3 +166,39 @@ def test_inputs_not_modified():
     before = kp.copy()
     simulate_batch(LoopParams(kp=kp), LoopSettings(t_final=0.5, t_window=0.1))
     np.testing.assert_array_equal(kp, before)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@given(
+    st.lists(st.floats(-2.0, 2.0, allow_nan=False), min_size=1, max_size=40),
+    st.floats(0.01, 1.0),
+    st.floats(0.0, 1.0),
+)
+@settings(max_examples=60, deadline=None)
+def test_schmitt_is_odd_and_three_level(u, u_on, ratio):
+    u = np.array(u)
+    out = schmitt_trigger(u, u_on, ratio * u_on)
+    assert set(np.unique(out)) <= {-1.0, 0.0, 1.0}
+    np.testing.assert_array_equal(schmitt_trigger(-u, u_on, ratio * u_on), -out)
+    # the output is never on while |u| < U_off, never off while |u| >= U_on
+    assert np.all(out[np.abs(u) < ratio * u_on] == 0.0)
+    assert np.all(out[np.abs(u) >= u_on] != 0.0)
+
+
+@given(
+    kp=st.floats(1.0, 100.0), kd=st.floats(1.0, 100.0), ki=st.floats(0.0, 1.0),
+    step_deg=st.floats(1.0, 30.0), td=st.floats(-0.1, 0.1), delay=st.floats(0.0, 0.04),
+)
+@settings(max_examples=15, deadline=None)
+def test_loop_is_mirror_symmetric(kp, kd, ki, step_deg, td, delay):
+    # negating the command and the disturbance mirrors the whole trajectory exactly
+    s = LoopSettings(t_final=3.0, t_window=1.0)
+    p = LoopParams(kp=kp, kd=kd, ki=ki, delay=delay, disturbance=td, theta_ref=math.radians(step_deg))
+    a = simulate_batch(p, s, parallel=False)
+    b = simulate_batch(p.replace(theta_ref=-math.radians(step_deg), disturbance=-td), s, parallel=False)
+    for name in ("overshoot_pct", "mean_abs_err_last", "max_abs_err_last", "fuel", "firings", "settling_time"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    np.testing.assert_array_equal(a.final_error, -b.final_error)

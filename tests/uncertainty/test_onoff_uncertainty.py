@@ -156,3 +156,27 @@ def test_tune_robust_runs_and_is_seeded():
     assert a.fun == pytest.approx(a.history[-1])
     with pytest.raises(InputError, match="dists keys"):
         tune_robust({"kp": Gaussian(mean=1, std=1)}, ratio=1.0)
+
+
+def test_campaign_resume_after_interruption_on_processes(tmp_path, worker_path):
+    # workers write their own chunk files, so chunks finished before the failure survive
+    import test_onoff_uncertainty as mod  # the workers import the task function by this name
+
+    from adcskit.uncertainty import make_executor
+
+    tasks = [0, 1, 2, 3, 4, 5, 6, 70]
+    with make_executor("processes:2") as ex, pytest.raises(ValueError, match="boom"):
+        run_campaign(mod._boom_at_70, tasks, executor=ex, directory=tmp_path, chunk_size=2)
+    kept = len(list(tmp_path.glob("chunk_*.pkl")))
+    assert 2 <= kept <= 3  # chunks 0-1 finished before the failing chunk 3 could start
+    res = run_campaign(mod._square, tasks[:-1] + [7], directory=tmp_path / "other", chunk_size=2)
+    assert res.n_resumed == 0
+    ok = run_campaign(mod._boom_at_70, tasks[:6], directory=tmp_path, chunk_size=2)
+    # tasks[:6] form the same first three chunks as before: those finished are reused
+    assert ok.values == [t * t for t in tasks[:6]] and ok.n_resumed == kept
+
+
+def _boom_at_70(x):
+    if x == 70:
+        raise ValueError("boom")
+    return x * x
