@@ -202,3 +202,15 @@ def test_loop_is_mirror_symmetric(kp, kd, ki, step_deg, td, delay):
     for name in ("overshoot_pct", "mean_abs_err_last", "max_abs_err_last", "fuel", "firings", "settling_time"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
     np.testing.assert_array_equal(a.final_error, -b.final_error)
+
+
+def test_fuel_to_propellant():
+    from adcskit.control import fuel_to_propellant
+
+    # 10 N m s at a 0.5 m arm = 20 N s; Isp 220 s -> 20 / (220 * 9.80665) kg; 100 kg -> 0.2 m/s
+    out = fuel_to_propellant(10.0, lever_arm=0.5, isp=220.0, mass=100.0)
+    assert out["impulse_Ns"] == pytest.approx(20.0, rel=1e-15)
+    assert out["propellant_kg"] == pytest.approx(20.0 / (220.0 * 9.80665), rel=1e-15)
+    assert out["delta_v_mps"] == pytest.approx(0.2, rel=1e-15)
+    with pytest.raises(InputError, match="lever_arm"):
+        fuel_to_propellant(1.0, lever_arm=0.0)

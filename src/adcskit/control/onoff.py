@@ -62,6 +62,7 @@ __all__ = [
     "simulate_batch",
     "simulate_trace",
     "schmitt_trigger",
+    "fuel_to_propellant",
 ]
 
 METRIC_NAMES = _k.METRIC_NAMES
@@ -329,6 +330,48 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
         else:
             s = 1.0 if x >= on else (0.0 if x > -off else -1.0)
         out[k] = s
+    return out
+
+
+G0 = 9.80665  # standard gravity [m/s^2]
+
+
+def fuel_to_propellant(
+    fuel: Any, *, lever_arm: float, isp: float | None = None, mass: float | None = None
+) -> dict[str, np.ndarray]:
+    """Convert the loop's fuel measure (angular impulse) to thrust impulse, propellant, ΔV.
+
+    Parameters
+    ----------
+    fuel : float or array
+        Delivered angular impulse ``∫|T_c| dt`` [N m s] (:attr:`OnOffMetrics.fuel`).
+    lever_arm : float
+        Moment arm of each thruster about the control axis [m].
+    isp : float, optional
+        Specific impulse [s]; gives the propellant mass.
+    mass : float, optional
+        Spacecraft mass [kg]; gives the ΔV-equivalent.
+
+    Returns
+    -------
+    dict
+        ``impulse_Ns`` = fuel / lever arm [N s]; with ``isp``: ``propellant_kg`` =
+        impulse / (isp g₀); with ``mass``: ``delta_v_mps`` = impulse / mass [m/s], the
+        velocity change the same thruster impulse would give the spacecraft (S4's "ΔV").
+
+    References
+    ----------
+    S4, eq. (9) (fuel objective "ΔV", no formula printed).
+    """
+    f = as_array("fuel", fuel, ndim=(0, 1))
+    if np.any(f < 0):
+        raise InputError(f"fuel must be >= 0 N m s; got min {float(np.min(f)):g}")
+    arm = check_positive("lever_arm", lever_arm, unit="m")
+    out = {"impulse_Ns": f / arm}
+    if isp is not None:
+        out["propellant_kg"] = out["impulse_Ns"] / (check_positive("isp", isp, unit="s") * G0)
+    if mass is not None:
+        out["delta_v_mps"] = out["impulse_Ns"] / check_positive("mass", mass, unit="kg")
     return out
 
 
