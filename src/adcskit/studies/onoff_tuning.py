@@ -113,6 +113,10 @@ class Config:
     ratio_all: float = 180.0
     sweep_ratios: tuple[float, ...] = (1.0, 10.0, 50.0, 500.0)
     sweep_max_gen: int = 30
+    # ratio sweep of each single uncertainty (Figs 12-13): a lighter GA
+    sweep_cases_max_gen: int = 20
+    sweep_cases_n_lhs: int = 20
+    n_mc_ratio_cases: int = 1000
     # evaluation
     n_mc: int = 10000
     std_factors: tuple[float, ...] = (0.25, 0.5, 1.0, 1.5, 2.0)
@@ -136,7 +140,8 @@ class Config:
         if self.delay < 0:
             raise ValueError(f"delay must be >= 0; got {self.delay!r}")
         ints = {"nsga_pop": 4, "nsga_gen": 1, "ga_pop": 4, "ga_max_gen": 1, "ga_window": 1, "n_lhs": 2,
-                "sweep_max_gen": 1, "n_mc": 2, "n_mc_sweep": 2, "n_mc_rate": 2, "n_mc_order": 2,
+                "sweep_max_gen": 1, "sweep_cases_max_gen": 1, "sweep_cases_n_lhs": 2,
+                "n_mc_ratio_cases": 2, "n_mc": 2, "n_mc_sweep": 2, "n_mc_rate": 2, "n_mc_order": 2,
                 "task_size": 1}
         for name, lo in ints.items():
             if getattr(self, name) < lo:
@@ -308,7 +313,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             )
         ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=_seeds(rng, 1)[0],
                          directory=_campaign_dir(config, f"sweep_{r:g}"), **mc_kw)
-        sweep_rows.append({"ratio": r, "kp": res.x[0], "ki": res.x[1], "kd": res.x[2],
+        sweep_rows.append({"case": "all", "ratio": r, "kp": res.x[0], "ki": res.x[1], "kd": res.x[2],
                            "mean_abs_err_deg": ev.mean_abs_err_deg, "std_abs_err_deg": ev.std_abs_err_deg,
                            "generations": res.nit})
 
@@ -340,6 +345,22 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                 row[f"{label}_mean_deg"] = ev.mean_abs_err_deg
                 row[f"{label}_std_deg"] = ev.std_abs_err_deg
             rate_rows.append(row)
+
+    # ---- 8. weight-ratio sweep of each single uncertainty (Figs 12-13) --------------------
+    for case in track(CASES[:-1], "ratio sweep per uncertainty", total=len(CASES) - 1):
+        for r in sorted(set(config.sweep_ratios) | {config.ratio(case)}):
+            status(f"onoff-tuning: ratio sweep, {case}, w2/w1 = {r:g}")
+            res = tune_robust(
+                config.dists(case), ratio=r, n_samples=config.sweep_cases_n_lhs, base=base, settings=settings,
+                pop_size=config.ga_pop, max_gen=config.sweep_cases_max_gen, tol=config.ga_tol,
+                window=config.ga_window, bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
+                penalty_weight=config.penalty_weight, rng=_seeds(rng, 1)[0],
+            )
+            ev = monte_carlo(res.x, config.dists(case), config.n_mc_ratio_cases, settings=settings,
+                             rng=_seeds(rng, 1)[0], directory=_campaign_dir(config, f"sweep_{case}_{r:g}"), **mc_kw)
+            sweep_rows.append({"case": case, "ratio": r, "kp": res.x[0], "ki": res.x[1], "kd": res.x[2],
+                               "mean_abs_err_deg": ev.mean_abs_err_deg, "std_abs_err_deg": ev.std_abs_err_deg,
+                               "generations": res.nit})
 
     # ---- verdicts ----------------------------------------------------------------------
     std_lower = {c: robust[c]["std_abs_err_deg"] < robust[c]["det_std_abs_err_deg"] for c in CASES}
@@ -547,15 +568,22 @@ def _figures(config, pareto, det_gains, minfuel_gains, robust_runs, mc_results, 
     fig.suptitle("Latin-hypercube sampling of the inertia (S4 Fig. 11)", fontsize=9)
     figures["fig11_lhs_inertia"] = fig
     # Figs 12-14: ratio sweep
-    fig, ax = new_figure(figsize=(6.0, 4.0))
-    r = [row["ratio"] for row in sweep_rows]
-    ax.plot(r, [row["mean_abs_err_deg"] for row in sweep_rows], "o-", label="mean |error|")
-    ax.plot(r, [row["std_abs_err_deg"] for row in sweep_rows], "s-", label="std |error|")
-    ax.set_xscale("log")
-    ax.set_xlabel("w2 / w1")
-    ax.set_ylabel("[deg]")
-    ax.set_title("Robust tuning vs weight ratio, all four uncertainties (S4 Figs 12-14)", fontsize=9)
-    ax.legend(fontsize=7)
+    fig, axes = new_figure(1, 2, figsize=(10.0, 4.0))
+    for case in CASES:
+        rows = sorted((row for row in sweep_rows if row["case"] == case), key=lambda row: row["ratio"])
+        if not rows:
+            continue
+        r = [row["ratio"] for row in rows]
+        style = "k-o" if case == "all" else "-o"
+        axes[0].plot(r, [row["std_abs_err_deg"] for row in rows], style, ms=4, label=case)
+        axes[1].plot(r, [row["mean_abs_err_deg"] for row in rows], style, ms=4, label=case)
+    for ax, what in zip(axes, ("std", "mean")):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("w2 / w1")
+        ax.set_ylabel(f"{what} |error| [deg]")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Robust tuning vs weight ratio (S4 Figs 12-13: each uncertainty; Fig. 14: all four)", fontsize=10)
     figures["fig12_14_ratio_sweep"] = fig
     # Figs 15-19: vs input std
     fig, axes = new_figure(2, 5, figsize=(14.0, 5.2))
@@ -623,6 +651,9 @@ STUDY = Study(
         "n_lhs": 6,
         "sweep_ratios": (10.0,),
         "sweep_max_gen": 2,
+        "sweep_cases_max_gen": 1,
+        "sweep_cases_n_lhs": 4,
+        "n_mc_ratio_cases": 40,
         "n_mc": 300,
         "std_factors": (0.5, 1.0),
         "n_mc_sweep": 60,
