@@ -557,6 +557,10 @@ def simulate_trace(
     """
     params = LoopParams() if params is None else params
     settings = LoopSettings() if settings is None else settings
+    if not isinstance(params, LoopParams):
+        raise InputError(f"params must be a LoopParams; got {type(params).__name__}")
+    if not isinstance(settings, LoopSettings):
+        raise InputError(f"settings must be a LoopSettings; got {type(settings).__name__}")
     check_choice("backend", backend, BACKENDS)
     P = _param_matrix(params)
     if P.shape[0] != 1:
