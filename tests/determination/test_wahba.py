@@ -290,3 +290,15 @@ def test_read_only_and_non_contiguous_inputs():
     big[..., ::2] = body
     np.testing.assert_array_equal(solve_wahba(big[..., ::2], ref, method="esoq2").q, expected)
     np.testing.assert_array_equal(solve_wahba(body.tolist(), ref.tolist(), method="esoq2").q, expected)
+
+
+def test_shared_weight_row_equals_per_problem_weights():
+    rng = np.random.default_rng(11)
+    body, ref, _ = random_problems(rng, 6, 3)
+    w = np.array([1.0, 2.0, 3.0])
+    a = solve_wahba(body, ref, w, method="quest")
+    b = solve_wahba(body, ref, np.tile(w, (6, 1)), method="quest")
+    np.testing.assert_array_equal(a.q, b.q)
+    np.testing.assert_array_equal(a.loss, b.loss)
+    np.testing.assert_allclose(davenport_k(body, ref, w), davenport_k(body, ref, np.tile(w, (6, 1))))
+    np.testing.assert_allclose(wahba_loss(a.q, body, ref, w), a.loss, rtol=1e-10, atol=1e-15)

@@ -581,10 +581,11 @@ _scratch = njit(cache=True, error_model="numpy")(_scratch)
 def solve_batch_serial(body, ref, w, method, q, out, cov, status):
     """Serial loop over problems (single calls and small batches)."""
     N, n = body.shape[0], body.shape[1]
+    shared_w = w.shape[0] == 1  # one weight row for every problem
     work, B, F, K, A, Bk, qp = _scratch(n)
     for k in range(N):
-        status[k] = _solve_one(body[k], ref[k], w[k], method, q[k], out[k], cov[k],
-                               work, B, F, K, A, Bk, qp)
+        status[k] = _solve_one(body[k], ref[k], w[0] if shared_w else w[k], method, q[k], out[k],
+                               cov[k], work, B, F, K, A, Bk, qp)
 
 
 CHUNK = 512
@@ -599,7 +600,8 @@ def solve_batch_parallel(body, ref, w, method, q, out, cov, status):
     for c in prange(nchunks):
         lo = c * CHUNK
         hi = min(N, lo + CHUNK)
-        solve_batch_serial(body[lo:hi], ref[lo:hi], w[lo:hi], method, q[lo:hi], out[lo:hi],
+        wc = w if w.shape[0] == 1 else w[lo:hi]
+        solve_batch_serial(body[lo:hi], ref[lo:hi], wc, method, q[lo:hi], out[lo:hi],
                            cov[lo:hi], status[lo:hi])
 
 

@@ -154,11 +154,11 @@ def _prepare(body: Any, ref: Any, weights: Any) -> tuple[np.ndarray, np.ndarray,
     n = b.shape[-2]
     N = b.shape[0] if batched else 1
     if weights is None:
-        w = np.ones((N, n)) if batched else _unit_weights(n)
+        w = _unit_weights(n)[None] if batched else _unit_weights(n)  # one shared row
     else:
         w = as_array("weights", weights, finite=False)
         if batched and w.shape == (n,):
-            w = np.broadcast_to(w, (N, n))
+            w = w[None]  # one shared row: the kernels read w[0] for every problem
         elif w.shape != ((N, n) if batched else (n,)):
             allowed = f"({n},)" + (f" or ({N}, {n})" if batched else "")
             raise InputError(f"weights must have shape {allowed}; got shape {w.shape}")
@@ -246,7 +246,7 @@ def solve_wahba(
             f"{c} of {N} problems: {STATUS_MESSAGES[int(k)]}" for k, c in zip(codes, counts)
         )
     return WahbaResult(
-        q=q, loss=out[:, 0].copy(), cov=cov, cond=out[:, 1].copy(), success=success,
+        q=q, loss=out[:, 0], cov=cov, cond=out[:, 1], success=success,
         status=status, message=message, method=method, fallback=out[:, 2] != 0,
     )
 
@@ -267,6 +267,7 @@ def davenport_k(body: Any, ref: Any, weights: Any = None) -> np.ndarray:
     b, r, w, batched = _prepare(body, ref, weights)
     if not batched:
         b, r, w = b[None], r[None], w[None]
+    w = np.broadcast_to(w, b.shape[:2])
     b = b / np.linalg.norm(b, axis=-1, keepdims=True)
     r = r / np.linalg.norm(r, axis=-1, keepdims=True)
     a = w / w.sum(axis=1, keepdims=True)
@@ -297,6 +298,7 @@ def wahba_loss(q: Any, body: Any, ref: Any, weights: Any = None) -> Any:
     b, r, w, batched = _prepare(body, ref, weights)
     if not batched:
         b, r, w = b[None], r[None], w[None]
+    w = np.broadcast_to(w, b.shape[:2])
     qa, _ = _as_quat(q, b.shape[0], batched)
     b = b / np.linalg.norm(b, axis=-1, keepdims=True)
     r = r / np.linalg.norm(r, axis=-1, keepdims=True)
