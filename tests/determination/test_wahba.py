@@ -302,3 +302,16 @@ def test_shared_weight_row_equals_per_problem_weights():
     np.testing.assert_array_equal(a.loss, b.loss)
     np.testing.assert_allclose(davenport_k(body, ref, w), davenport_k(body, ref, np.tile(w, (6, 1))))
     np.testing.assert_allclose(wahba_loss(a.q, body, ref, w), a.loss, rtol=1e-10, atol=1e-15)
+
+
+def test_huge_and_tiny_vectors_are_normalised_not_flagged():
+    # lengths carry no information: 1e200 or 1e-200 (squared norm over/underflows) must give
+    # the same attitude as unit vectors; an empty batch is fine
+    rng = np.random.default_rng(12)
+    body, ref, _ = random_problems(rng, 3, 2)
+    q = solve_wahba(body, ref, method="esoq2").q
+    res = solve_wahba(body * 1e200, ref * 1e-200, method="esoq2")
+    assert res.success.all()
+    assert qangle(res.q, q).max() < 1e-14
+    empty = solve_wahba(np.zeros((0, 2, 3)), np.zeros((0, 2, 3)))
+    assert empty.q.shape == (0, 4) and empty.message == "solved"

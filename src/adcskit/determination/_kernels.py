@@ -47,6 +47,26 @@ def _det3(m00, m01, m02, m10, m11, m12, m20, m21, m22):
 
 
 @njit(cache=True, error_model="numpy")
+def _unit_scaled(v, out):
+    """Normalise v into out, scaling by max |v_i| first (no over/underflow); status code."""
+    m = 0.0
+    for j in range(3):
+        if not np.isfinite(v[j]):
+            return NONFINITE
+        m = max(m, abs(v[j]))
+    if m == 0.0:
+        return ZERO_LENGTH
+    s = 0.0
+    for j in range(3):
+        out[j] = v[j] / m
+        s += out[j] * out[j]
+    s = 1.0 / np.sqrt(s)
+    for j in range(3):
+        out[j] *= s
+    return OK
+
+
+@njit(cache=True, error_model="numpy")
 def _dcm_to_quat(A, q):
     """Shepperd's method (robust at every attitude), canonical sign q4 >= 0."""
     tr = A[0, 0] + A[1, 1] + A[2, 2]
@@ -424,15 +444,21 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         for j in range(3):
             nb += body[i, j] * body[i, j]
             nr += ref[i, j] * ref[i, j]
-        if not (np.isfinite(nb) and np.isfinite(nr) and np.isfinite(w[i])):
-            return NONFINITE
-        if nb < 1e-300 or nr < 1e-300:
-            return ZERO_LENGTH
-        nb = 1.0 / np.sqrt(nb)
-        nr = 1.0 / np.sqrt(nr)
-        for j in range(3):
-            b[i, j] = body[i, j] * nb
-            r[i, j] = ref[i, j] * nr
+        if (np.isfinite(nb) and np.isfinite(nr) and nb >= 1e-300 and nr >= 1e-300
+                and np.isfinite(w[i])):
+            nb = 1.0 / np.sqrt(nb)
+            nr = 1.0 / np.sqrt(nr)
+            for j in range(3):
+                b[i, j] = body[i, j] * nb
+                r[i, j] = ref[i, j] * nr
+        else:  # rare path: non-finite, zero, or a squared norm that over/underflows
+            if not np.isfinite(w[i]):
+                return NONFINITE
+            code = _unit_scaled(body[i], b[i])
+            if code == OK:
+                code = _unit_scaled(ref[i], r[i])
+            if code != OK:
+                return code
         wsum += w[i]
     # anchor = heaviest observation (first on ties), second = heaviest non-parallel one
     i1 = 0
