@@ -162,8 +162,15 @@ def _unit_weights(n: int) -> np.ndarray:
 def _prepare(body: Any, ref: Any, weights: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     b = _as_vectors("body", body)
     r = _as_vectors("ref", ref)
+    if b.ndim == 3 and r.ndim == 2 and r.shape == b.shape[1:]:
+        r = np.broadcast_to(r, b.shape)  # one reference set shared by every problem
+    elif r.ndim == 3 and b.ndim == 2 and b.shape == r.shape[1:]:
+        b = np.broadcast_to(b, r.shape)
     if b.shape != r.shape:
-        raise InputError(f"body and ref must have the same shape; got {b.shape} and {r.shape}")
+        raise InputError(
+            "body and ref must have the same shape, or one of them (n, 3) shared by a batch "
+            f"(N, n, 3); got {b.shape} and {r.shape}"
+        )
     batched = b.ndim == 3
     n = b.shape[-2]
     N = b.shape[0] if batched else 1
@@ -198,7 +205,8 @@ def solve_wahba(
     body : array_like, shape (n, 3) or (N, n, 3)
         Observed directions in the body frame (any length; normalised here), ``n >= 2``.
     ref : array_like, same shape as ``body``
-        The same directions in the reference frame.
+        The same directions in the reference frame. One of ``body``/``ref`` may be a single
+        ``(n, 3)`` set shared by every problem of a ``(N, n, 3)`` batch.
     weights : array_like, shape (n,) or (N, n), optional
         Positive weights ``a_i`` (read as ``1/σ_i²`` [rad⁻²] for the covariance). Default 1.
     method : str
