@@ -135,8 +135,10 @@ class OptimalControlProblem:
             lo, hi = (float(v) for v in self.tf_bounds)
         except (TypeError, ValueError):
             raise InputTypeError(f"tf_bounds must be two numbers (s); got {self.tf_bounds!r}") from None
-        if not (lo > self.t0 and hi >= lo) or np.isnan(hi):
-            raise InputError(f"tf_bounds must satisfy t0 < lower <= upper (s); got ({lo}, {hi}) with t0={self.t0}")
+        if not (lo >= self.t0 and hi >= lo and hi > self.t0) or np.isnan(hi):
+            raise InputError(
+                f"tf_bounds must satisfy t0 <= lower <= upper, upper > t0 (s); got ({lo}, {hi}) with t0={self.t0}"
+            )
         s(self, "tf_bounds", (lo, hi))
         if self.tf_guess is None:
             guess = 0.5 * (lo + hi) if np.isfinite(hi) else lo + 1.0

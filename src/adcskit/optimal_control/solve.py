@@ -117,6 +117,7 @@ class OptimalControlSolution:
     solve_s: float
     problem: OptimalControlProblem = field(repr=False)
     pieces: tuple[_Piece, ...] = field(repr=False)
+    dynamics_fun: Any = field(repr=False, default=None)
 
     # ---------------------------------------------------------------- interpolation
     def _locate(self, t: np.ndarray) -> np.ndarray:
@@ -368,6 +369,7 @@ def _solve_with(problem, tr, guess: Guess, build_s: float) -> OptimalControlSolu
         solve_s=solve_s,
         problem=problem,
         pieces=tuple(pieces),
+        dynamics_fun=tr.f_fun,
     )
 
 

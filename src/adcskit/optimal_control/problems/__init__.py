@@ -4,5 +4,6 @@ from adcskit.optimal_control.problems.double_integrator import (
     double_integrator_min_energy,
     double_integrator_min_time,
 )
+from adcskit.optimal_control.problems.rendezvous import RendezvousParams, rendezvous_problem
 
-__all__ = ["double_integrator_min_energy", "double_integrator_min_time"]
+__all__ = ["RendezvousParams", "double_integrator_min_energy", "double_integrator_min_time", "rendezvous_problem"]
