@@ -58,6 +58,11 @@ DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
     "mu_strategy": "adaptive",
 }
 
+# "sx": the whole NLP in SX (fast evaluation, slower build); "mx": MX graph calling the mapped
+# SX dynamics (fast build, derivatives of f computed once and mapped); "mx-expand": MX
+# expanded to SX by nlpsol. Chosen by measurement (docs/benchmarks.md).
+SYMBOLIC = "sx"
+
 _CACHE: OrderedDict[tuple, _Transcription] = OrderedDict()
 _CACHE_SIZE = 24
 
@@ -82,7 +87,9 @@ class _Interval:
 class _Transcription:
     """The compiled NLP of one problem structure on one mesh."""
 
-    def __init__(self, problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any]):
+    def __init__(
+        self, problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any], symbolic: str = "sx"
+    ):
         self.method = method
         self.mesh = mesh
         nx, nu, npath = problem.n_states, problem.n_controls, problem.n_path
@@ -141,67 +148,58 @@ class _Transcription:
         self.nz = iz + 1
         self.ng = ig
 
-        # ---------------- symbolic NLP
-        z = ca.SX.sym("z", self.nz)
-        p = ca.SX.sym("p", nx + nu + 3)  # [sx, su, s_tf, t0, cJ]
+        # ---------------- symbolic NLP (vectorised: one mapped call of f over all nodes)
+        Sym = ca.MX if symbolic.startswith("mx") else ca.SX
+        z = Sym.sym("z", self.nz)
+        p = Sym.sym("p", nx + nu + 3)  # [sx, su, s_tf, t0, cJ]
         sx, su = p[:nx], p[nx : nx + nu]
         tf = p[nx + nu] * z[self.i_tf]
         t0 = p[nx + nu + 1]
         cJ = p[nx + nu + 2]
         T = tf - t0
-        g_parts: list[Any] = []
-        path_parts = []
-        lag = ca.SX(0)
-        starts, ends = [], []
-        for r, iv in enumerate(self.intervals):
+        ntot = sum(mesh.nodes)
+        per = []
+        for iv in self.intervals:
             Xs = ca.reshape(z[iv.xs], nx, iv.n + 1) * ca.repmat(sx, 1, iv.n + 1)
-            U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else ca.SX(0, iv.n)
+            U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else Sym(0, iv.n)
             h = T * (iv.b - iv.a)
             tstart = t0 + T * iv.a
             if method == "gauss":
-                Xc = Xs[:, 1:]
-                Xend = z[iv.xe] * sx
+                Xc, Xend = Xs[:, 1:], z[iv.xe] * sx
             else:
-                Xc = Xs[:, :-1]
-                Xend = Xs[:, -1]
-            F = []
-            G = []
-            for k in range(iv.n):
-                tk = tstart + (iv.tau[k] + 1.0) / 2.0 * h
-                F.append(self.f_fun(Xc[:, k], U[:, k], tk))
-                if problem.lagrange is not None:
-                    G.append(self.g_fun(Xc[:, k], U[:, k], tk))
-                if npath:
-                    path_parts.append(self.c_fun(Xc[:, k], U[:, k], tk))
-            Fm = ca.horzcat(*F)
-            defect = (ca.mtimes(Xs, ca.DM(iv.D.T)) - h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)
-            g_parts.append(ca.vec(defect))
-            if method == "gauss":
-                quad = (Xend - Xs[:, 0] - h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx
-                g_parts.append(quad)
-            if G:
-                lag = lag + h / 2.0 * ca.dot(ca.vertcat(*G), ca.DM(iv.w))
-            starts.append(Xs[:, 0])
-            ends.append(Xend)
-        # rows in interval order: defects, [quadrature], linkage to the next interval
+                Xc, Xend = Xs[:, :-1], Xs[:, -1]
+            tc = tstart + ca.DM((iv.tau[None, :] + 1.0) / 2.0) * h
+            per.append((Xs, U, h, Xc, Xend, tc))
+        Xc_all = ca.horzcat(*[q[3] for q in per])
+        U_all = ca.horzcat(*[q[1] for q in per])
+        T_all = ca.horzcat(*[q[5] for q in per])
+        F_all = self.f_fun.map(ntot)(Xc_all, U_all, T_all)
+        G_all = self.g_fun.map(ntot)(Xc_all, U_all, T_all) if problem.lagrange is not None else None
         ordered: list[Any] = []
-        j = 0
-        for r, iv in enumerate(self.intervals):
-            ordered.append(g_parts[j])
-            j += 1
+        lag = Sym(0)
+        off = 0
+        for r, (iv, (Xs, _U, h, _Xc, Xend, _tc)) in enumerate(zip(self.intervals, per, strict=True)):
+            Fm = F_all[:, off : off + iv.n]
+            defect = (ca.mtimes(Xs, ca.DM(iv.D.T)) - h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)
+            ordered.append(ca.vec(defect))  # rows: defects, [quadrature], linkage to the next interval
             if method == "gauss":
-                ordered.append(g_parts[j])
-                j += 1
+                ordered.append((Xend - Xs[:, 0] - h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx)
             if iv.g_link is not None:
-                ordered.append((ends[r] - starts[r + 1]) / sx)
-        ordered.extend(path_parts)
+                ordered.append((Xend - per[r + 1][0][:, 0]) / sx)
+            if G_all is not None:
+                lag = lag + h / 2.0 * ca.mtimes(G_all[:, off : off + iv.n], ca.DM(iv.w))
+            off += iv.n
+        if npath:
+            ordered.append(ca.vec(self.c_fun.map(ntot)(Xc_all, U_all, T_all)))
         g = ca.vertcat(*ordered)
         J = lag
         if problem.mayer is not None:
-            J = J + _scalar(problem.mayer(starts[0], t0, ends[-1], tf), "mayer")
+            J = J + _scalar(problem.mayer(per[0][0][:, 0], t0, per[-1][4], tf), "mayer")
         self.J_fun = ca.Function("J", [z, p], [J])
         nlp = {"x": z, "p": p, "f": J / cJ, "g": g}
         opts = {"print_time": False, "ipopt": dict(ipopt)}
+        if symbolic == "mx-expand":
+            opts["expand"] = True
         self.solver = ca.nlpsol("ocp", "ipopt", nlp, opts)
 
     # ------------------------------------------------------------------ numeric helpers
@@ -290,9 +288,13 @@ def _scalar(expr, what: str):
     return ca.SX(expr) if isinstance(expr, int | float) else expr
 
 
-def get_transcription(problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any]) -> _Transcription:
+def get_transcription(
+    problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any], symbolic: str | None = None
+) -> _Transcription:
     """The cached compiled NLP for this problem structure (see module docstring)."""
+    symbolic = SYMBOLIC if symbolic is None else symbolic
     key = (
+        symbolic,
         problem.dynamics,
         problem.mayer,
         problem.lagrange,
@@ -306,7 +308,7 @@ def get_transcription(problem: OptimalControlProblem, method: str, mesh: Mesh, i
     )
     tr = _CACHE.get(key)
     if tr is None:
-        tr = _Transcription(problem, method, mesh, ipopt)
+        tr = _Transcription(problem, method, mesh, ipopt, symbolic)
         _CACHE[key] = tr
         while len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
