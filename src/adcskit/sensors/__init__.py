@@ -1,1 +1,19 @@
-"""adcskit.sensors (see design.md)."""
+"""Sensor models: sun sensor, magnetometer, bounded (interval) and Gaussian errors.
+
+Sensors take the true attitude matrix ``A`` (reference -> body, ``b = A r``) and reference
+vectors, and return body-frame measurements with misalignment, bounded angular or
+per-component errors, Gaussian noise and bias (``rng``-seeded, batched over time). The
+interval helpers build S0's midpoint-radius boxes ``b = b^m + diag(α) b^r`` (eq. 4-5).
+"""
+
+from adcskit.sensors.intervals import interval_from_bounds, midpoint_radius, vector_bounds
+from adcskit.sensors.models import Magnetometer, SunSensor, VectorSensor
+
+__all__ = [
+    "Magnetometer",
+    "SunSensor",
+    "VectorSensor",
+    "interval_from_bounds",
+    "midpoint_radius",
+    "vector_bounds",
+]
