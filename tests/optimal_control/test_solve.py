@@ -17,7 +17,10 @@ from adcskit.optimal_control import (
     solve,
     solve_mesh_sequence,
 )
-from adcskit.optimal_control.problems import double_integrator_min_energy, double_integrator_min_time
+from adcskit.optimal_control.problems import (
+    double_integrator_min_energy,
+    double_integrator_min_time,
+)
 
 D, A = 2.0, 0.5  # move 2 m with |u| <= 0.5 m/s^2: tf* = 2 sqrt(d/a) = 4 s (Bryson & Ho §7.3)
 TF = 2 * math.sqrt(D / A)

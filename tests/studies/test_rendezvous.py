@@ -49,6 +49,29 @@ def test_mrp_kinematics_matches_eq5():
     np.testing.assert_allclose(_num(mrp_kinematics_matrix, s), B, atol=1e-15)
 
 
+def test_mrp_dcm_agrees_with_attitude_package():
+    from adcskit.attitude.mrp import mrp_to_dcm
+
+    s = np.array([0.2, -0.1, 0.35])
+    np.testing.assert_allclose(_num(mrp_dcm, s), mrp_to_dcm(s), atol=1e-14)
+
+
+def test_translation_agrees_with_cw_matrices():
+    # independent implementation: adcskit.dynamics.cw_matrices (same LVLH axes as S2)
+    from adcskit.dynamics.relative_motion import cw_matrices
+
+    n = mean_motion(580e3)
+    A, B = cw_matrices(n)
+    p = rendezvous_problem((20, 0, 0))
+    x = np.zeros(12)
+    x[6:9] = [0.1, -0.2, 0.3]
+    x[9:12] = [5.0, 2.0, -3.0]
+    F = np.array([0, 0, 0, 30.0, -50.0, 80.0])
+    f = np.array(p.dynamics(ca.DM(x), ca.DM(F), 0)).ravel()
+    ref = A @ np.r_[x[9:12], x[6:9]] + B @ (F[3:] / RendezvousParams().mass)
+    np.testing.assert_allclose(np.r_[f[9:12], f[6:9]], ref, atol=1e-15)
+
+
 def test_hill_equations_and_mean_motion():
     # 580 km circular orbit: n = sqrt(mu/a^3) = 1.0887e-3 rad/s (period ~96.2 min)
     n = mean_motion(580e3)

@@ -15,7 +15,12 @@ References
 S2 (Gauss pseudospectral method, eq. 17–37). Benson et al. 2006; Garg et al. 2010.
 """
 
-from adcskit.optimal_control.analysis import BangBangResult, ResimulationResult, bang_bang, resimulate
+from adcskit.optimal_control.analysis import (
+    BangBangResult,
+    ResimulationResult,
+    bang_bang,
+    resimulate,
+)
 from adcskit.optimal_control.nodes import (
     gauss_differentiation_matrix,
     lagrange_derivative_matrix,

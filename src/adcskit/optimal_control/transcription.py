@@ -216,7 +216,7 @@ class _Transcription:
         lbz = np.full(self.nz, -np.inf)
         ubz = np.full(self.nz, np.inf)
         nx, nu = self.nx, self.nu
-        for r, iv in enumerate(self.intervals):
+        for iv in self.intervals:
             lo = np.tile(problem.state_lower / sx, iv.n + 1)
             hi = np.tile(problem.state_upper / sx, iv.n + 1)
             lbz[iv.xs], ubz[iv.xs] = lo, hi

@@ -389,13 +389,10 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
 
 def _euler_yxz(sigma: np.ndarray) -> np.ndarray:
     """Intrinsic Y-X-Z Euler angles (rad) of the body frame relative to LVLH from MRPs."""
-    from scipy.spatial.transform import Rotation
+    from adcskit.attitude.euler import dcm_to_euler
+    from adcskit.attitude.mrp import mrp_to_dcm
 
-    s2 = np.sum(sigma**2, axis=1)
-    q = np.column_stack([2 * sigma, 1 - s2]) / (1 + s2)[:, None]  # scalar-last quaternion
-    # q represents A (LVLH -> body); Rotation.from_quat(q).inv() has matrix A, so the
-    # rotation carrying the LVLH axes onto the body axes is Rotation.from_quat(q).
-    return Rotation.from_quat(q).as_euler("YXZ")
+    return dcm_to_euler(mrp_to_dcm(sigma), "YXZ")
 
 
 def _figures(sol) -> dict:

@@ -45,6 +45,7 @@ import casadi as ca
 import numpy as np
 
 from adcskit._validation import as_array, check_choice, check_positive
+from adcskit.constants import MU_EARTH, R_EARTH
 from adcskit.errors import InputError
 from adcskit.optimal_control.problem import OptimalControlProblem
 
@@ -59,8 +60,9 @@ __all__ = [
     "CONTROL_NAMES",
 ]
 
-MU_EARTH = 3.986004418e14  # m^3/s^2 (WGS-84 / EGM-96)
-R_EARTH = 6378137.0  # m (WGS-84 equatorial radius)
+
+#: Final MRPs of S2 Table 3: pure 90° rotation about body axis 2, tan(90°/4) = 0.4142.
+SIGMA_F_PAPER = (0.0, math.tan(math.pi / 8), 0.0)
 
 STATE_NAMES = ("w1", "w2", "w3", "sigma1", "sigma2", "sigma3", "v1", "v2", "v3", "s1", "s2", "s3")
 CONTROL_NAMES = ("T1", "T2", "T3", "F1", "F2", "F3")
@@ -171,7 +173,7 @@ def rendezvous_problem(
     s0=(20.0, 0.0, 0.0),
     *,
     sf=(0.0, 0.0, -10.0),
-    sigma_f=(0.0, math.tan(math.pi / 8), 0.0),
+    sigma_f=SIGMA_F_PAPER,
     params: RendezvousParams | None = None,
     dynamics: str = "paper",
     tf_guess: float = 25.0,
