@@ -271,3 +271,16 @@ class Guess:
     u: np.ndarray
     tf: float
     t_u: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        t = as_array("guess.t", self.t, ndim=1)
+        if t.size < 2 or np.any(np.diff(t) <= 0):
+            raise InputError(f"guess.t must hold >= 2 increasing times (s); got {t}")
+        x = as_array("guess.x", self.x, shape=(t.size, None))
+        tu = t if self.t_u is None else as_array("guess.t_u", self.t_u, ndim=1)
+        u = as_array("guess.u", self.u, shape=(tu.size, None))
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "x", x)
+        object.__setattr__(self, "u", u)
+        object.__setattr__(self, "t_u", None if self.t_u is None else tu)
+        object.__setattr__(self, "tf", check_positive("guess.tf", self.tf, unit="s"))
