@@ -134,11 +134,12 @@ def _verdict(value: float, decimals: int, reference: float, others: np.ndarray, 
     tol = rtol * reference + 0.5 * 10.0**-decimals
     if abs(value - reference) <= tol:
         return "global"
+    pct = 100.0 * (value - reference) / reference
     if value < reference:
-        return "below our best optimum (not reproduced)"
+        return f"below our best optimum by {-pct:.3f} % (not reproduced)"
     if others.size and np.min(np.abs(others - value)) <= rtol * value + 0.5 * 10.0**-decimals:
-        return "local"
-    return "above our best, matches none of our local optima"
+        return f"local ({pct:.3f} % above our best)"
+    return f"not optimal: {pct:.3f} % above our best, matches none of our local optima"
 
 
 def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> StudyResult:
@@ -217,7 +218,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             checks.append(
                 Check(
                     name=f"s0={list(s0)}: the paper's GPM tf {paper[1]} s is the global optimum (paper mesh)",
-                    passed=v_gpm == "global",
+                    passed=v_gpm == "global",  # verdict strings start with "global"/"local"/...
                     detail=f"our best on the paper mesh {best.tf:.5f} s; distinct optima "
                     f"{np.round(ms.distinct_objectives, 5).tolist()} s; verdict: {v_gpm}",
                 )
