@@ -125,6 +125,6 @@ def test_quick_study(tmp_path):
     # the single-axis bound 2·sqrt(20/0.1) = 28.28 s
     assert 2 * math.sqrt(20 / (math.sqrt(2) * 0.1)) < main["tf_best_multistart_s"] < 28.29
     assert main["tf_converged_s"] <= main["tf_best_multistart_s"] + 1e-2
-    assert len(doc["figures"]) == 13
+    assert len(doc["figures"]) == 14  # Figs 3-15 (13) + Table 4 summary
     names = {c["name"] for c in doc["checks"]}
     assert any("bang-bang" in n for n in names) and any("Hamiltonian" in n for n in names)

@@ -336,6 +336,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         )
 
     figures = _figures(msol) if msol is not None else {}
+    figures["table4_tf"] = _table4_figure(rows_out)
     measured = {"rows": rows_out, "row_details": details, "full_dynamics_main_row": full_info}
     paper = {
         "source": "S2 Table 4 (tf in s); main scenario S2 §6, Tables 2-3",
@@ -402,6 +403,27 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         tables=tables,
         doc="docs/studies/rendezvous.md",
     )
+
+
+def _table4_figure(rows_out):
+    """S2 Table 4 beside our paper-mesh and mesh-converged optima."""
+    fig, ax = new_figure(figsize=(7.0, 4.0))
+    x = np.arange(len(rows_out))
+    for i, r in enumerate(rows_out):
+        paper = _paper_row(r["s0_m"])
+        if paper is not None:
+            ax.plot(i - 0.15, paper[1], "s", color="C0", label="GPM (paper)" if i == 0 else None)
+            ax.plot(i - 0.05, paper[2], "D", color="C1", label="GPOPS (paper)" if i == 0 else None)
+        for v in r["distinct_local_optima_s"]:
+            ax.plot(i + 0.05, v, "o", mfc="none", color="C2", label="our 20x3 optima" if i == 0 else None)
+        ax.plot(i + 0.15, r["tf_converged_s"], "*", ms=10, color="C3", label="ours, converged" if i == 0 else None)
+    ax.set_xticks(x, [str([int(v) for v in r["s0_m"]]) for r in rows_out], fontsize=8)
+    ax.set_xlabel("initial position s0 (m)")
+    ax.set_ylabel("tf (s)")
+    ax.set_title("S2 Table 4: minimum time per initial position")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
 
 
 def _euler_yxz(sigma: np.ndarray) -> np.ndarray:
