@@ -168,7 +168,11 @@ def resimulate(
         :meth:`OptimalControlSolution.control_at`), or ``"switching"`` — on the channels that
         :func:`bang_bang` finds bang-bang, the minimum-principle law ``u = lower if ∂H/∂u > 0
         else upper`` with ``∂H/∂u`` linearly interpolated between collocation points (switch
-        times between nodes are then resolved), elsewhere Lagrange.
+        times between nodes are then resolved), elsewhere Lagrange. Measured on the S2
+        rendezvous (40×4): the law agrees with the NLP controls at 99 % of the nodes, but its
+        terminal miss is ~8× that of ``"lagrange"`` (0.115 vs 0.014 state scales) because
+        the interpolated costates place the switches less accurately than the NLP's own
+        control polynomials; ``"lagrange"`` is the default.
     method : str
         :func:`scipy.integrate.solve_ivp` method.
     rtol, atol : float
