@@ -1,0 +1,324 @@
+"""Private kernels of the on-off loop: numba batch kernel and the NumPy reference path.
+
+Both kernels take plain float arrays prepared by :mod:`adcskit.control.onoff` and perform
+*the same floating-point operations in the same order*, so that their results agree bit for
+bit (no fused multiply-add: numba runs without ``fastmath``; NumPy ufuncs never fuse).
+The only exception is ``sin`` of a time-varying disturbance, where libm and NumPy may differ
+in the last ulp.
+
+Per-sample parameter columns (``P[i, col]``) and shared coefficients (``C[col]``) are
+listed below; :mod:`adcskit.control.onoff` builds both.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+# --- per-sample parameter columns ---------------------------------------------------------
+KP, KI, KD, UON, UOFF, INERTIA, TORQUE, DELAY, D0, DAMP, DOMEGA, THREF, TH0, OM0 = range(14)
+N_PARAMS = 14
+
+# --- shared coefficient columns --------------------------------------------------------------
+# thruster (two cascaded first-order lags, exact ZOH discretisation of the delayed command):
+#   x1+ = A11 x1 + B1 u ;  x2+ = A21 x1 + A22 x2 + B2 u
+# integrals over one step (zero initial v, p):  v = int x2 dt ; p = int int x2 dt dt
+#   v = V1 x1 + V2 x2 + VU u ;  p = P1 x1 + P2 x2 + PU u
+# derivative filter: xf+ = xf + ALPHA (e - xf), derivative = (e - xf) * INV_TD
+(A11, B1, A21, A22, B2, V1, V2, VU, P1, P2, PU, ALPHA, INV_TD, DT, HALF_DT2, BAND_FRAC) = range(16)
+N_COEFS = 16
+
+# --- metric columns -------------------------------------------------------------------------
+OVERSHOOT_PCT, MEAN_ABS_ERR, MAX_ABS_ERR, FUEL, FIRINGS, SETTLING_TIME, FINAL_ERR = range(7)
+N_METRICS = 7
+METRIC_NAMES = (
+    "overshoot_pct",
+    "mean_abs_err_last",
+    "max_abs_err_last",
+    "fuel",
+    "firings",
+    "settling_time",
+    "final_error",
+)
+
+# --- trace columns ----------------------------------------------------------------------
+TR_THETA, TR_OMEGA, TR_U, TR_CMD, TR_THRUST = range(5)
+N_TRACE = 5
+
+
+def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
+    """Simulate every row of ``P``; return the (N, N_METRICS) metrics.
+
+    ``rec`` is either ``(N, n_steps + 1, N_TRACE)`` (record traces) or ``(0, 0, N_TRACE)``.
+    ``buf_len`` is a power of two larger than the longest delay in steps + 2.
+    """
+    n = P.shape[0]
+    out = np.empty((n, N_METRICS))
+    record = rec.shape[0] > 0
+    mask = buf_len - 1
+    a11 = C[A11]
+    b1 = C[B1]
+    a21 = C[A21]
+    a22 = C[A22]
+    b2 = C[B2]
+    v1 = C[V1]
+    v2 = C[V2]
+    vu = C[VU]
+    p1 = C[P1]
+    p2 = C[P2]
+    pu = C[PU]
+    alpha = C[ALPHA]
+    inv_td = C[INV_TD]
+    dt = C[DT]
+    half_dt2 = C[HALF_DT2]
+    band_frac = C[BAND_FRAC]
+    k_win0 = n_steps - n_win + 1  # first sample index inside the final window
+    for i in numba.prange(n):
+        kp = P[i, KP]
+        ki = P[i, KI]
+        kd = P[i, KD]
+        u_on = P[i, UON]
+        u_off = P[i, UOFF]
+        inv_j = 1.0 / P[i, INERTIA]
+        torque = P[i, TORQUE]
+        g = torque * inv_j
+        abs_torque = abs(torque)
+        delay_steps = P[i, DELAY] / dt
+        nd = int(math.floor(delay_steps))
+        frac = delay_steps - nd
+        d0 = P[i, D0]
+        d_amp = P[i, DAMP]
+        d_omega = P[i, DOMEGA]
+        theta_ref = P[i, THREF]
+        theta = P[i, TH0]
+        omega = P[i, OM0]
+        step = theta_ref - theta
+        sgn = 1.0 if step >= 0.0 else -1.0
+        abs_step = abs(step)
+        band = band_frac * abs_step
+        buf = np.zeros(buf_len)
+        e = theta_ref - theta
+        integ = 0.0
+        xf = e  # derivative filter starts at rest on the initial error (no derivative kick)
+        x1 = 0.0
+        x2 = 0.0
+        s = 0.0  # Schmitt output (held command)
+        u = 0.0
+        cnt = 0
+        firings = 0.0
+        fuel = 0.0
+        max_over = -np.inf
+        acc = 0.0
+        max_win = 0.0
+        last_out = -1
+        if abs(e) > band:
+            last_out = 0
+        if record:
+            rec[i, 0, TR_THETA] = theta
+            rec[i, 0, TR_OMEGA] = omega
+            rec[i, 0, TR_U] = 0.0
+            rec[i, 0, TR_CMD] = 0.0
+            rec[i, 0, TR_THRUST] = 0.0
+        for k in range(n_steps):
+            # controller at the command instants (sample and hold)
+            if cnt == 0:
+                cnt = hold
+                u = kp * e + ki * integ + kd * ((e - xf) * inv_td)
+                prev = s
+                if s == 0.0:
+                    if u >= u_on:
+                        s = 1.0
+                    elif u <= -u_on:
+                        s = -1.0
+                elif s == 1.0:
+                    if u <= -u_on:
+                        s = -1.0
+                    elif u < u_off:
+                        s = 0.0
+                else:
+                    if u >= u_on:
+                        s = 1.0
+                    elif u > -u_off:
+                        s = 0.0
+                if s != 0.0 and s != prev:
+                    firings += 1.0
+            cnt -= 1
+            # pure delay (linear interpolation between the two neighbouring command samples)
+            buf[k & mask] = s
+            if k - nd >= 0:
+                ua = buf[(k - nd) & mask]
+            else:
+                ua = 0.0
+            if k - nd - 1 >= 0:
+                ub = buf[(k - nd - 1) & mask]
+            else:
+                ub = 0.0
+            ud = (1.0 - frac) * ua + frac * ub
+            # disturbance (held over the step, evaluated at its midpoint)
+            if d_amp != 0.0:
+                td = d0 + d_amp * math.sin(d_omega * ((k + 0.5) * dt))
+            else:
+                td = d0
+            # thruster lag and rigid body, exact for a command held over the step
+            v = v1 * x1 + v2 * x2 + vu * ud
+            p = p1 * x1 + p2 * x2 + pu * ud
+            x2 = a21 * x1 + a22 * x2 + b2 * ud
+            x1 = a11 * x1 + b1 * ud
+            theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
+            omega = omega + g * v + (td * inv_j) * dt
+            fuel += abs_torque * abs(v)
+            # PID states
+            integ = integ + e * dt
+            xf = xf + alpha * (e - xf)
+            # metrics at t_{k+1}
+            e = theta_ref - theta
+            over = sgn * (theta - theta_ref)
+            if over > max_over:
+                max_over = over
+            ae = abs(e)
+            if ae > band:
+                last_out = k + 1
+            if k + 1 >= k_win0:
+                acc += ae
+                if ae > max_win:
+                    max_win = ae
+            if record:
+                rec[i, k + 1, TR_THETA] = theta
+                rec[i, k + 1, TR_OMEGA] = omega
+                rec[i, k + 1, TR_U] = u
+                rec[i, k + 1, TR_CMD] = s
+                rec[i, k + 1, TR_THRUST] = torque * x2
+        if abs_step > 0.0:
+            out[i, OVERSHOOT_PCT] = max(max_over, 0.0) / abs_step * 100.0
+        else:
+            out[i, OVERSHOOT_PCT] = np.nan
+        out[i, MEAN_ABS_ERR] = acc / n_win
+        out[i, MAX_ABS_ERR] = max_win
+        out[i, FUEL] = fuel
+        out[i, FIRINGS] = firings
+        if last_out < 0:
+            out[i, SETTLING_TIME] = 0.0
+        elif last_out >= n_steps:
+            out[i, SETTLING_TIME] = np.nan
+        else:
+            out[i, SETTLING_TIME] = (last_out + 1) * dt
+        out[i, FINAL_ERR] = e
+    return out
+
+
+simulate_parallel = numba.njit(parallel=True, cache=True, nogil=True)(_simulate)
+simulate_serial = numba.njit(parallel=False, cache=True, nogil=True)(_simulate)
+simulate_python = _simulate  # the plain-Python loop (benchmarks only)
+
+
+def simulate_numpy(P, C, n_steps, hold, n_win, buf_len, rec):
+    """NumPy reference path: vectorised over samples, a Python loop over time steps.
+
+    Same operations, same order as :func:`_simulate` (bit-identical results).
+    """
+    n = P.shape[0]
+    record = rec.shape[0] > 0
+    mask = buf_len - 1
+    a11, b1, a21, a22, b2 = C[A11], C[B1], C[A21], C[A22], C[B2]
+    v1, v2, vu, p1, p2, pu = C[V1], C[V2], C[VU], C[P1], C[P2], C[PU]
+    alpha, inv_td, dt, half_dt2, band_frac = C[ALPHA], C[INV_TD], C[DT], C[HALF_DT2], C[BAND_FRAC]
+    k_win0 = n_steps - n_win + 1
+    kp, ki, kd = P[:, KP], P[:, KI], P[:, KD]
+    u_on, u_off = P[:, UON], P[:, UOFF]
+    inv_j = 1.0 / P[:, INERTIA]
+    torque = P[:, TORQUE]
+    g = torque * inv_j
+    abs_torque = np.abs(torque)
+    delay_steps = P[:, DELAY] / dt
+    nd = np.floor(delay_steps).astype(np.int64)
+    frac = delay_steps - nd
+    d0, d_amp, d_omega = P[:, D0], P[:, DAMP], P[:, DOMEGA]
+    varying = d_amp != 0.0
+    theta_ref = P[:, THREF]
+    theta = P[:, TH0].copy()
+    omega = P[:, OM0].copy()
+    step = theta_ref - theta
+    sgn = np.where(step >= 0.0, 1.0, -1.0)
+    abs_step = np.abs(step)
+    band = band_frac * abs_step
+    buf = np.zeros((n, buf_len))
+    rows = np.arange(n)
+    e = theta_ref - theta
+    integ = np.zeros(n)
+    xf = e.copy()
+    x1 = np.zeros(n)
+    x2 = np.zeros(n)
+    s = np.zeros(n)
+    u = np.zeros(n)
+    firings = np.zeros(n)
+    fuel = np.zeros(n)
+    max_over = np.full(n, -np.inf)
+    acc = np.zeros(n)
+    max_win = np.zeros(n)
+    last_out = np.where(np.abs(e) > band, 0, -1)
+    if record:
+        rec[:, 0, TR_THETA] = theta
+        rec[:, 0, TR_OMEGA] = omega
+        rec[:, 0, TR_U:] = 0.0
+    cnt = 0
+    for k in range(n_steps):
+        if cnt == 0:
+            cnt = hold
+            u = kp * e + ki * integ + kd * ((e - xf) * inv_td)
+            prev = s
+            on_pos = u >= u_on
+            on_neg = u <= -u_on
+            from_zero = np.where(on_pos, 1.0, np.where(on_neg, -1.0, 0.0))
+            from_pos = np.where(on_neg, -1.0, np.where(u < u_off, 0.0, 1.0))
+            from_neg = np.where(on_pos, 1.0, np.where(u > -u_off, 0.0, -1.0))
+            s = np.where(prev == 0.0, from_zero, np.where(prev == 1.0, from_pos, from_neg))
+            firings += (s != 0.0) & (s != prev)
+        cnt -= 1
+        buf[:, k & mask] = s
+        ia = k - nd
+        ua = np.where(ia >= 0, buf[rows, ia & mask], 0.0)
+        ub = np.where(ia - 1 >= 0, buf[rows, (ia - 1) & mask], 0.0)
+        ud = (1.0 - frac) * ua + frac * ub
+        if np.any(varying):
+            td = np.where(varying, d0 + d_amp * np.sin(d_omega * ((k + 0.5) * dt)), d0)
+        else:
+            td = d0
+        v = v1 * x1 + v2 * x2 + vu * ud
+        p = p1 * x1 + p2 * x2 + pu * ud
+        x2 = a21 * x1 + a22 * x2 + b2 * ud
+        x1 = a11 * x1 + b1 * ud
+        theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
+        omega = omega + g * v + (td * inv_j) * dt
+        fuel += abs_torque * np.abs(v)
+        integ = integ + e * dt
+        xf = xf + alpha * (e - xf)
+        e = theta_ref - theta
+        over = sgn * (theta - theta_ref)
+        max_over = np.maximum(max_over, over)
+        ae = np.abs(e)
+        last_out = np.where(ae > band, k + 1, last_out)
+        if k + 1 >= k_win0:
+            acc += ae
+            max_win = np.maximum(max_win, ae)
+        if record:
+            rec[:, k + 1, TR_THETA] = theta
+            rec[:, k + 1, TR_OMEGA] = omega
+            rec[:, k + 1, TR_U] = u
+            rec[:, k + 1, TR_CMD] = s
+            rec[:, k + 1, TR_THRUST] = torque * x2
+    out = np.empty((n, N_METRICS))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out[:, OVERSHOOT_PCT] = np.where(
+            abs_step > 0.0, np.maximum(max_over, 0.0) / abs_step * 100.0, np.nan
+        )
+    out[:, MEAN_ABS_ERR] = acc / n_win
+    out[:, MAX_ABS_ERR] = max_win
+    out[:, FUEL] = fuel
+    out[:, FIRINGS] = firings
+    out[:, SETTLING_TIME] = np.where(
+        last_out < 0, 0.0, np.where(last_out >= n_steps, np.nan, (last_out + 1) * dt)
+    )
+    out[:, FINAL_ERR] = e
+    return out

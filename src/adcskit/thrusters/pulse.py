@@ -1,0 +1,177 @@
+"""Pulse-width model, minimum impulse bit, minimum reachable error and fuel (S3 eq. 6-11).
+
+An on-off thruster delivers a constant force ``F_max`` for an on-time ``t_p`` inside each
+control sample ``t_s``; a requested mean force ``F`` is realised by pulse-width modulation,
+
+    t_p = F t_s / F_max                                   (S3 eq. 6)
+    m_fuel = mdot t_p                                     (S3 eq. 7)
+
+**Minimum impulse bit — where the lever arm goes (S3 eq. 8-10).** S3 prints
+``MTIB = F_max Δ t_min`` and ``e_min = F_max Δ t_min / (t_s K)``, with ``Δ = ||r x d||`` the
+lever arm of eq. 8. Read as ``Δt_min`` (a time) the product ``F_max Δt_min`` is a *force*
+impulse (N s), and dividing it by ``t_s K`` (s · N m/rad) would not give radians. The
+shortest pulse ``t_min`` of a thruster with lever arm ``Δ`` gives the angular-momentum
+increment
+
+    ΔH_min = ∫ ||r x F|| dt = Δ F_max t_min                [N m s]
+
+which is the minimum *torque* impulse bit. A controller with proportional gain
+``K = ω_n² J`` (S3 eq. 11, N m/rad) commands over one sample a torque impulse ``K e t_s`` for
+an attitude error ``e``; errors whose commanded impulse is below ``ΔH_min`` cannot be acted
+on, so the smallest reachable error is
+
+    e_min = Δ F_max t_min / (t_s K)                        [rad]
+
+— the lever arm belongs in the impulse bit, and only with it is ``e_min`` an angle. With
+S3's numbers (F_max = 10 N, t_min = 3 ms, t_s = 0.2 s, K = 600 N m/rad) this is
+``2.5e-4 Δ`` rad, at most ``4.3e-4`` rad for ``Δ <= sqrt(3)`` m in the 2x2x2 m box.
+
+References
+----------
+S3 eq. 6-11; Sidi M., "Spacecraft Dynamics and Control", CUP 1997, §7 (S3 ref. [18]).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from adcskit._validation import as_array, check_positive
+from adcskit.errors import InputError
+
+__all__ = [
+    "pulse_width",
+    "min_impulse_bit",
+    "min_reachable_error",
+    "fuel_mass",
+    "realisable_pulses",
+    "manoeuvre_fuel",
+]
+
+
+def pulse_width(force: Any, *, f_max: Any = 10.0, t_s: float = 0.2) -> np.ndarray:
+    """On-time per sample that realises a mean force (S3 eq. 6).
+
+    Parameters
+    ----------
+    force : array_like, N
+        Requested forces, any shape ``(..., n)``; must lie in ``[0, f_max]``.
+    f_max : float or array_like (n,), N
+    t_s : float, s
+        Control sample time (S3 Table 6: 0.2 s).
+
+    Returns
+    -------
+    numpy.ndarray, s
+        ``t_p = F t_s / F_max``, same shape as ``force``.
+    """
+    F = as_array("force", force)
+    fmax = as_array("f_max", f_max)
+    t_s = check_positive("t_s", t_s, unit="s")
+    if np.any(fmax <= 0):
+        raise InputError(f"f_max must be > 0 N; got {fmax}")
+    tol = 1e-9 * np.max(fmax)
+    if np.any(F < -tol) or np.any(F > fmax + tol):
+        raise InputError(
+            f"force must lie in [0, f_max] N (thrusters push one way); got range "
+            f"[{F.min():g}, {F.max():g}] with f_max {np.max(fmax):g}"
+        )
+    return np.clip(F, 0.0, fmax) * t_s / fmax
+
+
+def realisable_pulses(t_p: Any, *, t_min: Any = 3e-3, mode: str = "drop") -> np.ndarray:
+    """Apply the minimum on-time to pulse widths.
+
+    ``mode="drop"``: pulses shorter than ``t_min`` are not fired (dead zone of S3 §2-2);
+    ``mode="round"``: they are rounded to 0 or ``t_min``, whichever is nearer.
+    """
+    tp = as_array("t_p", t_p)
+    tm = as_array("t_min", t_min)
+    if np.any(tp < 0) or np.any(tm < 0):
+        raise InputError("t_p and t_min must be >= 0 s")
+    short = tp < tm
+    if mode == "drop":
+        return np.where(short, 0.0, tp)
+    if mode == "round":
+        return np.where(short, np.where(tp >= tm / 2, tm, 0.0), tp)
+    raise InputError(f"mode must be one of 'drop', 'round'; got {mode!r}")
+
+
+def min_impulse_bit(lever_arm: Any, *, f_max: Any = 10.0, t_min: Any = 3e-3) -> np.ndarray:
+    """Minimum torque impulse bit ``Δ F_max t_min`` (N m s); see the module docstring.
+
+    Parameters
+    ----------
+    lever_arm : array_like, m
+        ``Δ = ||r x d||`` per thruster (S3 eq. 8; :meth:`ThrusterSet.lever_arms`).
+    f_max : float or array_like, N
+    t_min : float or array_like, s
+        Minimum on-time (S3: 3 ms).
+
+    References
+    ----------
+    S3 eq. 9 with the lever arm of eq. 8 (derived in the module docstring).
+    """
+    d = as_array("lever_arm", lever_arm)
+    if np.any(d < 0):
+        raise InputError(f"lever_arm must be >= 0 m; got minimum {d.min():g}")
+    return d * as_array("f_max", f_max) * as_array("t_min", t_min)
+
+
+def min_reachable_error(
+    lever_arm: Any, *, f_max: Any = 10.0, t_min: Any = 3e-3, t_s: float = 0.2, gain: float = 600.0
+) -> np.ndarray:
+    """Smallest attitude error the thruster can correct, ``Δ F_max t_min / (t_s K)`` (rad).
+
+    Parameters
+    ----------
+    lever_arm : array_like, m
+    f_max : float or array_like, N
+    t_min : float or array_like, s
+    t_s : float, s
+        Control sample time (S3 Table 6: 0.2 s).
+    gain : float, N m/rad
+        ``K = ω_n² J`` (S3 eq. 11; Table 6: 600).
+
+    References
+    ----------
+    S3 eq. 10 and 16 with the lever arm in the impulse bit (module docstring).
+    """
+    t_s = check_positive("t_s", t_s, unit="s")
+    gain = check_positive("gain", gain, unit="N m/rad")
+    return min_impulse_bit(lever_arm, f_max=f_max, t_min=t_min) / (t_s * gain)
+
+
+def fuel_mass(t_p: Any, *, mdot: Any = 3.5e-3) -> np.ndarray:
+    """Propellant used by pulses of width ``t_p`` (kg), S3 eq. 7; sum it for a manoeuvre."""
+    tp = as_array("t_p", t_p)
+    if np.any(tp < 0):
+        raise InputError(f"t_p must be >= 0 s; got minimum {tp.min():g}")
+    return tp * as_array("mdot", mdot)
+
+
+def manoeuvre_fuel(
+    forces: Any, *, f_max: Any = 10.0, t_s: float = 0.2, mdot: Any = 3.5e-3, t_min: Any = None
+) -> float:
+    """Propellant of a whole manoeuvre (kg): sum over samples and thrusters of ``mdot t_p``.
+
+    Parameters
+    ----------
+    forces : array_like (..., n), N
+        Allocated mean forces per sample (e.g. ``allocate(...).x`` for each demand).
+    f_max, mdot : float or (n,)
+        Thruster force (N) and mass flow (kg/s).
+    t_s : float, s
+    t_min : float or (n,), optional
+        If given, pulses shorter than the minimum on-time are dropped
+        (:func:`realisable_pulses`).
+
+    References
+    ----------
+    S3 eq. 6-7.
+    """
+    tp = pulse_width(forces, f_max=f_max, t_s=t_s)
+    if t_min is not None:
+        tp = realisable_pulses(tp, t_min=t_min)
+    return float(np.sum(fuel_mass(tp, mdot=mdot)))

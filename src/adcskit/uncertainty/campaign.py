@@ -1,0 +1,180 @@
+"""Resumable Monte-Carlo campaigns on any executor.
+
+A campaign maps a picklable function over tasks, in chunks. Each chunk runs as one executor
+task and its result is written atomically (temporary file + :func:`os.replace`) to the
+campaign directory *by the worker that computed it*, under a name that contains a hash of
+the function and of the chunk's tasks. A campaign that is interrupted (Ctrl-C, a crash, a
+failing task) keeps every finished chunk on disk; running it again with the same tasks
+loads them and computes only the missing ones. Results are returned in task order and do
+not depend on the executor (the randomness lives in the tasks, never in the executor).
+
+With ``dask://`` on several machines the directory must be on a shared file system for the
+workers' writes to be visible; the parent writes every result it receives as well.
+
+Hand-written here: only the chunk/checkpoint bookkeeping; the pools are
+:mod:`adcskit.uncertainty.executor`'s.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pickle
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from adcskit._validation import check_int
+from adcskit.errors import InputError, InputTypeError
+from adcskit.uncertainty.executor import Executor, make_executor
+
+__all__ = ["CampaignResult", "run_campaign"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CampaignResult:
+    """Outcome of :func:`run_campaign`.
+
+    Attributes
+    ----------
+    values : list
+        ``fn(task)`` for every task, in task order.
+    n_chunks : int
+        Number of chunks.
+    n_resumed : int
+        Chunks loaded from the campaign directory instead of being computed.
+    directory : str or None
+        Where chunk results are kept (None: not kept).
+    executor : str
+        Spec of the executor that ran the computed chunks.
+    """
+
+    values: list
+    n_chunks: int
+    n_resumed: int
+    directory: str | None
+    executor: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "n_values": len(self.values),
+            "n_chunks": self.n_chunks,
+            "n_resumed": self.n_resumed,
+            "directory": self.directory,
+            "executor": self.executor,
+        }
+
+
+def _digest(fn: Callable[[Any], Any], tasks: Sequence[Any]) -> str:
+    h = hashlib.sha256()
+    h.update(f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}".encode())
+    h.update(pickle.dumps(list(tasks), protocol=4))
+    return h.hexdigest()[:16]
+
+
+def _write_atomic(path: Path, value: Any) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            pickle.dump(value, fh, protocol=4)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _run_chunk(payload: tuple[Callable[[Any], Any], list, str | None]) -> list:
+    fn, chunk, path = payload
+    values = [fn(t) for t in chunk]
+    if path is not None:
+        _write_atomic(Path(path), values)
+    return values
+
+
+def run_campaign(
+    fn: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    *,
+    executor: str | Executor | None = None,
+    directory: str | os.PathLike[str] | None = None,
+    chunk_size: int | None = None,
+    description: str = "campaign",
+) -> CampaignResult:
+    """Run ``fn`` over ``tasks`` in chunks on ``executor``, keeping finished chunks on disk.
+
+    Parameters
+    ----------
+    fn : callable
+        A picklable (module-level) function of one task.
+    tasks : sequence
+        Picklable tasks; each carries its own seed or samples, so results are the same on
+        every executor.
+    executor : spec or Executor, optional
+        ``serial`` (default), ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``.
+    directory : path, optional
+        Campaign directory for chunk results; with it, a re-run resumes.
+    chunk_size : int, optional
+        Tasks per chunk (default: spread over ``4 × n_workers`` chunks).
+    description : str
+        Progress-bar label.
+
+    Returns
+    -------
+    CampaignResult
+        Values in task order, and how many chunks were resumed.
+    """
+    if not callable(fn):
+        raise InputTypeError(f"fn must be callable; got {fn!r}")
+    tasks = list(tasks)
+    if not tasks:
+        raise InputError("tasks must not be empty")
+    owns = not isinstance(executor, Executor)
+    ex = make_executor(executor)
+    try:
+        if chunk_size is None:
+            n_chunks_target = max(1, 4 * ex.n_workers)
+            chunk_size = max(1, -(-len(tasks) // n_chunks_target))
+        chunk_size = check_int("chunk_size", chunk_size, minimum=1)
+        chunks = [tasks[i : i + chunk_size] for i in range(0, len(tasks), chunk_size)]
+        root = Path(directory) if directory is not None else None
+        paths: list[Path | None] = []
+        for j, chunk in enumerate(chunks):
+            paths.append(None if root is None else root / f"chunk_{j:05d}_{_digest(fn, chunk)}.pkl")
+        results: list[list | None] = [None] * len(chunks)
+        n_resumed = 0
+        for j, path in enumerate(paths):
+            if path is not None and path.exists():
+                try:
+                    with open(path, "rb") as fh:
+                        results[j] = pickle.load(fh)
+                    n_resumed += 1
+                except (OSError, pickle.UnpicklingError, EOFError):
+                    results[j] = None  # a damaged file is recomputed
+        todo = [j for j in range(len(chunks)) if results[j] is None]
+        if todo:
+            payloads = [(fn, chunks[j], None if paths[j] is None else str(paths[j])) for j in todo]
+            computed = ex.map(_run_chunk, payloads, description=description)
+            for j, values in zip(todo, computed):
+                results[j] = values
+                path = paths[j]
+                if path is not None and not path.exists():
+                    _write_atomic(path, values)
+        values = [v for chunk_values in results for v in chunk_values]  # type: ignore[union-attr]
+        return CampaignResult(
+            values=values,
+            n_chunks=len(chunks),
+            n_resumed=n_resumed,
+            directory=None if root is None else str(root),
+            executor=ex.spec,
+        )
+    finally:
+        if owns:
+            ex.close()

@@ -1,0 +1,109 @@
+"""Robust objective ``w₁·E|e| + w₂·σ(e) + penalty`` (S4 eq. 10) and the S4 stopping rule.
+
+References
+----------
+S4, eq. (10) and Fig. 8 (Venanzi's robust-optimisation loop: stop when the mean change of
+the objective over the last 10 iterations is below 1e-7).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from adcskit._validation import as_array, check_int, check_positive
+from adcskit.errors import InputError
+
+__all__ = ["robust_objective", "weights_from_ratio", "mean_change_converged"]
+
+
+def weights_from_ratio(ratio: float) -> tuple[float, float]:
+    """Weights ``(w₁, w₂)`` with ``w₂/w₁ = ratio`` and ``w₁ + w₂ = 1``.
+
+    S4 reports only the ratio ``w₂/w₁``; normalising the sum leaves the minimiser
+    unchanged and keeps the objective on the scale of the error.
+    """
+    r = check_positive("ratio", ratio, allow_zero=True)
+    return 1.0 / (1.0 + r), r / (1.0 + r)
+
+
+def robust_objective(
+    errors: Any,
+    overshoot_pct: Any = None,
+    *,
+    w1: float = 1.0,
+    w2: float = 1.0,
+    overshoot_max_pct: float = 10.0,
+    penalty_weight: float = 1.0,
+) -> np.ndarray:
+    """S4 eq. (10): ``F = w₁ E(|Error|) + w₂ σ(Error) + penalty`` over the last axis.
+
+    Parameters
+    ----------
+    errors : array_like (..., n)
+        Per-sample error measure (S4: mean ``|e|`` over the last 10 s) for ``n`` uncertain
+        samples; any leading axes are candidates (e.g. a GA population).
+    overshoot_pct : array_like (..., n), optional
+        Per-sample overshoot [%]; the constraint ``overshoot <= overshoot_max_pct``
+        (S4 eq. 10) is enforced by the penalty.
+    w1, w2 : float
+        Weights of the mean and of the standard deviation (``ddof=0``), >= 0.
+    overshoot_max_pct : float
+        Overshoot limit [%] (S4: 10 %).
+    penalty_weight : float
+        Penalty per percent of mean overshoot excess, in the units of ``errors``.
+
+    Returns
+    -------
+    ndarray (...)
+        Objective per candidate.
+
+    References
+    ----------
+    S4, eq. (10).
+    """
+    e = as_array("errors", errors, finite=False)
+    if e.ndim == 0 or e.shape[-1] < 1:
+        raise InputError(f"errors must have at least one sample on its last axis; got shape {e.shape}")
+    w1 = check_positive("w1", w1, allow_zero=True)
+    w2 = check_positive("w2", w2, allow_zero=True)
+    check_positive("overshoot_max_pct", overshoot_max_pct)
+    check_positive("penalty_weight", penalty_weight, allow_zero=True)
+    a = np.abs(e)
+    f = w1 * a.mean(axis=-1) + w2 * a.std(axis=-1)
+    if overshoot_pct is not None:
+        os = as_array("overshoot_pct", overshoot_pct, finite=False)
+        if os.shape != e.shape:
+            raise InputError(f"overshoot_pct must have the shape of errors {e.shape}; got {os.shape}")
+        excess = np.maximum(np.nan_to_num(os, nan=0.0) - overshoot_max_pct, 0.0)
+        f = f + penalty_weight * excess.mean(axis=-1)
+    # a non-finite error (diverged sample) makes the candidate infeasible, not NaN
+    return np.where(np.isfinite(f), f, np.inf)
+
+
+def mean_change_converged(history: Sequence[float], *, tol: float = 1e-7, window: int = 10) -> bool:
+    """S4 stopping rule: mean ``|F_k − F_{k−1}|`` over the last ``window`` iterations < ``tol``.
+
+    Parameters
+    ----------
+    history : sequence of float
+        Best objective value after each iteration.
+    tol : float
+        Threshold on the mean change (S4: 1e-7).
+    window : int
+        Number of recent changes averaged (S4: 10).
+
+    Returns
+    -------
+    bool
+        False until ``window + 1`` values are available.
+    """
+    tol = check_positive("tol", tol)
+    window = check_int("window", window, minimum=1)
+    h = np.asarray(history, dtype=float)
+    if h.size < window + 1:
+        return False
+    d = np.abs(np.diff(h[-(window + 1) :]))
+    return bool(np.mean(d) < tol)

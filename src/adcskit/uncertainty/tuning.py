@@ -1,0 +1,563 @@
+"""Deterministic (NSGA-II) and robust (GA) tuning of the on-off loop's PID gains.
+
+* :func:`tune_deterministic` — S4 eq. (9): find ``(K_p, K_i, K_d) ∈ (0, 100]³`` minimising
+  [mean ``|e|`` over the last 10 s, fuel] subject to overshoot ≤ 10 %, with pymoo's NSGA-II
+  (the constraint handled by pymoo's constraint domination) → Pareto front.
+* :func:`tune_robust` — S4 eq. (10): minimise ``w₁ E|Error| + w₂ σ(Error) + penalty`` over
+  Latin-hypercube samples of the uncertain parameters with pymoo's single-objective GA
+  (population 70 as printed), stopped by S4's rule (mean change of the best objective over
+  the last 10 generations < 1e-7) or a generation cap.
+
+The same LHS samples are used for every candidate and generation (common random numbers),
+so the robust objective is a deterministic function of the gains and the GA can converge.
+Each generation is evaluated as one batch of ``pop × n_samples`` loops by the numba kernel.
+
+Gains are always in the order ``(K_p, K_i, K_d)`` here; the objective's error is in degrees.
+
+References
+----------
+S4, eqs. (9)-(10), Tables 4-6, Fig. 8.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from adcskit._validation import as_rng, check_int, check_positive
+from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
+from adcskit.errors import InputError
+from adcskit.uncertainty.robust import mean_change_converged, robust_objective
+from adcskit.uncertainty.sampling import Fixed, Gaussian, TruncatedGaussian, latin_hypercube
+
+__all__ = [
+    "GAIN_NAMES",
+    "MonteCarloResult",
+    "ParetoResult",
+    "RobustTuningResult",
+    "evaluate_gains",
+    "monte_carlo",
+    "tune_deterministic",
+    "tune_robust",
+]
+
+GAIN_NAMES = ("kp", "ki", "kd")
+_UNCERTAIN = ("inertia", "torque", "disturbance", "delay")
+
+
+def evaluate_gains(
+    gains: Any,
+    samples: Mapping[str, np.ndarray] | None = None,
+    *,
+    base: LoopParams | None = None,
+    settings: LoopSettings | None = None,
+    parallel: bool = True,
+) -> OnOffMetrics:
+    """Simulate every gain triple on every parameter sample (one batch).
+
+    Parameters
+    ----------
+    gains : array_like (m, 3) or (3,)
+        ``(K_p, K_i, K_d)`` rows.
+    samples : mapping of LoopParams field -> ndarray (n,), optional
+        Uncertain parameters; fields not given keep ``base``'s values.
+    base : LoopParams, optional
+        Nominal parameters (S4 Table 3).
+    settings : LoopSettings, optional
+        Simulation settings.
+    parallel : bool
+        Use numba's threads.
+
+    Returns
+    -------
+    OnOffMetrics
+        Metrics for the ``m × n`` runs, gain-major (reshape to ``(m, n)``).
+    """
+    g = np.atleast_2d(np.asarray(gains, dtype=float))
+    if g.ndim != 2 or g.shape[1] != 3:
+        raise InputError(f"gains must have shape (3,) or (m, 3); got {np.shape(gains)}")
+    base = LoopParams() if base is None else base
+    samples = {} if samples is None else dict(samples)
+    n = 1
+    for name, v in samples.items():
+        v = np.atleast_1d(np.asarray(v, dtype=float))
+        samples[name] = v
+        n = max(n, v.shape[0])
+    m = g.shape[0]
+    changes: dict[str, Any] = {name: np.repeat(g[:, j], n) for j, name in enumerate(GAIN_NAMES)}
+    for name, v in samples.items():
+        changes[name] = np.tile(np.broadcast_to(v, (n,)), m)
+    return simulate_batch(base.replace(**changes), settings, parallel=parallel)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ParetoResult:
+    """Pareto front of the deterministic two-objective tuning (S4 eq. 9).
+
+    Attributes
+    ----------
+    x : ndarray (k, 3)
+        Non-dominated gains ``(K_p, K_i, K_d)``, sorted by increasing error.
+    F : ndarray (k, 2)
+        ``[mean |e| over the last window (deg), fuel (N m s)]``.
+    overshoot_pct : ndarray (k,)
+        Overshoot of each point [%] (all ≤ the limit when ``success``).
+    success : bool
+    message : str
+    nit : int
+        Generations run.
+    nfev : int
+        Loop simulations run.
+    """
+
+    x: np.ndarray
+    F: np.ndarray
+    overshoot_pct: np.ndarray
+    success: bool
+    message: str
+    nit: int
+    nfev: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "x": self.x,
+            "F": self.F,
+            "overshoot_pct": self.overshoot_pct,
+            "success": self.success,
+            "message": self.message,
+            "nit": self.nit,
+            "nfev": self.nfev,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class RobustTuningResult:
+    """Outcome of the robust GA tuning (S4 eq. 10).
+
+    Attributes
+    ----------
+    x : ndarray (3,)
+        Best gains ``(K_p, K_i, K_d)``.
+    fun : float
+        Robust objective at ``x`` [deg].
+    mean_abs_err_deg, std_abs_err_deg : float
+        Mean and standard deviation of the per-sample error over the LHS samples [deg].
+    max_overshoot_pct : float
+        Largest overshoot over the samples [%].
+    success : bool
+        The S4 stopping rule was met (False: stopped by the generation cap).
+    status : int
+        0 converged by the S4 rule, 1 generation cap reached.
+    message : str
+    nit : int
+        Generations.
+    nfev : int
+        Loop simulations (candidates × samples).
+    history : ndarray (nit,)
+        Best objective after each generation.
+    w1, w2 : float
+        Weights used.
+    """
+
+    x: np.ndarray
+    fun: float
+    mean_abs_err_deg: float
+    std_abs_err_deg: float
+    max_overshoot_pct: float
+    success: bool
+    status: int
+    message: str
+    nit: int
+    nfev: int
+    history: np.ndarray = field(repr=False)
+    w1: float = 1.0
+    w2: float = 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "x": self.x,
+            "fun": self.fun,
+            "mean_abs_err_deg": self.mean_abs_err_deg,
+            "std_abs_err_deg": self.std_abs_err_deg,
+            "max_overshoot_pct": self.max_overshoot_pct,
+            "success": self.success,
+            "status": self.status,
+            "message": self.message,
+            "nit": self.nit,
+            "nfev": self.nfev,
+            "history": self.history,
+            "w1": self.w1,
+            "w2": self.w2,
+        }
+
+
+def _bounds(bounds: tuple[float, float]) -> tuple[float, float]:
+    lo, hi = float(bounds[0]), float(bounds[1])
+    if not (0.0 <= lo < hi) or not math.isfinite(hi):
+        raise InputError(f"bounds must be (lo, hi) with 0 <= lo < hi < inf; got {bounds!r}")
+    return lo, hi
+
+
+def _seed(rng: Any) -> int:
+    return int(as_rng(rng).integers(0, 2**31 - 1))
+
+
+def tune_deterministic(
+    *,
+    base: LoopParams | None = None,
+    settings: LoopSettings | None = None,
+    pop_size: int = 60,
+    n_gen: int = 60,
+    bounds: tuple[float, float] = (1e-3, 100.0),
+    overshoot_max_pct: float = 10.0,
+    rng: Any = None,
+) -> ParetoResult:
+    """Two-objective deterministic tuning with NSGA-II (S4 eq. 9).
+
+    Parameters
+    ----------
+    base : LoopParams, optional
+        Nominal parameters (S4 Table 3); its gains are ignored.
+    settings : LoopSettings, optional
+        Simulation settings.
+    pop_size, n_gen : int
+        NSGA-II population and generations (S4 does not print them).
+    bounds : (float, float)
+        Box for every gain (S4: ``0 < K ≤ 100``; the lower end is a small positive number).
+    overshoot_max_pct : float
+        Overshoot constraint [%] (S4: 10).
+    rng : Generator or int, optional
+        Seeds pymoo.
+
+    Returns
+    -------
+    ParetoResult
+        Feasible non-dominated points; ``success=False`` if none is feasible.
+
+    References
+    ----------
+    S4, eq. (9), Table 4, Fig. 9.
+    """
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.core.problem import Problem
+    from pymoo.optimize import minimize
+
+    pop_size = check_int("pop_size", pop_size, minimum=4)
+    n_gen = check_int("n_gen", n_gen, minimum=1)
+    lo, hi = _bounds(bounds)
+    osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
+    base = LoopParams() if base is None else base
+    counter = {"nfev": 0}
+
+    class _Problem(Problem):
+        def __init__(self) -> None:
+            super().__init__(n_var=3, n_obj=2, n_ieq_constr=1, xl=lo, xu=hi)
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            m = evaluate_gains(x, base=base, settings=settings)
+            counter["nfev"] += x.shape[0]
+            err = np.degrees(m.mean_abs_err_last)
+            fuel = m.fuel
+            bad = ~np.isfinite(err) | ~np.isfinite(fuel)
+            out["F"] = np.column_stack([np.where(bad, 1e6, err), np.where(bad, 1e6, fuel)])
+            out["G"] = (np.nan_to_num(m.overshoot_pct, nan=1e6) - osmax)[:, None]
+
+    res = minimize(
+        _Problem(), NSGA2(pop_size=pop_size), ("n_gen", n_gen), seed=_seed(rng), verbose=False
+    )
+    if res.X is None or res.F is None:
+        return ParetoResult(
+            x=np.empty((0, 3)),
+            F=np.empty((0, 2)),
+            overshoot_pct=np.empty(0),
+            success=False,
+            message="no feasible gains (overshoot constraint never met)",
+            nit=n_gen,
+            nfev=counter["nfev"],
+        )
+    X = np.atleast_2d(res.X)
+    F = np.atleast_2d(res.F)
+    order = np.argsort(F[:, 0], kind="stable")
+    X, F = X[order], F[order]
+    m = evaluate_gains(X, base=base, settings=settings)
+    return ParetoResult(
+        x=X,
+        F=F,
+        overshoot_pct=m.overshoot_pct,
+        success=True,
+        message=f"{X.shape[0]} non-dominated feasible points after {n_gen} generations",
+        nit=n_gen,
+        nfev=counter["nfev"],
+    )
+
+
+def tune_robust(
+    dists: Mapping[str, Gaussian | TruncatedGaussian | Fixed],
+    *,
+    ratio: float,
+    n_samples: int = 50,
+    base: LoopParams | None = None,
+    settings: LoopSettings | None = None,
+    pop_size: int = 70,
+    max_gen: int = 1000,
+    tol: float = 1e-7,
+    window: int = 10,
+    bounds: tuple[float, float] = (1e-3, 100.0),
+    overshoot_max_pct: float = 10.0,
+    penalty_weight: float = 1.0,
+    rng: Any = None,
+) -> RobustTuningResult:
+    """Robust GA tuning on LHS samples (S4 eq. 10, Fig. 8).
+
+    Parameters
+    ----------
+    dists : mapping of LoopParams field -> distribution
+        Uncertain parameters (S4 Table 5: ``inertia``, ``torque``, ``disturbance``,
+        ``delay``).
+    ratio : float
+        Weight ratio ``w₂/w₁`` (weights normalised to sum 1).
+    n_samples : int
+        LHS samples per objective evaluation (S4 does not print it).
+    base, settings
+        Nominal parameters and simulation settings.
+    pop_size : int
+        GA population (S4: 70).
+    max_gen : int
+        Generation cap (S4: 1000 iterations).
+    tol, window
+        S4 stopping rule: mean change of the best objective over the last ``window``
+        generations < ``tol`` (S4: 1e-7, 10).
+    bounds : (float, float)
+        Box for every gain (S4: ``0 < K ≤ 100``).
+    overshoot_max_pct, penalty_weight : float
+        Overshoot constraint [%] and its penalty [deg per % of mean excess].
+    rng : Generator or int, optional
+        Draws the LHS samples and seeds pymoo.
+
+    Returns
+    -------
+    RobustTuningResult
+
+    References
+    ----------
+    S4, eq. (10), Table 5, Table 6, Fig. 8.
+    """
+    from pymoo.algorithms.soo.nonconvex.ga import GA
+    from pymoo.core.problem import Problem
+    from pymoo.core.termination import Termination
+    from pymoo.optimize import minimize
+
+    from adcskit.uncertainty.robust import weights_from_ratio
+
+    for name in dists:
+        if name not in LoopParams.__slots__ or name in GAIN_NAMES:  # type: ignore[attr-defined]
+            raise InputError(f"dists keys must be LoopParams fields other than the gains; got {name!r}")
+    w1, w2 = weights_from_ratio(ratio)
+    n_samples = check_int("n_samples", n_samples, minimum=2)
+    pop_size = check_int("pop_size", pop_size, minimum=4)
+    max_gen = check_int("max_gen", max_gen, minimum=1)
+    window = check_int("window", window, minimum=1)
+    tol = check_positive("tol", tol)
+    lo, hi = _bounds(bounds)
+    osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
+    base = LoopParams() if base is None else base
+    gen = as_rng(rng)
+    samples = latin_hypercube(dists, n_samples, gen)
+    seed = _seed(gen)
+    counter = {"nfev": 0}
+
+    def objective(x: np.ndarray) -> tuple[np.ndarray, OnOffMetrics]:
+        m = evaluate_gains(x, samples, base=base, settings=settings)
+        counter["nfev"] += x.shape[0] * n_samples
+        err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
+        os = m.overshoot_pct.reshape(x.shape[0], n_samples)
+        f = robust_objective(
+            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight
+        )
+        return f, m
+
+    class _Problem(Problem):
+        def __init__(self) -> None:
+            super().__init__(n_var=3, n_obj=1, xl=lo, xu=hi)
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            f, _ = objective(x)
+            out["F"] = np.where(np.isfinite(f), f, 1e6)[:, None]
+
+    class _S4Termination(Termination):
+        def __init__(self) -> None:
+            super().__init__()
+            self.history: list[float] = []
+            self.converged = False
+
+        def _update(self, algorithm) -> float:
+            self.history.append(float(algorithm.opt[0].F[0]))
+            if mean_change_converged(self.history, tol=tol, window=window):
+                self.converged = True
+                return 1.0
+            return min(1.0, len(self.history) / max_gen)
+
+    term = _S4Termination()
+    res = minimize(
+        _Problem(), GA(pop_size=pop_size, eliminate_duplicates=True), term, seed=seed, verbose=False
+    )
+    term = res.algorithm.termination  # pymoo works on its own copy of the termination
+    x = np.asarray(res.X, dtype=float).ravel()
+    f, m = objective(x[None, :])
+    err = np.degrees(m.mean_abs_err_last)
+    converged = term.converged
+    return RobustTuningResult(
+        x=x,
+        fun=float(f[0]),
+        mean_abs_err_deg=float(np.mean(err)),
+        std_abs_err_deg=float(np.std(err)),
+        max_overshoot_pct=float(np.nanmax(m.overshoot_pct)),
+        success=converged,
+        status=0 if converged else 1,
+        message=(
+            f"S4 stopping rule met after {len(term.history)} generations"
+            if converged
+            else f"generation cap {max_gen} reached before the S4 stopping rule"
+        ),
+        nit=len(term.history),
+        nfev=counter["nfev"],
+        history=np.asarray(term.history),
+        w1=w1,
+        w2=w2,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MonteCarloResult:
+    """Monte-Carlo evaluation of one gain triple.
+
+    Attributes
+    ----------
+    gains : ndarray (3,)
+        ``(K_p, K_i, K_d)``.
+    samples : dict of str -> ndarray (n,)
+        The LHS parameter samples.
+    metrics : OnOffMetrics
+        Per-sample metrics (n entries).
+    mean_abs_err_deg, std_abs_err_deg : float
+        Mean and standard deviation (``ddof=0``, as in eq. 10) of the per-sample error [deg].
+    n_resumed : int
+        Campaign chunks loaded from disk instead of computed.
+    executor : str
+        Executor spec.
+    """
+
+    gains: np.ndarray
+    samples: dict
+    metrics: OnOffMetrics = field(repr=False)
+    mean_abs_err_deg: float
+    std_abs_err_deg: float
+    n_resumed: int = 0
+    executor: str = "serial"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "gains": self.gains,
+            "mean_abs_err_deg": self.mean_abs_err_deg,
+            "std_abs_err_deg": self.std_abs_err_deg,
+            "n": self.metrics.n_samples,
+            "n_resumed": self.n_resumed,
+            "executor": self.executor,
+        }
+
+
+def _mc_task(task: tuple) -> np.ndarray:
+    """One campaign task: simulate ``gains`` on a chunk of samples; (n, 7) metrics."""
+    gains, samples, base, settings, parallel = task
+    return evaluate_gains(gains, samples, base=base, settings=settings, parallel=parallel).as_array()
+
+
+def monte_carlo(
+    gains: Any,
+    dists: Mapping[str, Gaussian | TruncatedGaussian | Fixed],
+    n: int,
+    *,
+    base: LoopParams | None = None,
+    settings: LoopSettings | None = None,
+    executor: Any = None,
+    directory: Any = None,
+    task_size: int = 1000,
+    rng: Any = None,
+) -> MonteCarloResult:
+    """Evaluate one gain triple on ``n`` LHS samples, as a resumable campaign.
+
+    The samples are drawn here (once, from ``rng``) and cut into tasks of ``task_size``
+    samples, so the result is identical on every executor; with ``directory`` an
+    interrupted campaign resumes (see :func:`adcskit.uncertainty.campaign.run_campaign`).
+
+    Parameters
+    ----------
+    gains : array_like (3,)
+        ``(K_p, K_i, K_d)``.
+    dists : mapping
+        Uncertain parameters (S4 Table 5).
+    n : int
+        Monte-Carlo runs (S4: 10 000).
+    base, settings
+        Nominal parameters and simulation settings.
+    executor : spec or Executor, optional
+        Where tasks run.
+    directory : path, optional
+        Campaign directory (resume).
+    task_size : int
+        Samples per task.
+    rng : Generator or int, optional
+        Draws the samples.
+
+    Returns
+    -------
+    MonteCarloResult
+
+    References
+    ----------
+    S4, Figs. 15-21 (10 000 runs per point).
+    """
+    from adcskit.control._onoff_kernels import METRIC_NAMES
+    from adcskit.uncertainty.campaign import run_campaign
+    from adcskit.uncertainty.executor import make_executor
+
+    g = np.asarray(gains, dtype=float).ravel()
+    if g.shape != (3,):
+        raise InputError(f"gains must have shape (3,); got {np.shape(gains)}")
+    n = check_int("n", n, minimum=1)
+    task_size = check_int("task_size", task_size, minimum=1)
+    samples = latin_hypercube(dists, n, rng)
+    owns = executor is None or isinstance(executor, str)
+    ex = make_executor(executor)
+    try:
+        parallel = ex.n_workers == 1
+        tasks = []
+        for i in range(0, n, task_size):
+            chunk = {k: v[i : i + task_size] for k, v in samples.items()}
+            tasks.append((g, chunk, base, settings, parallel))
+        camp = run_campaign(_mc_task, tasks, executor=ex, directory=directory, chunk_size=1,
+                            description="Monte-Carlo")
+    finally:
+        if owns:
+            ex.close()
+    arr = np.concatenate(camp.values, axis=0)
+    s = settings or LoopSettings()
+    metrics = OnOffMetrics(
+        **{name: np.ascontiguousarray(arr[:, j]) for j, name in enumerate(METRIC_NAMES)},
+        n_steps=s.n_steps,
+        backend="numba",
+    )
+    err = np.degrees(metrics.mean_abs_err_last)
+    return MonteCarloResult(
+        gains=g,
+        samples=samples,
+        metrics=metrics,
+        mean_abs_err_deg=float(np.mean(err)),
+        std_abs_err_deg=float(np.std(err)),
+        n_resumed=camp.n_resumed,
+        executor=camp.executor,
+    )
