@@ -24,6 +24,7 @@ JSON records ``dymos_num_segments`` so the ratio is never mistaken for the 20×3
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import statistics
@@ -144,7 +145,7 @@ def bench_dymos(repeats: int, *, num_segments: int = 20, maxiter: int = 500) -> 
     times, tf, ok, nit, msg = [], math.nan, False, -1, ""
     for _ in range(repeats):
         t = time.perf_counter()
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), contextlib.redirect_stdout(sys.stderr):  # keep stdout JSON
             warnings.simplefilter("ignore")
             tf, ok, nit, msg = build_and_solve()
         times.append(time.perf_counter() - t)
