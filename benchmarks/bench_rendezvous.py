@@ -27,8 +27,10 @@ import argparse
 import contextlib
 import json
 import math
+import os
 import statistics
 import sys
+import tempfile
 import time
 import warnings
 
@@ -145,9 +147,18 @@ def bench_dymos(repeats: int, *, num_segments: int = 20, maxiter: int = 500) -> 
     times, tf, ok, nit, msg = [], math.nan, False, -1, ""
     for _ in range(repeats):
         t = time.perf_counter()
-        with warnings.catch_warnings(), contextlib.redirect_stdout(sys.stderr):  # keep stdout JSON
-            warnings.simplefilter("ignore")
-            tf, ok, nit, msg = build_and_solve()
+        cwd = os.getcwd()
+        with (
+            tempfile.TemporaryDirectory() as tmp,  # OpenMDAO writes <problem>_out/ into the cwd
+            warnings.catch_warnings(),
+            contextlib.redirect_stdout(sys.stderr),  # keep stdout pure JSON
+        ):
+            os.chdir(tmp)
+            try:
+                warnings.simplefilter("ignore")
+                tf, ok, nit, msg = build_and_solve()
+            finally:
+                os.chdir(cwd)
         times.append(time.perf_counter() - t)
     return {"solve_s": statistics.median(times), "tf_s": tf, "success": ok, "nit": nit, "message": msg,
             "repeats": repeats, "num_segments": num_segments, "maxiter": maxiter}
