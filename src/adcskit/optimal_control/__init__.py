@@ -1,1 +1,70 @@
-"""adcskit.optimal_control (see design.md)."""
+"""Pseudospectral optimal control: Gauss (LG) and Radau (LGR) multi-interval transcriptions
+solved by CasADi + IPOPT, costate estimation from the KKT multipliers, Hamiltonian, bang-bang
+detection and open-loop re-simulation.
+
+Typical use::
+
+    from adcskit.optimal_control import solve, solve_mesh_sequence, bang_bang, resimulate
+    from adcskit.optimal_control.problems import rendezvous_problem
+
+    sol = solve(rendezvous_problem([20, 0, 0]), method="gauss", mesh=(20, 3))
+    sol.success, sol.status, sol.tf, sol.hamiltonian.mean()
+
+References
+----------
+S2 (Gauss pseudospectral method, eq. 17–37). Benson et al. 2006; Garg et al. 2010.
+"""
+
+from adcskit.optimal_control.analysis import (
+    BangBangResult,
+    ResimulationResult,
+    bang_bang,
+    resimulate,
+)
+from adcskit.optimal_control.nodes import (
+    gauss_differentiation_matrix,
+    lagrange_derivative_matrix,
+    lagrange_matrix,
+    legendre_gauss,
+    legendre_gauss_radau,
+    radau_differentiation_matrix,
+)
+from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
+from adcskit.optimal_control.solve import (
+    MeshSequenceResult,
+    MultistartResult,
+    OptimalControlSolution,
+    default_guess,
+    multistart,
+    random_guess,
+    solve,
+    solve_mesh_sequence,
+)
+from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, clear_cache
+
+__all__ = [
+    "BangBangResult",
+    "DEFAULT_IPOPT_OPTIONS",
+    "Guess",
+    "METHODS",
+    "Mesh",
+    "MeshSequenceResult",
+    "MultistartResult",
+    "OptimalControlProblem",
+    "OptimalControlSolution",
+    "ResimulationResult",
+    "bang_bang",
+    "clear_cache",
+    "default_guess",
+    "gauss_differentiation_matrix",
+    "lagrange_derivative_matrix",
+    "lagrange_matrix",
+    "legendre_gauss",
+    "legendre_gauss_radau",
+    "multistart",
+    "radau_differentiation_matrix",
+    "random_guess",
+    "resimulate",
+    "solve",
+    "solve_mesh_sequence",
+]

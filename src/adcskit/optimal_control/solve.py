@@ -1,0 +1,582 @@
+"""Solve a transcribed optimal-control problem with IPOPT; costates, Hamiltonian, multistart.
+
+:func:`solve` transcribes (cached), builds the initial guess, calls IPOPT (CasADi ``nlpsol``,
+exact Hessian, MUMPS) and returns an :class:`OptimalControlSolution`. An IPOPT failure is a
+result with ``success=False`` and IPOPT's status string, never an exception.
+
+Costates come from the KKT multipliers by the costate mapping theorem (S2 Theorem 1,
+eq. 37), applied interval by interval: at the LG points ``λ_k = Λ̃_k / w_k + Λ̃_f``, at the
+interval end ``λ_f = Λ̃_f`` (``Λ̃_f``: multiplier of the quadrature row, eq. 30), at the start
+``λ₀ = Λ̃_f − Σ_k D_k0 Λ̃_k`` (the multiplier of whatever fixes ``X₀``: the initial boundary
+condition in the first interval, the linkage row elsewhere — S2's ``Λ₀ = Λ̃₀``). For Radau
+``λ_k = Λ̃_k / w_k`` and ``λ(+1) = Σ_k D_{k,N+1} Λ̃_k`` (Garg et al. 2010). CasADi's
+Lagrangian is ``L = J + λᵀ g``, so ``Λ̃`` is minus CasADi's ``lam_g`` (checked against the
+double integrator's analytic costates in the tests; the Gauss estimates are exact there to
+solver tolerance, the Radau ones are first-order close, error ~6e-3 on the 10×4 mesh). The Hamiltonian is ``H = g + λᵀ f`` at the collocation points.
+
+References
+----------
+S2, eq. 35–37 and Theorem 1. Benson et al., J. Guid. Control Dyn. 29(6), 2006, Theorem 1.
+Garg et al., Automatica 46(11), 2010, Theorem 1.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from adcskit._progress import track
+from adcskit._validation import as_rng, check_choice, check_int, check_positive
+from adcskit.errors import InputError, InputTypeError
+from adcskit.optimal_control.nodes import lagrange_matrix
+from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
+from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, get_transcription
+
+__all__ = [
+    "OptimalControlSolution",
+    "MeshSequenceResult",
+    "MultistartResult",
+    "solve",
+    "solve_mesh_sequence",
+    "multistart",
+    "default_guess",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class _Piece:
+    ts: np.ndarray  # state support times
+    xs: np.ndarray  # (n+1, nx)
+    tc: np.ndarray  # collocation times
+    uc: np.ndarray  # (n, nu)
+    t_end: float
+    x_end: np.ndarray
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class OptimalControlSolution:
+    """Result of one transcribed solve.
+
+    Attributes
+    ----------
+    success : bool
+        IPOPT reported ``Solve_Succeeded`` or ``Solved_To_Acceptable_Level``.
+    status : str
+        IPOPT's ``return_status``.
+    message : str
+    nit, nfev : int
+        IPOPT iterations and objective evaluations.
+    objective : float
+        ``J`` at the solution.
+    t0, tf : float
+        Initial and final time (s).
+    method : str
+        ``"gauss"`` or ``"radau"``.
+    mesh : Mesh
+    t : (M,) ndarray
+        Times of the state samples (s): each interval's support points, then ``tf``.
+    x : (M, n_states) ndarray
+    t_control : (K,) ndarray
+        Collocation times (s).
+    u : (K, n_controls) ndarray
+    costate : (M, n_states) ndarray
+        Costate estimates at ``t`` (S2 eq. 37).
+    hamiltonian : (K,) ndarray
+        ``H = g + λᵀ f`` at the collocation points (S2 eq. 35).
+    switching : (K, n_controls) ndarray
+        ``∂H/∂u`` at the collocation points.
+    max_violation : float
+        Largest constraint violation of the NLP (scaled rows).
+    build_s, solve_s : float
+        Wall time of the NLP build (0 when cached) and of IPOPT (s).
+    """
+
+    success: bool
+    status: str
+    message: str
+    nit: int
+    nfev: int
+    objective: float
+    t0: float
+    tf: float
+    method: str
+    mesh: Mesh
+    t: np.ndarray
+    x: np.ndarray
+    t_control: np.ndarray
+    u: np.ndarray
+    costate: np.ndarray
+    hamiltonian: np.ndarray
+    switching: np.ndarray
+    max_violation: float
+    build_s: float
+    solve_s: float
+    problem: OptimalControlProblem = field(repr=False)
+    pieces: tuple[_Piece, ...] = field(repr=False)
+    dynamics_fun: Any = field(repr=False, default=None)
+
+    # ---------------------------------------------------------------- interpolation
+    def _locate(self, t: np.ndarray) -> np.ndarray:
+        ends = np.array([p.t_end for p in self.pieces])
+        return np.minimum(np.searchsorted(ends, t, side="left"), len(self.pieces) - 1)
+
+    def state_at(self, t) -> np.ndarray:
+        """States at times ``t`` (s) by the interval's Lagrange polynomial (S2 eq. 22)."""
+        tt = np.atleast_1d(np.asarray(t, float))
+        out = np.empty((tt.size, self.x.shape[1]))
+        idx = self._locate(tt)
+        for j in np.unique(idx):
+            p = self.pieces[j]
+            m = idx == j
+            out[m] = lagrange_matrix(_tau(p.ts, p.ts[0], p.t_end), _tau(tt[m], p.ts[0], p.t_end)) @ p.xs
+        return out if np.ndim(t) else out[0]
+
+    def control_at(self, t, *, kind: str = "lagrange") -> np.ndarray:
+        """Controls at ``t`` (s): ``"lagrange"`` (S2 eq. 24, clipped to the bounds) or
+        ``"nearest"`` (value of the nearest collocation point in the same interval)."""
+        check_choice("kind", kind, ("lagrange", "nearest"))
+        tt = np.atleast_1d(np.asarray(t, float))
+        out = np.empty((tt.size, self.u.shape[1]))
+        idx = self._locate(tt)
+        for j in np.unique(idx):
+            p = self.pieces[j]
+            m = idx == j
+            t_start = p.ts[0]
+            if kind == "lagrange":
+                L = lagrange_matrix(_tau(p.tc, t_start, p.t_end), _tau(tt[m], t_start, p.t_end))
+                out[m] = L @ p.uc
+            else:
+                k = np.abs(tt[m][:, None] - p.tc[None, :]).argmin(axis=1)
+                out[m] = p.uc[k]
+        out = np.clip(out, self.problem.control_lower, self.problem.control_upper)
+        return out if np.ndim(t) else out[0]
+
+    def as_guess(self) -> Guess:
+        """This solution as an initial guess for another mesh (warm start)."""
+        return Guess(t=self.t, x=self.x, u=self.u, tf=self.tf, t_u=self.t_control)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "success": self.success,
+            "status": self.status,
+            "message": self.message,
+            "nit": self.nit,
+            "nfev": self.nfev,
+            "objective": self.objective,
+            "t0": self.t0,
+            "tf": self.tf,
+            "method": self.method,
+            "mesh": self.mesh.label(),
+            "max_violation": self.max_violation,
+            "build_s": self.build_s,
+            "solve_s": self.solve_s,
+            "t": self.t,
+            "x": self.x,
+            "t_control": self.t_control,
+            "u": self.u,
+            "costate": self.costate,
+            "hamiltonian": self.hamiltonian,
+        }
+
+
+def _tau(t, a, b):
+    return 2.0 * (np.asarray(t, float) - a) / (b - a) - 1.0
+
+
+def default_guess(problem: OptimalControlProblem) -> Guess:
+    """Straight-line state guess between the boundary values, mid-bound controls, ``tf_guess``.
+
+    Free boundary components take the other end's value, else the middle of finite bounds,
+    else 0. Controls are 0 clipped into their bounds.
+    """
+    x0 = np.array(problem.initial_state, float)
+    xf = np.array(problem.final_state, float)
+    both = np.isfinite(problem.state_lower) & np.isfinite(problem.state_upper)
+    mid = np.zeros(problem.n_states)
+    mid[both] = 0.5 * (problem.state_lower[both] + problem.state_upper[both])
+    x0 = np.where(np.isfinite(x0), x0, np.where(np.isfinite(xf), xf, mid))
+    xf = np.where(np.isfinite(xf), xf, x0)
+    u = np.clip(np.zeros(problem.n_controls), problem.control_lower, problem.control_upper)
+    t = np.array([problem.t0, problem.tf_guess])
+    return Guess(t=t, x=np.vstack([x0, xf]), u=np.vstack([u, u]), tf=problem.tf_guess)
+
+
+def _interp_fun(t_samples, values, t0_new, tf_new):
+    ts = np.asarray(t_samples, float)
+    vals = np.asarray(values, float)
+    span = ts[-1] - ts[0]
+
+    def f(t):
+        s = (np.asarray(t, float) - t0_new) / (tf_new - t0_new) * span + ts[0] if span > 0 else np.zeros_like(t)
+        return np.column_stack([np.interp(s, ts, vals[:, i]) for i in range(vals.shape[1])]) if vals.shape[1] else np.zeros((np.size(t), 0))
+
+    return f
+
+
+def _resolve_options(options: dict[str, Any] | None) -> dict[str, Any]:
+    opts = dict(DEFAULT_IPOPT_OPTIONS)
+    if options is not None:
+        if not isinstance(options, dict):
+            raise InputTypeError(f"ipopt_options must be a dict of IPOPT options; got {options!r}")
+        opts.update(options)
+    return opts
+
+
+def _as_mesh(mesh) -> Mesh:
+    if isinstance(mesh, Mesh):
+        return mesh
+    try:
+        n_int, n_nodes = mesh
+    except (TypeError, ValueError):
+        raise InputTypeError(f"mesh must be a Mesh or (n_intervals, n_nodes); got {mesh!r}") from None
+    return Mesh.uniform(n_int, n_nodes)
+
+
+def solve(
+    problem: OptimalControlProblem,
+    *,
+    method: str = "gauss",
+    mesh: Mesh | tuple[int, int] = (20, 3),
+    guess: Guess | OptimalControlSolution | None = None,
+    ipopt_options: dict[str, Any] | None = None,
+) -> OptimalControlSolution:
+    """Transcribe ``problem`` and solve the NLP with IPOPT.
+
+    Parameters
+    ----------
+    problem : OptimalControlProblem
+    method : {"gauss", "radau"}
+        Transcription (see :data:`adcskit.optimal_control.transcription.METHODS`).
+    mesh : Mesh or (int, int)
+        Mesh or ``(n_intervals, n_nodes)`` for equal intervals; S2 uses ``(20, 3)``.
+    guess : Guess or OptimalControlSolution, optional
+        Initial guess (a previous solution warm-starts a finer mesh); default
+        :func:`default_guess`.
+    ipopt_options : dict, optional
+        IPOPT options overriding :data:`DEFAULT_IPOPT_OPTIONS`.
+
+    Returns
+    -------
+    OptimalControlSolution
+        ``success=False`` with IPOPT's status when the solve fails.
+
+    References
+    ----------
+    S2, eq. 17–37 and Table 1 (pseudo-code; IPOPT replaces the paper's SQP).
+    """
+    if not isinstance(problem, OptimalControlProblem):
+        raise InputTypeError(f"problem must be an OptimalControlProblem; got {type(problem).__name__}")
+    method = check_choice("method", method, METHODS)
+    mesh = _as_mesh(mesh)
+    opts = _resolve_options(ipopt_options)
+    t_build = time.perf_counter()
+    tr = get_transcription(problem, method, mesh, opts)
+    build_s = time.perf_counter() - t_build
+    if guess is None:
+        guess = default_guess(problem)
+    elif isinstance(guess, OptimalControlSolution):
+        guess = guess.as_guess()
+    elif not isinstance(guess, Guess):
+        raise InputTypeError(f"guess must be a Guess or OptimalControlSolution; got {type(guess).__name__}")
+    return _solve_with(problem, tr, guess, build_s)
+
+
+def _solve_with(problem, tr, guess: Guess, build_s: float) -> OptimalControlSolution:
+    sx, su = problem.scales()
+    t0 = problem.t0
+    tf_g = float(np.clip(guess.tf, *problem.tf_bounds))
+    s_tf = max(abs(problem.tf_guess), 1e-9)
+    xfun = _interp_fun(guess.t, guess.x, t0, tf_g)
+    ufun = _interp_fun(guess.t if guess.t_u is None else guess.t_u, guess.u, t0, tf_g)
+    z0 = tr.pack(t0, tf_g, xfun, ufun, sx, su, s_tf)
+    lbz, ubz, lbg, ubg = tr.bounds(problem, sx, su, s_tf)
+    z0 = np.clip(z0, lbz, ubz)
+    p = np.concatenate([sx, su, [s_tf, t0, 1.0]])
+    j0 = float(tr.J_fun(z0, p))
+    cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
+    p[-1] = cJ
+    t_solve = time.perf_counter()
+    res = tr.solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg)
+    solve_s = time.perf_counter() - t_solve
+    stats = tr.solver.stats()
+    z = np.asarray(res["x"]).ravel()
+    lam_g = np.asarray(res["lam_g"]).ravel()
+    g = np.asarray(res["g"]).ravel()
+    viol = float(np.max(np.concatenate([[0.0], lbg - g, g - ubg, lbz - z, z - ubz]))) if g.size else 0.0
+    status = str(stats.get("return_status", "unknown"))
+    success = bool(stats.get("success", False))
+    parts, tf = tr.unpack(z, sx, su, s_tf)
+    times = tr.times(t0, tf)
+    pieces = []
+    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
+    for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(tr.intervals, parts, times, strict=True)):
+        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe))
+        # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
+        lt = -lam_g[iv.g_def].reshape(iv.n, tr.nx) * cJ / sx
+        if tr.method == "gauss":
+            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
+            lam_c = lt / iv.w[:, None] + lf
+            lam_0 = lf - iv.D[:, 0] @ lt
+            lam_s = np.vstack([lam_0, lam_c])
+            lam_end = lf
+            xc = xs[1:]
+            t_list.append(ts)
+            x_list.append(xs)
+        else:
+            lam_c = lt / iv.w[:, None]
+            lam_end = iv.D[:, -1] @ lt
+            lam_s = lam_c
+            xc = xs[:-1]
+            t_list.append(ts[:-1])
+            x_list.append(xs[:-1])
+        lam_list.append(lam_s)
+        tc_list.append(tc)
+        u_list.append(us)
+        for k in range(iv.n):
+            hk, hu = tr.h_fun(xc[k], us[k], tc[k], lam_c[k])
+            ham_list.append(float(hk))
+            sw_list.append(np.asarray(hu).ravel())
+        if r == len(tr.intervals) - 1:
+            t_list.append([tend])
+            x_list.append(xe[None, :])
+            lam_list.append(lam_end[None, :])
+    objective = float(tr.J_fun(z, p))
+    msg = f"IPOPT: {status} after {int(stats.get('iter_count', 0))} iterations ({tr.method}, mesh {tr.mesh.label()})"
+    return OptimalControlSolution(
+        success=success,
+        status=status,
+        message=msg,
+        nit=int(stats.get("iter_count", 0)),
+        nfev=int(stats.get("n_call_nlp_f", 0)),
+        objective=objective,
+        t0=t0,
+        tf=tf,
+        method=tr.method,
+        mesh=tr.mesh,
+        t=np.concatenate(t_list),
+        x=np.vstack(x_list),
+        t_control=np.concatenate(tc_list),
+        u=np.vstack(u_list),
+        costate=np.vstack(lam_list),
+        hamiltonian=np.array(ham_list),
+        switching=np.vstack(sw_list) if sw_list else np.zeros((0, tr.nu)),
+        max_violation=viol,
+        build_s=build_s,
+        solve_s=solve_s,
+        problem=problem,
+        pieces=tuple(pieces),
+        dynamics_fun=tr.f_fun,
+    )
+
+
+# ------------------------------------------------------------------------- mesh sequence
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MeshSequenceResult:
+    """Solutions on a warm-started sequence of meshes.
+
+    Attributes
+    ----------
+    solutions : tuple of OptimalControlSolution
+    objectives : (n,) ndarray
+    rel_change : (n,) ndarray
+        ``|J_k − J_{k−1}| / |J_k|`` (NaN for the first mesh).
+    converged : bool
+        The last change is below ``rtol`` and the last solve succeeded.
+    success : bool
+        Every solve succeeded.
+    message : str
+    """
+
+    solutions: tuple[OptimalControlSolution, ...]
+    objectives: np.ndarray
+    rel_change: np.ndarray
+    converged: bool
+    success: bool
+    message: str
+
+    @property
+    def final(self) -> OptimalControlSolution:
+        return self.solutions[-1]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "meshes": [s.mesh.label() for s in self.solutions],
+            "objectives": self.objectives,
+            "tf": [s.tf for s in self.solutions],
+            "rel_change": self.rel_change,
+            "status": [s.status for s in self.solutions],
+            "converged": self.converged,
+            "success": self.success,
+            "message": self.message,
+        }
+
+
+def solve_mesh_sequence(
+    problem: OptimalControlProblem,
+    meshes: Sequence[Mesh | tuple[int, int]] = ((20, 3), (40, 4), (80, 4), (160, 4)),
+    *,
+    method: str = "gauss",
+    guess: Guess | OptimalControlSolution | None = None,
+    rtol: float = 1e-5,
+    ipopt_options: dict[str, Any] | None = None,
+) -> MeshSequenceResult:
+    """Solve on successively finer meshes, each warm-started from the previous solution.
+
+    Stops as soon as the objective changes by less than ``rtol`` (relative) between two
+    consecutive successful solves, or when ``meshes`` is exhausted.
+    """
+    rtol = check_positive("rtol", rtol)
+    meshes = [_as_mesh(m) for m in meshes]
+    if not meshes:
+        raise InputError("meshes must contain at least one mesh")
+    sols: list[OptimalControlSolution] = []
+    changes: list[float] = []
+    converged = False
+    for mesh in meshes:
+        sol = solve(problem, method=method, mesh=mesh, guess=guess, ipopt_options=ipopt_options)
+        prev = sols[-1] if sols else None
+        sols.append(sol)
+        if prev is None or not (prev.success and sol.success):
+            changes.append(np.nan)
+        else:
+            changes.append(abs(sol.objective - prev.objective) / max(abs(sol.objective), 1e-300))
+        if sol.success:
+            guess = sol
+        if np.isfinite(changes[-1]) and changes[-1] < rtol and sol.success:
+            converged = True
+            break
+    ok = all(s.success for s in sols)
+    msg = (
+        f"converged on mesh {sols[-1].mesh.label()}: relative change {changes[-1]:.2e} < {rtol:g}"
+        if converged
+        else f"not converged to {rtol:g} after {len(sols)} meshes (last change {changes[-1]:.2e})"
+    )
+    return MeshSequenceResult(
+        solutions=tuple(sols),
+        objectives=np.array([s.objective for s in sols]),
+        rel_change=np.array(changes),
+        converged=converged,
+        success=ok,
+        message=msg,
+    )
+
+
+# ------------------------------------------------------------------------- multistart
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MultistartResult:
+    """Solves from seeded random initial guesses.
+
+    Attributes
+    ----------
+    solutions : tuple of OptimalControlSolution
+        Every start, in order (start 0 is the default guess when ``include_default``).
+    objectives : (n,) ndarray
+        Objective of each start (NaN when the solve failed).
+    distinct_objectives : (m,) ndarray
+        Distinct local optima among the successful solves, ascending (clustered at ``rtol``).
+    counts : (m,) ndarray of int
+        Starts that reached each distinct optimum.
+    best_index : int
+        Start with the lowest successful objective (-1 if none succeeded).
+    n_success : int
+    """
+
+    solutions: tuple[OptimalControlSolution, ...]
+    objectives: np.ndarray
+    distinct_objectives: np.ndarray
+    counts: np.ndarray
+    best_index: int
+    n_success: int
+
+    @property
+    def success(self) -> bool:
+        return self.best_index >= 0
+
+    @property
+    def best(self) -> OptimalControlSolution | None:
+        return self.solutions[self.best_index] if self.best_index >= 0 else None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "objectives": self.objectives,
+            "status": [s.status for s in self.solutions],
+            "distinct_objectives": self.distinct_objectives,
+            "counts": self.counts,
+            "best_index": self.best_index,
+            "n_success": self.n_success,
+        }
+
+
+def random_guess(problem: OptimalControlProblem, rng, *, spread: float = 0.5, knots: int = 6) -> Guess:
+    """A seeded random guess: straight line plus smooth noise, smooth random controls in bounds,
+    ``tf`` uniformly in ``[0.7, 1.5] × tf_guess`` (clipped to the bounds)."""
+    rng = as_rng(rng)
+    base = default_guess(problem)
+    sx, su = problem.scales()
+    tf = float(np.clip(problem.tf_guess * rng.uniform(0.7, 1.5), *problem.tf_bounds))
+    t = np.linspace(problem.t0, tf, knots)
+    s = (t - t[0]) / (t[-1] - t[0])
+    x = base.x[0] + s[:, None] * (base.x[1] - base.x[0])
+    bump = np.sin(np.pi * s)[:, None]  # keep the boundary values
+    x = x + bump * rng.normal(0.0, spread, size=x.shape) * sx
+    x = np.clip(x, problem.state_lower, problem.state_upper)
+    lo = np.where(np.isfinite(problem.control_lower), problem.control_lower, -su)
+    hi = np.where(np.isfinite(problem.control_upper), problem.control_upper, su)
+    u = rng.uniform(lo, hi, size=(knots, problem.n_controls))
+    return Guess(t=t, x=x, u=u, tf=tf)
+
+
+def multistart(
+    problem: OptimalControlProblem,
+    n_starts: int = 8,
+    *,
+    method: str = "gauss",
+    mesh: Mesh | tuple[int, int] = (20, 3),
+    rng=None,
+    include_default: bool = True,
+    spread: float = 0.5,
+    rtol: float = 1e-4,
+    ipopt_options: dict[str, Any] | None = None,
+) -> MultistartResult:
+    """Solve from ``n_starts`` seeded random guesses and report every distinct local optimum.
+
+    Parameters
+    ----------
+    n_starts : int
+        Number of starts (including the default guess when ``include_default``).
+    rng : Generator or int, optional
+        Seed of the random guesses (``None`` → seed 0).
+    spread : float
+        Standard deviation of the state perturbation, in units of the state scales.
+    rtol : float
+        Objectives within this relative distance are the same optimum.
+    """
+    n_starts = check_int("n_starts", n_starts, minimum=1)
+    rng = as_rng(rng)
+    sols = []
+    for i in track(range(n_starts), f"multistart {problem.name}"):
+        g = default_guess(problem) if (include_default and i == 0) else random_guess(problem, rng, spread=spread)
+        sols.append(solve(problem, method=method, mesh=mesh, guess=g, ipopt_options=ipopt_options))
+    obj = np.array([s.objective if s.success else np.nan for s in sols])
+    ok = np.isfinite(obj)
+    distinct: list[float] = []
+    counts: list[int] = []
+    for v in np.sort(obj[ok]):
+        if distinct and abs(v - distinct[-1]) <= rtol * max(abs(v), 1e-300):
+            counts[-1] += 1
+        else:
+            distinct.append(float(v))
+            counts.append(1)
+    best = int(np.nanargmin(obj)) if ok.any() else -1
+    return MultistartResult(
+        solutions=tuple(sols),
+        objectives=obj,
+        distinct_objectives=np.array(distinct),
+        counts=np.array(counts, dtype=int),
+        best_index=best,
+        n_success=int(ok.sum()),
+    )

@@ -1,0 +1,322 @@
+"""Multi-interval Gauss (LG) and Radau (LGR) transcriptions of an optimal-control problem.
+
+The NLP is built once per *structure* (the problem's callables, dimensions, method, mesh and
+solver options) with CasADi ``SX`` symbols and compiled into an IPOPT ``nlpsol``; boundary
+values, bounds, scales and ``t0`` enter as bounds and NLP parameters, so problems that differ
+only in those numbers (e.g. the five rows of S2 Table 4) reuse the same solver object.
+
+Gauss (S2 eq. 17–34), per sub-interval ``r`` with ``N`` LG points:
+
+* variables: state ``X₀`` at ``τ₀ = −1`` and ``X₁..X_N`` at the LG points, control
+  ``U₁..U_N`` at the LG points, and the end state ``X_f`` (eq. 22–25);
+* defects ``Σ_i D_ki X_i − (h/2) f(X_k, U_k, t_k) = 0``, ``k = 1..N`` (eq. 29, D of eq. 28);
+* end state by Gauss quadrature ``X_f − X₀ − (h/2) Σ w_k f_k = 0`` (eq. 30);
+* continuity linkage ``X_f^(r) − X₀^(r+1) = 0`` (eq. 34); boundary values as bounds on
+  ``X₀^(1)`` and ``X_f^(P)`` (eq. 32); path constraints at the LG points (eq. 33).
+
+Radau (LGR), per sub-interval: state at the ``N`` LGR points (``τ₁ = −1``) and at ``τ = +1``,
+control at the LGR points, defects at the LGR points, and the same linkage.
+
+Scaling: decision variables are ``z = x / s`` with ``s`` the problem's state/control scales
+and ``tf_guess`` for ``tf``; the defect, quadrature and linkage rows of state ``i`` are divided
+by ``s_i``; the objective is divided by ``|J(guess)|``. IPOPT's gradient-based scaling is kept
+on top. Multipliers are un-scaled before costate estimation.
+
+References
+----------
+S2, eq. 17–37. Benson et al., J. Guid. Control Dyn. 29(6), 2006. Garg et al., Automatica
+46(11), 2010.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from adcskit.optimal_control.nodes import gauss_differentiation_matrix, radau_differentiation_matrix
+from adcskit.optimal_control.problem import Mesh, OptimalControlProblem
+
+__all__ = ["METHODS", "DEFAULT_IPOPT_OPTIONS", "get_transcription"]
+
+METHODS: dict[str, str] = {
+    "gauss": "multi-interval Legendre-Gauss collocation (S2 eq. 17-34)",
+    "radau": "multi-interval Legendre-Gauss-Radau collocation",
+}
+
+DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
+    "print_level": 0,
+    "sb": "yes",
+    "linear_solver": "mumps",
+    "hessian_approximation": "exact",
+    "tol": 1e-9,
+    "acceptable_tol": 1e-7,
+    "max_iter": 500,
+    "mu_strategy": "adaptive",
+}
+
+# "sx": the whole NLP in SX (fast evaluation, slower build); "mx": MX graph calling the mapped
+# SX dynamics (fast build, derivatives of f computed once and mapped); "mx-expand": MX
+# expanded to SX by nlpsol. Chosen by measurement (docs/benchmarks.md).
+SYMBOLIC = "sx"
+
+_CACHE: OrderedDict[tuple, _Transcription] = OrderedDict()
+_CACHE_SIZE = 24
+
+
+@dataclass(slots=True)
+class _Interval:
+    n: int
+    D: np.ndarray  # (n, n+1)
+    tau: np.ndarray  # collocation points (n,)
+    w: np.ndarray  # quadrature weights (n,)
+    support: np.ndarray  # (n+1,) state support points
+    a: float  # start fraction
+    b: float  # end fraction
+    xs: slice  # support states in z, (n+1)*nx, column-major by node
+    us: slice  # controls, n*nu
+    xe: slice | None  # gauss end state
+    g_def: slice  # defect rows n*nx
+    g_quad: slice | None
+    g_link: slice | None
+
+
+class _Transcription:
+    """The compiled NLP of one problem structure on one mesh."""
+
+    def __init__(
+        self, problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any], symbolic: str = "sx"
+    ):
+        self.method = method
+        self.mesh = mesh
+        nx, nu, npath = problem.n_states, problem.n_controls, problem.n_path
+        self.nx, self.nu, self.npath = nx, nu, npath
+        x = ca.SX.sym("x", nx)
+        u = ca.SX.sym("u", nu)
+        t = ca.SX.sym("t")
+        fx = ca.vertcat(*_as_list(problem.dynamics(x, u, t), nx, "dynamics"))
+        self.f_fun = ca.Function("f", [x, u, t], [fx])
+        gx = ca.SX(0) if problem.lagrange is None else _scalar(problem.lagrange(x, u, t), "lagrange")
+        self.g_fun = ca.Function("g", [x, u, t], [gx])
+        lam = ca.SX.sym("lam", nx)
+        ham = gx + ca.dot(lam, fx)
+        self.h_fun = ca.Function("H", [x, u, t, lam], [ham, ca.gradient(ham, u) if nu else ca.SX(0, 1)])
+        if npath:
+            cx = ca.vertcat(*_as_list(problem.path(x, u, t), npath, "path"))
+            self.c_fun = ca.Function("C", [x, u, t], [cx])
+
+        # ---------------- layout
+        breaks = mesh.breaks
+        self.intervals: list[_Interval] = []
+        iz = 0
+        ig = 0
+        P = mesh.n_intervals
+        for r, n in enumerate(mesh.nodes):
+            if method == "gauss":
+                D, tau, w = gauss_differentiation_matrix(n)
+                support = np.concatenate(([-1.0], tau))
+            else:
+                D, tau, w = radau_differentiation_matrix(n)
+                support = np.concatenate((tau, [1.0]))
+            xs = slice(iz, iz + (n + 1) * nx)
+            iz = xs.stop
+            us = slice(iz, iz + n * nu)
+            iz = us.stop
+            xe = None
+            if method == "gauss":
+                xe = slice(iz, iz + nx)
+                iz = xe.stop
+            g_def = slice(ig, ig + n * nx)
+            ig = g_def.stop
+            g_quad = None
+            if method == "gauss":
+                g_quad = slice(ig, ig + nx)
+                ig = g_quad.stop
+            g_link = None
+            if r < P - 1:
+                g_link = slice(ig, ig + nx)
+                ig = g_link.stop
+            self.intervals.append(
+                _Interval(n, D, tau, w, support, breaks[r], breaks[r + 1], xs, us, xe, g_def, g_quad, g_link)
+            )
+        self.g_path = slice(ig, ig + npath * sum(mesh.nodes))
+        ig = self.g_path.stop
+        self.i_tf = iz
+        self.nz = iz + 1
+        self.ng = ig
+
+        # ---------------- symbolic NLP (vectorised: one mapped call of f over all nodes)
+        Sym = ca.MX if symbolic.startswith("mx") else ca.SX
+        z = Sym.sym("z", self.nz)
+        p = Sym.sym("p", nx + nu + 3)  # [sx, su, s_tf, t0, cJ]
+        sx, su = p[:nx], p[nx : nx + nu]
+        tf = p[nx + nu] * z[self.i_tf]
+        t0 = p[nx + nu + 1]
+        cJ = p[nx + nu + 2]
+        T = tf - t0
+        ntot = sum(mesh.nodes)
+        per = []
+        for iv in self.intervals:
+            Xs = ca.reshape(z[iv.xs], nx, iv.n + 1) * ca.repmat(sx, 1, iv.n + 1)
+            U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else Sym(0, iv.n)
+            h = T * (iv.b - iv.a)
+            tstart = t0 + T * iv.a
+            if method == "gauss":
+                Xc, Xend = Xs[:, 1:], z[iv.xe] * sx
+            else:
+                Xc, Xend = Xs[:, :-1], Xs[:, -1]
+            tc = tstart + ca.DM((iv.tau[None, :] + 1.0) / 2.0) * h
+            per.append((Xs, U, h, Xc, Xend, tc))
+        Xc_all = ca.horzcat(*[q[3] for q in per])
+        U_all = ca.horzcat(*[q[1] for q in per])
+        T_all = ca.horzcat(*[q[5] for q in per])
+        F_all = self.f_fun.map(ntot)(Xc_all, U_all, T_all)
+        G_all = self.g_fun.map(ntot)(Xc_all, U_all, T_all) if problem.lagrange is not None else None
+        ordered: list[Any] = []
+        lag = Sym(0)
+        off = 0
+        for r, (iv, (Xs, _U, h, _Xc, Xend, _tc)) in enumerate(zip(self.intervals, per, strict=True)):
+            Fm = F_all[:, off : off + iv.n]
+            defect = (ca.mtimes(Xs, ca.DM(iv.D.T)) - h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)
+            ordered.append(ca.vec(defect))  # rows: defects, [quadrature], linkage to the next interval
+            if method == "gauss":
+                ordered.append((Xend - Xs[:, 0] - h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx)
+            if iv.g_link is not None:
+                ordered.append((Xend - per[r + 1][0][:, 0]) / sx)
+            if G_all is not None:
+                lag = lag + h / 2.0 * ca.mtimes(G_all[:, off : off + iv.n], ca.DM(iv.w))
+            off += iv.n
+        if npath:
+            ordered.append(ca.vec(self.c_fun.map(ntot)(Xc_all, U_all, T_all)))
+        g = ca.vertcat(*ordered)
+        J = lag
+        if problem.mayer is not None:
+            J = J + _scalar(problem.mayer(per[0][0][:, 0], t0, per[-1][4], tf), "mayer")
+        self.J_fun = ca.Function("J", [z, p], [J])
+        nlp = {"x": z, "p": p, "f": J / cJ, "g": g}
+        opts = {"print_time": False, "ipopt": dict(ipopt)}
+        if symbolic == "mx-expand":
+            opts["expand"] = True
+        self.solver = ca.nlpsol("ocp", "ipopt", nlp, opts)
+
+    # ------------------------------------------------------------------ numeric helpers
+    def times(self, t0: float, tf: float):
+        """Support-state times, collocation times and end times per interval."""
+        out = []
+        for iv in self.intervals:
+            ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
+            tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
+            out.append((ts, tc, t0 + (tf - t0) * iv.b))
+        return out
+
+    def bounds(self, problem: OptimalControlProblem, sx, su, s_tf):
+        lbz = np.full(self.nz, -np.inf)
+        ubz = np.full(self.nz, np.inf)
+        nx, nu = self.nx, self.nu
+        for iv in self.intervals:
+            lo = np.tile(problem.state_lower / sx, iv.n + 1)
+            hi = np.tile(problem.state_upper / sx, iv.n + 1)
+            lbz[iv.xs], ubz[iv.xs] = lo, hi
+            if nu:
+                lbz[iv.us] = np.tile(problem.control_lower / su, iv.n)
+                ubz[iv.us] = np.tile(problem.control_upper / su, iv.n)
+            if iv.xe is not None:
+                lbz[iv.xe], ubz[iv.xe] = problem.state_lower / sx, problem.state_upper / sx
+        first, last = self.intervals[0], self.intervals[-1]
+        x0 = problem.initial_state
+        fix0 = np.isfinite(x0)
+        i0 = np.arange(first.xs.start, first.xs.start + nx)
+        lbz[i0[fix0]] = ubz[i0[fix0]] = (x0 / sx)[fix0]
+        xf = problem.final_state
+        fixf = np.isfinite(xf)
+        if self.method == "gauss":
+            i_f = np.arange(last.xe.start, last.xe.stop)
+        else:
+            i_f = np.arange(last.xs.stop - nx, last.xs.stop)
+        lbz[i_f[fixf]] = ubz[i_f[fixf]] = (xf / sx)[fixf]
+        lbz[self.i_tf], ubz[self.i_tf] = problem.tf_bounds[0] / s_tf, problem.tf_bounds[1] / s_tf
+        lbg = np.zeros(self.ng)
+        ubg = np.zeros(self.ng)
+        if self.npath:
+            ntot = sum(self.mesh.nodes)
+            lbg[self.g_path] = np.tile(problem.path_lower, ntot)
+            ubg[self.g_path] = np.tile(problem.path_upper, ntot)
+        return lbz, ubz, lbg, ubg
+
+    def pack(self, t0, tf, xfun, ufun, sx, su, s_tf) -> np.ndarray:
+        """Scaled decision vector from guess functions ``xfun(t) -> (M, nx)``, ``ufun``."""
+        z = np.zeros(self.nz)
+        for iv, (ts, tc, tend) in zip(self.intervals, self.times(t0, tf), strict=True):
+            z[iv.xs] = (xfun(ts) / sx).ravel()
+            if self.nu:
+                z[iv.us] = (ufun(tc) / su).ravel()
+            if iv.xe is not None:
+                z[iv.xe] = xfun(np.array([tend]))[0] / sx
+        z[self.i_tf] = tf / s_tf
+        return z
+
+    def unpack(self, z, sx, su, s_tf):
+        """Physical states (support points), controls and end states per interval, and tf."""
+        out = []
+        for iv in self.intervals:
+            xs = z[iv.xs].reshape(iv.n + 1, self.nx) * sx
+            us = z[iv.us].reshape(iv.n, self.nu) * su if self.nu else np.zeros((iv.n, 0))
+            xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
+            out.append((xs, us, xe))
+        return out, float(z[self.i_tf] * s_tf)
+
+
+def _as_list(expr, n: int, what: str) -> list:
+    if isinstance(expr, ca.SX | ca.MX | ca.DM):
+        if expr.numel() != n:
+            raise ValueError(f"{what} must return {n} values; got {expr.numel()}")
+        return [expr[i] for i in range(n)]
+    items = list(expr)
+    if len(items) != n:
+        raise ValueError(f"{what} must return {n} values; got {len(items)}")
+    return items
+
+
+def _scalar(expr, what: str):
+    if isinstance(expr, ca.SX | ca.MX | ca.DM):
+        if expr.numel() != 1:
+            raise ValueError(f"{what} must return a scalar; got {expr.numel()} values")
+        return expr
+    return ca.SX(expr) if isinstance(expr, int | float) else expr
+
+
+def get_transcription(
+    problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any], symbolic: str | None = None
+) -> _Transcription:
+    """The cached compiled NLP for this problem structure (see module docstring)."""
+    symbolic = SYMBOLIC if symbolic is None else symbolic
+    key = (
+        symbolic,
+        problem.dynamics,
+        problem.mayer,
+        problem.lagrange,
+        problem.path,
+        problem.n_states,
+        problem.n_controls,
+        problem.n_path,
+        method,
+        mesh,
+        tuple(sorted((k, repr(v)) for k, v in ipopt.items())),
+    )
+    tr = _CACHE.get(key)
+    if tr is None:
+        tr = _Transcription(problem, method, mesh, ipopt, symbolic)
+        _CACHE[key] = tr
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    else:
+        _CACHE.move_to_end(key)
+    return tr
+
+
+def clear_cache() -> None:
+    """Forget every compiled NLP (e.g. to time a cold build)."""
+    _CACHE.clear()

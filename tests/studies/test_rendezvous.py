@@ -1,0 +1,130 @@
+"""Quick run of the rendezvous study (S2) and the rendezvous problem's physics."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from adcskit.optimal_control.problems.rendezvous import (
+    RendezvousParams,
+    mean_motion,
+    mrp_dcm,
+    mrp_kinematics_matrix,
+    rendezvous_problem,
+)
+from adcskit.studies._runner import run_study
+
+
+def _num(f, *args):
+    return np.array(f(*[ca.DM(a) for a in args])).squeeze()
+
+
+def test_mrp_dcm_matches_quaternion_convention():
+    # design.md: A(q) = (q4² − |e|²) I + 2 e eᵀ − 2 q4 [e×]; MRP σ = e / (1 + q4)
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    q *= np.sign(q[3])
+    e, q4 = q[:3], q[3]
+    ex = np.array([[0, -e[2], e[1]], [e[2], 0, -e[0]], [-e[1], e[0], 0]])
+    A = (q4**2 - e @ e) * np.eye(3) + 2 * np.outer(e, e) - 2 * q4 * ex
+    np.testing.assert_allclose(_num(mrp_dcm, e / (1 + q4)), A, atol=1e-14)
+
+
+def test_mrp_kinematics_matches_eq5():
+    s = np.array([0.1, -0.2, 0.3])
+    s2 = s @ s
+    # S2 eq. 5 printed element by element
+    B = np.array(
+        [
+            [1 - s2 + 2 * s[0] ** 2, 2 * (s[0] * s[1] - s[2]), 2 * (s[0] * s[2] + s[1])],
+            [2 * (s[1] * s[0] + s[2]), 1 - s2 + 2 * s[1] ** 2, 2 * (s[1] * s[2] - s[0])],
+            [2 * (s[2] * s[0] - s[1]), 2 * (s[2] * s[1] + s[0]), 1 - s2 + 2 * s[2] ** 2],
+        ]
+    )
+    np.testing.assert_allclose(_num(mrp_kinematics_matrix, s), B, atol=1e-15)
+
+
+def test_mrp_dcm_agrees_with_attitude_package():
+    from adcskit.attitude.mrp import mrp_to_dcm
+
+    s = np.array([0.2, -0.1, 0.35])
+    np.testing.assert_allclose(_num(mrp_dcm, s), mrp_to_dcm(s), atol=1e-14)
+
+
+def test_translation_agrees_with_cw_matrices():
+    # independent implementation: adcskit.dynamics.cw_matrices (same LVLH axes as S2)
+    from adcskit.dynamics.relative_motion import cw_matrices
+
+    n = mean_motion(580e3)
+    A, B = cw_matrices(n)
+    p = rendezvous_problem((20, 0, 0))
+    x = np.zeros(12)
+    x[6:9] = [0.1, -0.2, 0.3]
+    x[9:12] = [5.0, 2.0, -3.0]
+    F = np.array([0, 0, 0, 30.0, -50.0, 80.0])
+    f = np.array(p.dynamics(ca.DM(x), ca.DM(F), 0)).ravel()
+    ref = A @ np.r_[x[9:12], x[6:9]] + B @ (F[3:] / RendezvousParams().mass)
+    np.testing.assert_allclose(np.r_[f[9:12], f[6:9]], ref, atol=1e-15)
+
+
+def test_hill_equations_and_mean_motion():
+    # 580 km circular orbit: n = sqrt(mu/a^3) = 1.0887e-3 rad/s (period ~96.2 min)
+    n = mean_motion(580e3)
+    assert 2 * math.pi / n / 60 == pytest.approx(96.2, abs=0.1)
+    p = rendezvous_problem((20, 0, 0))
+    x = np.zeros(12)
+    x[6:9] = [0.1, 0.2, 0.3]
+    x[9:12] = [1.0, 2.0, 3.0]
+    f = np.array(p.dynamics(ca.DM(x), ca.DM.zeros(6), 0)).ravel()
+    # S2 eq. 6 with zero force: v̇ = −M v − N s
+    M = np.array([[0, 0, -2 * n], [0, 0, 0], [2 * n, 0, 0]])
+    N = np.diag([0, n**2, -3 * n**2])
+    np.testing.assert_allclose(f[6:9], -M @ x[6:9] - N @ x[9:12], atol=1e-15)
+    np.testing.assert_allclose(f[9:12], x[6:9])
+
+
+def test_full_and_paper_dynamics_differ_only_by_dropped_terms():
+    pa = rendezvous_problem((20, 0, 0), dynamics="paper")
+    pf = rendezvous_problem((20, 0, 0), dynamics="full")
+    rng = np.random.default_rng(1)
+    x = rng.normal(scale=0.2, size=12)
+    u = rng.normal(size=6)
+    fa = np.array(pa.dynamics(ca.DM(x), ca.DM(u), 0)).ravel()
+    ff = np.array(pf.dynamics(ca.DM(x), ca.DM(u), 0)).ravel()
+    np.testing.assert_array_equal(fa[3:], ff[3:])
+    I = np.array(RendezvousParams().inertia)
+    w = x[:3]
+    A = np.array(mrp_dcm(ca.DM(x[3:6])))
+    wli = A @ np.array([0, -mean_motion(580e3), 0])
+    # dropped terms: −ω × I ω_LI − I (ω_LI × ω), divided by I
+    dropped = (-np.cross(w, I * wli) - I * np.cross(wli, w)) / I
+    np.testing.assert_allclose(ff[:3] - fa[:3], dropped, atol=1e-15)
+
+
+def test_quick_study(tmp_path):
+    run_study("rendezvous", quick=True, out=tmp_path)
+    doc = json.loads((tmp_path / "rendezvous" / "result.json").read_text())
+    rows = doc["measured"]["rows"]
+    keys = {
+        "s0_m", "tf_paper_mesh_s", "tf_converged_s", "tf_best_multistart_s",
+        "distinct_local_optima_s", "solve_s", "hamiltonian_mean", "hamiltonian_std", "bang_bang",
+    }
+    assert all(set(r) == keys for r in rows)
+    assert {"s0_m", "tf_gpm_s", "tf_gpops_s"} <= set(doc["paper"]["rows"][0])
+    main = rows[0]
+    assert main["s0_m"] == [20.0, 0.0, 0.0]
+    # physics: H ≡ −1 (S2 eq. 39) within the collocation error of the 20×3 mesh
+    assert main["hamiltonian_mean"] == pytest.approx(-1.0, abs=1e-2)
+    # tf on the paper mesh: S2 §6 reports 25.8727 s; a converged optimum is a lower bound on
+    # neither, but it must lie between the pure-translation bound 2·sqrt(20/(sqrt2·0.1)) and
+    # the single-axis bound 2·sqrt(20/0.1) = 28.28 s
+    assert 2 * math.sqrt(20 / (math.sqrt(2) * 0.1)) < main["tf_best_multistart_s"] < 28.29
+    assert main["tf_converged_s"] <= main["tf_best_multistart_s"] + 1e-2
+    assert len(doc["figures"]) == 14  # Figs 3-15 (13) + Table 4 summary
+    names = {c["name"] for c in doc["checks"]}
+    assert any("bang-bang" in n for n in names) and any("Hamiltonian" in n for n in names)
