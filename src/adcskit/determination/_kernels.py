@@ -430,9 +430,11 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
     out[0] = np.nan
     out[1] = np.nan
     out[2] = 0.0
-    for i in range(3):
-        for j in range(3):
-            cov[i, j] = np.nan
+    want_cov = cov.shape[0] == 3  # a (0, 0) array means: covariance not requested
+    if want_cov:
+        for i in range(3):
+            for j in range(3):
+                cov[i, j] = np.nan
     if n < 2:
         return TOO_FEW
     b = work[0:n]
@@ -577,18 +579,24 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
     detF = F[0, 0] * c00 + F[0, 1] * (F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]) + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0])
     if detF > 0.0:
         idet = 1.0 / detF
-        cov[0, 0] = c00 * idet
-        cov[0, 1] = cov[1, 0] = c01 * idet
-        cov[0, 2] = cov[2, 0] = c02 * idet
-        cov[1, 1] = c11 * idet
-        cov[1, 2] = cov[2, 1] = c12 * idet
-        cov[2, 2] = c22 * idet
+        p00 = c00 * idet
+        p01 = c01 * idet
+        p02 = c02 * idet
+        p11 = c11 * idet
+        p12 = c12 * idet
+        p22 = c22 * idet
+        if want_cov:
+            cov[0, 0] = p00
+            cov[0, 1] = cov[1, 0] = p01
+            cov[0, 2] = cov[2, 0] = p02
+            cov[1, 1] = p11
+            cov[1, 2] = cov[2, 1] = p12
+            cov[2, 2] = p22
         nf = 0.0
-        nc = 0.0
         for i in range(3):
             for j in range(3):
                 nf += F[i, j] * F[i, j]
-                nc += cov[i, j] * cov[i, j]
+        nc = p00 * p00 + p11 * p11 + p22 * p22 + 2.0 * (p01 * p01 + p02 * p02 + p12 * p12)
         out[1] = np.sqrt(nf * nc)
     else:
         out[1] = np.inf

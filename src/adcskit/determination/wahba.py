@@ -196,7 +196,7 @@ def _kernel_ready(a: np.ndarray) -> np.ndarray:
 
 
 def solve_wahba(
-    body: Any, ref: Any, weights: Any = None, method: str = "q-method"
+    body: Any, ref: Any, weights: Any = None, method: str = "q-method", *, covariance: bool = True
 ) -> WahbaResult:
     """Solve Wahba's problem for one or a batch of observation sets.
 
@@ -212,6 +212,11 @@ def solve_wahba(
     method : str
         One of :data:`METHODS`: ``"triad"``, ``"q-method"`` (default), ``"quest"``,
         ``"esoq2"``, ``"svd"``, ``"foam"``.
+    covariance : bool, default True
+        For a batch, ``False`` skips storing the ``(N, 3, 3)`` covariance (72 bytes per
+        problem, a sizeable part of the batch time when only attitudes are needed); ``cov``
+        is then a read-only all-NaN array of the same shape. ``cond`` is always computed.
+        A single problem always gets its covariance.
 
     Returns
     -------
@@ -252,10 +257,14 @@ def solve_wahba(
     N = b.shape[0]
     q = np.empty((N, 4))
     out = np.empty((N, 3))
-    cov = np.empty((N, 3, 3))
+    if not isinstance(covariance, (bool, np.bool_)):
+        raise InputTypeError(f"covariance must be True or False; got {short_repr(covariance)}")
+    cov = np.empty((N, 3, 3) if covariance else (N, 0, 0))
     status = np.empty(N, dtype=np.int8)
     kernel = _k.solve_batch_parallel if N >= _PARALLEL_MIN else _k.solve_batch_serial
     kernel(b, r, w, code, q, out, cov, status)
+    if not covariance:
+        cov = np.broadcast_to(np.nan, (N, 3, 3))
     success = status == 0
     if success.all():
         message = "solved"
