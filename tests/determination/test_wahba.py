@@ -52,6 +52,8 @@ def random_problems(rng, N, n, noise=1e-3):
 @pytest.mark.parametrize("method", OPTIMAL)
 @pytest.mark.parametrize("n", [2, 3, 7])
 def test_optimal_methods_match_eigen_solution(method, n):
+    if method == "two-vector" and n != 2:
+        pytest.skip("two-vector takes exactly two observations (tested separately)")
     rng = np.random.default_rng(10 + n)
     body, ref, _ = random_problems(rng, 500, n)
     weights = rng.uniform(0.1, 10.0, size=(500, n))
@@ -70,8 +72,9 @@ def test_optimal_methods_match_eigen_solution(method, n):
 @pytest.mark.parametrize("method", OPTIMAL)
 def test_optimal_methods_match_scipy_align_vectors(method):
     rng = np.random.default_rng(3)
-    body, ref, _ = random_problems(rng, 50, 4, noise=1e-2)
-    weights = rng.uniform(0.5, 2.0, size=(50, 4))
+    n = 2 if method == "two-vector" else 4
+    body, ref, _ = random_problems(rng, 50, n, noise=1e-2)
+    weights = rng.uniform(0.5, 2.0, size=(50, n))
     res = solve_wahba(body, ref, weights, method=method)
     for k in range(50):
         b = body[k] / np.linalg.norm(body[k], axis=1, keepdims=True)
@@ -100,7 +103,10 @@ def test_noise_free_recovers_truth_including_identity_and_180(method, q_true):
     rng = np.random.default_rng(5)
     ref = rng.normal(size=(3, 3))
     body = ref @ quat_to_dcm_np(q_true[None])[0].T
-    res = solve_wahba(body, ref, [1.0, 2.0, 0.5], method=method)
+    weights = [1.0, 2.0, 0.5]
+    if method == "two-vector":
+        body, ref, weights = body[:2], ref[:2], weights[:2]
+    res = solve_wahba(body, ref, weights, method=method)
     # rounding of the constructed data and the solver: a few eps, 1e-13 rad is generous
     assert qangle(res.q, q_true)[0] < 1e-13
     assert res.q[3] >= 0
@@ -315,3 +321,9 @@ def test_huge_and_tiny_vectors_are_normalised_not_flagged():
     assert qangle(res.q, q).max() < 1e-14
     empty = solve_wahba(np.zeros((0, 2, 3)), np.zeros((0, 2, 3)))
     assert empty.q.shape == (0, 4) and empty.message == "solved"
+
+
+def test_two_vector_needs_exactly_two_observations():
+    # Markley & Crassidis (2014) eq. 5.70-5.71 is the closed form for n = 2 only
+    with pytest.raises(InputError, match="'two-vector' needs exactly 2 observations"):
+        solve_wahba(np.eye(3), np.eye(3), method="two-vector")

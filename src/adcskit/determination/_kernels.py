@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 # method codes (order of METHODS in wahba.py)
-TRIAD, QMETHOD, QUEST, ESOQ2, SVD, FOAM = 0, 1, 2, 3, 4, 5
+TRIAD, QMETHOD, QUEST, ESOQ2, SVD, FOAM, TWO_VECTOR = 0, 1, 2, 3, 4, 5, 6
 
 # status codes
 OK = 0
@@ -422,50 +422,100 @@ def _triad_quat(b, r, i1, i2, q, A):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
-    """Solve one problem; returns the status code. ``out = [loss, cond, fallback]``."""
-    n = body.shape[0]
+def _two_vector_quat(b, r, a1, a2, sb, sr, A, q):
+    """Closed-form optimal attitude for exactly two observations (Markley 1999; Markley &
+    Crassidis 2014 eq. 5.70-5.71):
+    ``A = b3 r3ᵀ + (a1/λ)[b1 r1ᵀ + (b1×b3)(r1×r3)ᵀ] + (a2/λ)[b2 r2ᵀ + (b2×b3)(r2×r3)ᵀ]``
+    with ``b3 = b1×b2/|b1×b2|``, ``r3 = r1×r2/|r1×r2|`` and
+    ``λ = sqrt(a1² + a2² + 2 a1 a2 [(b1·b2)(r1·r2) + |b1×b2||r1×r2|])``; weights sum to 1.
+    ``sb = |b1×b2|`` and ``sr = |r1×r2|`` (> 0, checked by the caller)."""
+    b30 = (b[0, 1] * b[1, 2] - b[0, 2] * b[1, 1]) / sb
+    b31 = (b[0, 2] * b[1, 0] - b[0, 0] * b[1, 2]) / sb
+    b32 = (b[0, 0] * b[1, 1] - b[0, 1] * b[1, 0]) / sb
+    r30 = (r[0, 1] * r[1, 2] - r[0, 2] * r[1, 1]) / sr
+    r31 = (r[0, 2] * r[1, 0] - r[0, 0] * r[1, 2]) / sr
+    r32 = (r[0, 0] * r[1, 1] - r[0, 1] * r[1, 0]) / sr
+    db = b[0, 0] * b[1, 0] + b[0, 1] * b[1, 1] + b[0, 2] * b[1, 2]
+    dr = r[0, 0] * r[1, 0] + r[0, 1] * r[1, 1] + r[0, 2] * r[1, 2]
+    lam = np.sqrt(max(a1 * a1 + a2 * a2 + 2.0 * a1 * a2 * (db * dr + sb * sr), 0.0))
+    A[0, 0] = b30 * r30
+    A[0, 1] = b30 * r31
+    A[0, 2] = b30 * r32
+    A[1, 0] = b31 * r30
+    A[1, 1] = b31 * r31
+    A[1, 2] = b31 * r32
+    A[2, 0] = b32 * r30
+    A[2, 1] = b32 * r31
+    A[2, 2] = b32 * r32
+    for i in range(2):
+        c = (a1 if i == 0 else a2) / lam
+        # u = b_i × b3, v = r_i × r3
+        u0 = b[i, 1] * b32 - b[i, 2] * b31
+        u1 = b[i, 2] * b30 - b[i, 0] * b32
+        u2 = b[i, 0] * b31 - b[i, 1] * b30
+        v0 = r[i, 1] * r32 - r[i, 2] * r31
+        v1 = r[i, 2] * r30 - r[i, 0] * r32
+        v2 = r[i, 0] * r31 - r[i, 1] * r30
+        A[0, 0] += c * (b[i, 0] * r[i, 0] + u0 * v0)
+        A[0, 1] += c * (b[i, 0] * r[i, 1] + u0 * v1)
+        A[0, 2] += c * (b[i, 0] * r[i, 2] + u0 * v2)
+        A[1, 0] += c * (b[i, 1] * r[i, 0] + u1 * v0)
+        A[1, 1] += c * (b[i, 1] * r[i, 1] + u1 * v1)
+        A[1, 2] += c * (b[i, 1] * r[i, 2] + u1 * v2)
+        A[2, 0] += c * (b[i, 2] * r[i, 0] + u2 * v0)
+        A[2, 1] += c * (b[i, 2] * r[i, 1] + u2 * v1)
+        A[2, 2] += c * (b[i, 2] * r[i, 2] + u2 * v2)
+    _dcm_to_quat(A, q)
+    _normalise_quat(q)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all, b, r, q, B, F, K, A, Bk, qp):
+    """Solve problem ``kk`` (weights row ``kw``); returns the status code.
+
+    ``out_all[kk] = [loss, cond, fallback]``. The batch arrays are indexed in place rather
+    than sliced into six per-problem array views (each a reference-counted object in numba).
+    ``b``, ``r`` (n×3) and ``q`` (4,) are scratch buffers owned by the caller."""
+    n = body_all.shape[1]
     for i in range(4):
-        q[i] = np.nan
-    out[0] = np.nan
-    out[1] = np.nan
-    out[2] = 0.0
-    want_cov = cov.shape[0] == 3  # a (0, 0) array means: covariance not requested
+        q_all[kk, i] = np.nan
+    out_all[kk, 0] = np.nan
+    out_all[kk, 1] = np.nan
+    out_all[kk, 2] = 0.0
+    want_cov = cov_all.shape[1] == 3  # a (0, 0) array means: covariance not requested
     if want_cov:
         for i in range(3):
             for j in range(3):
-                cov[i, j] = np.nan
+                cov_all[kk, i, j] = np.nan
     if n < 2:
         return TOO_FEW
-    b = work[0:n]
-    r = work[n: 2 * n]
     wsum = 0.0
     for i in range(n):
         nb = 0.0
         nr = 0.0
         for j in range(3):
-            nb += body[i, j] * body[i, j]
-            nr += ref[i, j] * ref[i, j]
+            nb += body_all[kk, i, j] * body_all[kk, i, j]
+            nr += ref_all[kk, i, j] * ref_all[kk, i, j]
         if (np.isfinite(nb) and np.isfinite(nr) and nb >= 1e-300 and nr >= 1e-300
-                and np.isfinite(w[i])):
+                and np.isfinite(w_all[kw, i])):
             nb = 1.0 / np.sqrt(nb)
             nr = 1.0 / np.sqrt(nr)
             for j in range(3):
-                b[i, j] = body[i, j] * nb
-                r[i, j] = ref[i, j] * nr
+                b[i, j] = body_all[kk, i, j] * nb
+                r[i, j] = ref_all[kk, i, j] * nr
         else:  # rare path: non-finite, zero, or a squared norm that over/underflows
-            if not np.isfinite(w[i]):
+            if not np.isfinite(w_all[kw, i]):
                 return NONFINITE
-            code = _unit_scaled(body[i], b[i])
+            code = _unit_scaled(body_all[kk, i], b[i])
             if code == OK:
-                code = _unit_scaled(ref[i], r[i])
+                code = _unit_scaled(ref_all[kk, i], r[i])
             if code != OK:
                 return code
-        wsum += w[i]
+        wsum += w_all[kw, i]
     # anchor = heaviest observation (first on ties), second = heaviest non-parallel one
     i1 = 0
     for i in range(1, n):
-        if w[i] > w[i1]:
+        if w_all[kw, i] > w_all[kw, i1]:
             i1 = i
     i2 = -1
     maxsb = 0.0
@@ -483,7 +533,7 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         sr = np.sqrt(cr0 * cr0 + cr1 * cr1 + cr2 * cr2)
         maxsb = max(maxsb, sb)
         maxsr = max(maxsr, sr)
-        if sb > COLLINEAR_SIN and sr > COLLINEAR_SIN and (i2 < 0 or w[i] > w[i2]):
+        if sb > COLLINEAR_SIN and sr > COLLINEAR_SIN and (i2 < 0 or w_all[kw, i] > w_all[kw, i2]):
             i2 = i
     if maxsb <= COLLINEAR_SIN:
         return COLLINEAR_BODY
@@ -497,20 +547,25 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
             F[j, k] = 0.0
     iw = 1.0 / wsum
     for i in range(n):
-        a = w[i] * iw
-        wi = w[i]
+        a = w_all[kw, i] * iw
+        wi = w_all[kw, i]
         for j in range(3):
             abj = a * b[i, j]
             wbj = wi * b[i, j]
             for k in range(3):
                 B[j, k] += abj * r[i, k]
                 F[j, k] -= wbj * b[i, k]
-        F[0, 0] += w[i]
-        F[1, 1] += w[i]
-        F[2, 2] += w[i]
-    _build_K(B, K)
+        F[0, 0] += w_all[kw, i]
+        F[1, 1] += w_all[kw, i]
+        F[2, 2] += w_all[kw, i]
     status = OK
-    if method == QMETHOD:
+    if method == TWO_VECTOR:  # exactly two observations (checked by the public API)
+        _two_vector_quat(b, r, w_all[kw, 0] / wsum, w_all[kw, 1] / wsum, maxsb, maxsr, A, q)
+    else:
+        _build_K(B, K)
+    if method == TWO_VECTOR:
+        pass
+    elif method == QMETHOD:
         _eig_quat(K, q)
     elif method == TRIAD:
         _triad_quat(b, r, i1, i2, q, A)
@@ -524,8 +579,8 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         else:
             lam2 = -1.0
             if n == 2:  # closed form λmax for two observations (Markley 1999 / M&C eq. 5.71)
-                a1 = w[0] / wsum
-                a2 = w[1] / wsum
+                a1 = w_all[kw, 0] / wsum
+                a2 = w_all[kw, 1] / wsum
                 db = b[0, 0] * b[1, 0] + b[0, 1] * b[1, 1] + b[0, 2] * b[1, 2]
                 dr = r[0, 0] * r[1, 0] + r[0, 1] * r[1, 1] + r[0, 2] * r[1, 2]
                 cc = maxsb * maxsr  # |b1 x b2| |r1 x r2| from the collinearity check
@@ -551,7 +606,7 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         # residual check: above RESIDUAL_TOL the problem is re-solved by the eigen-solver
         if not ok or not np.isfinite(q[0]) or _residual(K, q, _rayleigh(K, q) if method == FOAM else lam) > RESIDUAL_TOL:
             _eig_quat(K, q)
-            out[2] = 1.0
+            out_all[kk, 2] = 1.0
     # loss from the residuals (the eigenvalue form Σa(1 − qᵀKq) loses all digits of small losses)
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
     A[0, 0] = q3 * q3 + q0 * q0 - q1 * q1 - q2 * q2
@@ -567,8 +622,8 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
     for i in range(n):
         for j in range(3):
             d = b[i, j] - (A[j, 0] * r[i, 0] + A[j, 1] * r[i, 1] + A[j, 2] * r[i, 2])
-            loss += w[i] * d * d
-    out[0] = 0.5 * loss
+            loss += w_all[kw, i] * d * d
+    out_all[kk, 0] = 0.5 * loss
     # covariance (Markley & Crassidis 2014 eq. 5.66 with weights = 1/σ²): P = F⁻¹
     c00 = F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1]
     c01 = F[0, 2] * F[2, 1] - F[0, 1] * F[2, 2]
@@ -586,20 +641,22 @@ def _solve_one(body, ref, w, method, q, out, cov, work, B, F, K, A, Bk, qp):
         p12 = c12 * idet
         p22 = c22 * idet
         if want_cov:
-            cov[0, 0] = p00
-            cov[0, 1] = cov[1, 0] = p01
-            cov[0, 2] = cov[2, 0] = p02
-            cov[1, 1] = p11
-            cov[1, 2] = cov[2, 1] = p12
-            cov[2, 2] = p22
+            cov_all[kk, 0, 0] = p00
+            cov_all[kk, 0, 1] = cov_all[kk, 1, 0] = p01
+            cov_all[kk, 0, 2] = cov_all[kk, 2, 0] = p02
+            cov_all[kk, 1, 1] = p11
+            cov_all[kk, 1, 2] = cov_all[kk, 2, 1] = p12
+            cov_all[kk, 2, 2] = p22
         nf = 0.0
         for i in range(3):
             for j in range(3):
                 nf += F[i, j] * F[i, j]
         nc = p00 * p00 + p11 * p11 + p22 * p22 + 2.0 * (p01 * p01 + p02 * p02 + p12 * p12)
-        out[1] = np.sqrt(nf * nc)
+        out_all[kk, 1] = np.sqrt(nf * nc)
     else:
-        out[1] = np.inf
+        out_all[kk, 1] = np.inf
+    for i in range(4):
+        q_all[kk, i] = q[i]
     return status
 
 
@@ -617,9 +674,12 @@ def solve_batch_serial(body, ref, w, method, q, out, cov, status):
     N, n = body.shape[0], body.shape[1]
     shared_w = w.shape[0] == 1  # one weight row for every problem
     work, B, F, K, A, Bk, qp = _scratch(n)
+    b = work[0:n]
+    r = work[n: 2 * n]
+    qs = np.empty(4)
     for k in range(N):
-        status[k] = _solve_one(body[k], ref[k], w[0] if shared_w else w[k], method, q[k], out[k],
-                               cov[k], work, B, F, K, A, Bk, qp)
+        status[k] = _solve_one(body, ref, w, k, 0 if shared_w else k, method, q, out, cov, b, r, qs,
+                               B, F, K, A, Bk, qp)
 
 
 CHUNK = 512

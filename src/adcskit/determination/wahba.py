@@ -52,6 +52,7 @@ METHODS: dict[str, tuple[int, bool, str]] = {
     "esoq2": (_k.ESOQ2, True, "ESOQ2: rotation axis as null vector of a 3x3 matrix, sequential rotations"),
     "svd": (_k.SVD, True, "Markley's SVD method on the attitude profile matrix B"),
     "foam": (_k.FOAM, True, "Markley's fast optimal attitude matrix (FOAM)"),
+    "two-vector": (_k.TWO_VECTOR, True, "Markley's closed-form optimum for exactly two observations"),
 }
 
 #: Per-problem status codes and their messages.
@@ -211,7 +212,8 @@ def solve_wahba(
         Positive weights ``a_i`` (read as ``1/σ_i²`` [rad⁻²] for the covariance). Default 1.
     method : str
         One of :data:`METHODS`: ``"triad"``, ``"q-method"`` (default), ``"quest"``,
-        ``"esoq2"``, ``"svd"``, ``"foam"``.
+        ``"esoq2"``, ``"svd"``, ``"foam"``, ``"two-vector"`` (exactly two observations:
+        Markley's closed form, the fastest optimal method for the sun + magnetometer case).
     covariance : bool, default True
         For a batch, ``False`` skips storing the ``(N, 3, 3)`` covariance (72 bytes per
         problem, a sizeable part of the batch time when only attitudes are needed); ``cov``
@@ -248,6 +250,11 @@ def solve_wahba(
         check_choice("method", method, METHODS)
     b, r, w, batched = _prepare(body, ref, weights)
     code = entry[0]
+    if code == _k.TWO_VECTOR and b.shape[-2] != 2:
+        raise InputError(
+            f"method 'two-vector' needs exactly 2 observations per problem; got n = {b.shape[-2]} "
+            "(use 'esoq2', 'quest' or 'q-method' for n >= 2)"
+        )
     if not batched:
         buf = np.empty(16)
         s = _k.solve_single(b, r, w, code, buf)
