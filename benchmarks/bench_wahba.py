@@ -7,7 +7,7 @@ Usage::
 Measures, in one run, on random two-vector problems (unit vectors, noise 1e-3):
 
 * ``adcskit`` batch path (compiled numba kernels, all threads) for N = 1e5 and 1e6 (quick:
-  1e5) with QUEST, ESOQ2 and the q-method; the headline ``adcskit_batch_per_s`` is the
+  1e5) with QUEST, ESOQ2, two-vector (closed form) and the q-method; the headline ``adcskit_batch_per_s`` is the
   fastest *optimal* method at the largest N;
 * ``adcskit`` single call through the public API ``solve_wahba(b, r, method=...)``;
 * ``scipy.spatial.transform.Rotation.align_vectors`` called in a Python loop;
@@ -100,7 +100,7 @@ def main(argv=None) -> dict:
 
     # warm the compiled kernels (serial and parallel) before timing
     b0, r0 = problems(5000, seed=1)
-    for m in ("quest", "esoq2", "q-method"):
+    for m in ("quest", "esoq2", "two-vector", "q-method"):
         solve_wahba(b0, r0, method=m)
         solve_wahba(b0[:10], r0[:10], method=m)
         solve_wahba(b0[0], r0[0], method=m)
@@ -109,7 +109,7 @@ def main(argv=None) -> dict:
     batch = {}
     for N in sizes:
         body, ref = problems(N)
-        for m in ("quest", "esoq2", "q-method"):
+        for m in ("quest", "esoq2", "two-vector", "q-method"):
             if m == "q-method" and N > 100_000:
                 continue
             t = best_time(lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m), repeats)
@@ -122,14 +122,14 @@ def main(argv=None) -> dict:
     # attitudes only (covariance=False: no (N, 3, 3) covariance array written); reported
     # beside the headline, which keeps the full output
     body, ref = problems(nmax)
-    for m in ("quest", "esoq2"):
+    for m in ("quest", "esoq2", "two-vector"):
         f = lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m, covariance=False)  # noqa: E731
         t, tc = best_time(f, repeats), best_cpu_time(f, repeats)
         batch[f"{m}-nocov@{nmax}"] = {"per_s": nmax / t, "per_cpu_s": nmax / tc}
         print(f"adcskit batch {m:8s} N={nmax:>9,d} covariance=False: {nmax / t / 1e6:7.2f} M/s wall, "
               f"{nmax / tc / 1e6:7.2f} M per CPU-second")
-    results["adcskit_batch_attitude_only_per_s"] = max(batch[f"{m}-nocov@{nmax}"]["per_s"] for m in ("quest", "esoq2"))
-    best_m = max(("quest", "esoq2"), key=lambda m: batch[f"{m}@{nmax}"]["per_s"])
+    results["adcskit_batch_attitude_only_per_s"] = max(batch[f"{m}-nocov@{nmax}"]["per_s"] for m in ("quest", "esoq2", "two-vector"))
+    best_m = max(("quest", "esoq2", "two-vector"), key=lambda m: batch[f"{m}@{nmax}"]["per_s"])
     results["adcskit_batch_per_s"] = batch[f"{best_m}@{nmax}"]["per_s"]
     # what an otherwise idle machine would give: throughput per CPU-second x cores used
     results["adcskit_batch_per_cpu_s"] = batch[f"{best_m}@{nmax}"]["per_cpu_s"]
@@ -146,8 +146,8 @@ def main(argv=None) -> dict:
         for k in range(n_loop):
             solve_wahba(body[k], ref[k], method=m)
 
-    singles = {m: best_time(lambda m=m: single_loop(m), repeats) / n_loop for m in ("esoq2", "quest", "q-method")}
-    results["adcskit_single_call_s"] = min(singles["esoq2"], singles["quest"])
+    singles = {m: best_time(lambda m=m: single_loop(m), repeats) / n_loop for m in ("esoq2", "quest", "two-vector", "q-method")}
+    results["adcskit_single_call_s"] = min(singles["esoq2"], singles["quest"], singles["two-vector"])
     detail["adcskit_single_call_s_by_method"] = singles
     for m, s in singles.items():
         print(f"adcskit single call {m:8s}: {s * 1e6:7.2f} us")
