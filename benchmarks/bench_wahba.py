@@ -44,23 +44,20 @@ def problems(N: int, seed: int = 0):
     return body, ref
 
 
+def best_times(fn, repeats: int) -> tuple[float, float]:
+    """Best wall time and best process CPU time (all threads) over ``repeats`` calls; the CPU
+    time excludes time descheduled by other jobs."""
+    wall = cpu = np.inf
+    for _ in range(repeats):
+        t0, c0 = time.perf_counter(), time.process_time()
+        fn()
+        wall = min(wall, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
+    return wall, cpu
+
+
 def best_time(fn, repeats: int) -> float:
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
-def best_cpu_time(fn, repeats: int) -> float:
-    """Best process CPU time (all threads): excludes time descheduled by other jobs."""
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
+    return best_times(fn, repeats)[0]
 
 
 def qangle(q1, q2):
@@ -112,8 +109,7 @@ def main(argv=None) -> dict:
         for m in ("quest", "esoq2", "two-vector", "q-method"):
             if m == "q-method" and N > 100_000:
                 continue
-            t = best_time(lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m), repeats)
-            tc = best_cpu_time(lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m), repeats)
+            t, tc = best_times(lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m), repeats)
             res = solve_wahba(body, ref, method=m)
             batch[f"{m}@{N}"] = {"per_s": N / t, "per_cpu_s": N / tc, "fallbacks": int(np.sum(res.fallback))}
             print(f"adcskit batch {m:8s} N={N:>9,d}: {N / t / 1e6:7.2f} M/s wall, {N / tc / 1e6:7.2f} M per "
@@ -124,7 +120,7 @@ def main(argv=None) -> dict:
     body, ref = problems(nmax)
     for m in ("quest", "esoq2", "two-vector"):
         f = lambda m=m, body=body, ref=ref: solve_wahba(body, ref, method=m, covariance=False)  # noqa: E731
-        t, tc = best_time(f, repeats), best_cpu_time(f, repeats)
+        t, tc = best_times(f, repeats)
         batch[f"{m}-nocov@{nmax}"] = {"per_s": nmax / t, "per_cpu_s": nmax / tc}
         print(f"adcskit batch {m:8s} N={nmax:>9,d} covariance=False: {nmax / t / 1e6:7.2f} M/s wall, "
               f"{nmax / tc / 1e6:7.2f} M per CPU-second")

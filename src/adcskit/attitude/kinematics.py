@@ -17,7 +17,6 @@ import numpy as np
 
 from adcskit.attitude import _kernels as _k
 from adcskit.attitude._checks import broadcast, out, quats, vectors
-from adcskit.errors import InputError
 
 __all__ = ["mrp_b_matrix", "mrp_kinematics", "quat_kinematics", "xi_matrix"]
 
@@ -62,8 +61,6 @@ def mrp_kinematics(sigma: Any, omega: Any) -> np.ndarray:
     """MRP rate ``σ̇ = ¼ B(σ) ω`` (1/s); S2 eq. 4."""
     s, sb = vectors("sigma", sigma)
     w, wb = vectors("omega", omega)
-    if not (np.all(np.isfinite(s)) and np.all(np.isfinite(w))):  # pragma: no cover - as_batch checks
-        raise InputError("sigma and omega must be finite")
     s, w = broadcast("sigma", s, "omega", w)
     s2 = np.sum(s * s, axis=1, keepdims=True)
     sd = 0.25 * ((1 - s2) * w + 2 * np.cross(s, w) + 2 * s * np.sum(s * w, axis=1, keepdims=True))

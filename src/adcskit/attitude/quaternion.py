@@ -28,7 +28,7 @@ from scipy.spatial.transform import Rotation
 
 from adcskit._validation import as_rng, check_int, short_repr
 from adcskit.attitude import _kernels as _k
-from adcskit.attitude._checks import broadcast, dcms, out, quats
+from adcskit.attitude._checks import broadcast, dcms, out, quats, vectors
 from adcskit.errors import InputTypeError
 
 __all__ = [
@@ -59,8 +59,6 @@ def skew(v: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (3, 3) or (N, 3, 3)
     """
-    from adcskit.attitude._checks import vectors
-
     arr, batched = vectors("v", v)
     return out(_k.skew(arr), batched)
 

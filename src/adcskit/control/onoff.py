@@ -483,6 +483,20 @@ def _metrics(out: np.ndarray, n_steps: int, backend: str) -> OnOffMetrics:
     return OnOffMetrics(**cols, n_steps=n_steps, backend=backend)
 
 
+def _checked_inputs(
+    params: LoopParams | None, settings: LoopSettings | None, backend: str
+) -> tuple[LoopParams, LoopSettings]:
+    """Defaults (S4 Table 3) and boundary checks shared by the simulation entry points."""
+    params = LoopParams() if params is None else params
+    settings = LoopSettings() if settings is None else settings
+    if not isinstance(params, LoopParams):
+        raise InputError(f"params must be a LoopParams; got {type(params).__name__}")
+    if not isinstance(settings, LoopSettings):
+        raise InputError(f"settings must be a LoopSettings; got {type(settings).__name__}")
+    check_choice("backend", backend, BACKENDS)
+    return params, settings
+
+
 def simulate_batch(
     params: LoopParams | None = None,
     settings: LoopSettings | None = None,
@@ -514,13 +528,7 @@ def simulate_batch(
     ----------
     S4, Fig. 1 and Table 3; "Error" (mean |e| over the last 10 s) and "ΔV" of eq. (9).
     """
-    params = LoopParams() if params is None else params
-    settings = LoopSettings() if settings is None else settings
-    if not isinstance(params, LoopParams):
-        raise InputError(f"params must be a LoopParams; got {type(params).__name__}")
-    if not isinstance(settings, LoopSettings):
-        raise InputError(f"settings must be a LoopSettings; got {type(settings).__name__}")
-    check_choice("backend", backend, BACKENDS)
+    params, settings = _checked_inputs(params, settings, backend)
     P = _param_matrix(params)
     C = _coefficients(settings)
     L = _buffer_length(P, settings.dt)
@@ -555,13 +563,7 @@ def simulate_trace(
     ----------
     S4, Figs. 5-7 (step response, thruster on/off history, limit cycle).
     """
-    params = LoopParams() if params is None else params
-    settings = LoopSettings() if settings is None else settings
-    if not isinstance(params, LoopParams):
-        raise InputError(f"params must be a LoopParams; got {type(params).__name__}")
-    if not isinstance(settings, LoopSettings):
-        raise InputError(f"settings must be a LoopSettings; got {type(settings).__name__}")
-    check_choice("backend", backend, BACKENDS)
+    params, settings = _checked_inputs(params, settings, backend)
     P = _param_matrix(params)
     if P.shape[0] != 1:
         raise InputError(f"simulate_trace takes one sample; got N={P.shape[0]}")

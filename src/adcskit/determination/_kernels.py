@@ -559,12 +559,10 @@ def _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all
         F[1, 1] += w_all[kw, i]
         F[2, 2] += w_all[kw, i]
     status = OK
+    if method != TWO_VECTOR:
+        _build_K(B, K)
     if method == TWO_VECTOR:  # exactly two observations (checked by the public API)
         _two_vector_quat(b, r, w_all[kw, 0] / wsum, w_all[kw, 1] / wsum, maxsb, maxsr, A, q)
-    else:
-        _build_K(B, K)
-    if method == TWO_VECTOR:
-        pass
     elif method == QMETHOD:
         _eig_quat(K, q)
     elif method == TRIAD:
