@@ -1,12 +1,20 @@
 """Paper studies: one module per reproduced experiment (see :mod:`adcskit.studies._registry`)."""
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies._verdict import OUTCOMES, Claim, ClaimSpec, Finding, FindingSpec, Reading, decide
 from adcskit.studies._registry import STUDIES, get_study, is_available, study_names
 from adcskit.studies._runner import resolve_config, run_study, write_result
 
 __all__ = [
     "STUDIES",
     "Check",
+    "Claim",
+    "ClaimSpec",
+    "Finding",
+    "FindingSpec",
+    "OUTCOMES",
+    "Reading",
+    "decide",
     "Comparison",
     "Study",
     "StudyResult",
