@@ -9,7 +9,13 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from adcskit.studies import Claim, ClaimSpec, Finding, FindingSpec, StudyResult, decide
-from adcskit.studies._verdict import DEPENDS_ON_READING, OUTCOMES, combine_readings, mean_interval, tally
+from adcskit.studies._verdict import (
+    DEPENDS_ON_READING,
+    OUTCOMES,
+    combine_readings,
+    mean_interval,
+    tally,
+)
 
 
 def test_unanimous_seeds_hold():
