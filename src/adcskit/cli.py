@@ -84,10 +84,15 @@ def _err(message: str) -> None:
 def _cmd_list() -> int:
     from adcskit.studies._registry import STUDIES, is_available
 
+    from adcskit.studies._registry import PAPERS
+
     width = max(len(n) for n in STUDIES)
     for name, info in STUDIES.items():
         mark = "" if is_available(name) else "  [not implemented yet]"
         print(f"{name:<{width}}  {info.paper}  {info.description}{mark}")
+    print("\nSource papers:")
+    for pid, paper in PAPERS.items():
+        print(f"  {pid}  {paper.citation()}")
     return EXIT_OK
 
 
@@ -106,9 +111,11 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
 
     t0 = time.perf_counter()
     result = run_study(name, config=config, quick=args.quick, seed=args.seed, out=args.out, executor=executor)
-    held = sum(c.passed for c in result.checks if c.kind == "claim")
-    n_claims = sum(c.kind == "claim" for c in result.checks)
-    return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, claims held {held}/{n_claims} -> {Path(args.out) / name}"
+    from adcskit.studies._verdict import tally
+
+    counts = tally(c.display_outcome for c in result.all_claims())
+    verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n) or "no claims"
+    return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, paper's claims: {verdicts} -> {Path(args.out) / name}"
 
 
 def _record_errors(out: Path, errors: dict, clear: list[str]) -> None:

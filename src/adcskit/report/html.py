@@ -138,7 +138,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
     """
     from jinja2 import Environment, select_autoescape
 
-    from adcskit.studies._registry import STUDIES, is_available
+    from adcskit.studies._registry import PAPERS, STUDIES, is_available
 
     out = Path(out)
     if not out.is_dir():
@@ -160,6 +160,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
         section: dict[str, Any] = {
             "name": name,
             "paper_id": info.paper if info else "",
+            "citation": PAPERS[info.paper].citation() if info and info.paper in PAPERS else "",
             "description": info.description if info else "",
             "error": errors.get(name),
             "available": is_available(name) if info else True,
@@ -205,6 +206,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
         generated=_dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         machine=html.escape(f"{platform.system()} {platform.machine()}, Python {platform.python_version()}"),
         sections=sections,
+        papers=PAPERS,
         any_quick=any(s.get("data", {}).get("quick") for s in sections),
     )
     target = out / "index.html"

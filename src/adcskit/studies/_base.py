@@ -23,7 +23,7 @@ import numpy as np
 
 from adcskit.studies._verdict import DOES_NOT_HOLD, HOLDS, Claim, Finding
 
-__all__ = ["Check", "Comparison", "Study", "StudyResult", "new_figure", "to_jsonable"]
+__all__ = ["Check", "Comparison", "Study", "StudyResult", "figure_caption", "new_figure", "to_jsonable"]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -102,6 +102,7 @@ class StudyResult:
     comparison: Sequence[Comparison] = ()
     differences: Sequence[str] = ()
     figures: Mapping[str, Any] = field(default_factory=dict)
+    captions: Mapping[str, str] = field(default_factory=dict)
     tables: Mapping[str, Sequence[Mapping[str, Any]]] = field(default_factory=dict)
     doc: str = ""
     seed: int | None = None
@@ -148,6 +149,7 @@ class StudyResult:
             "comparison": [c.to_dict() for c in self.comparison],
             "differences": list(self.differences),
             "figures": [f"{name}.png" for name in self.figures],
+            "figure_captions": {f"{name}.png": self.captions.get(name) or figure_caption(fig, name) for name, fig in self.figures.items()},
             "tables": [f"{name}.csv" for name in self.tables],
             "doc": self.doc,
         }
@@ -207,6 +209,17 @@ def to_jsonable(value: Any) -> Any:
         v = float(value)
         return v if math.isfinite(v) else None
     return value
+
+
+def figure_caption(fig: Any, name: str = "") -> str:
+    """A caption for a figure: its suptitle, else its axes' titles, else its name in words."""
+    sup = getattr(fig, "_suptitle", None)
+    if sup is not None and sup.get_text().strip():
+        return sup.get_text().strip()
+    titles = [ax.get_title().strip() for ax in getattr(fig, "axes", []) if ax.get_title().strip()]
+    if titles:
+        return "; ".join(dict.fromkeys(titles))
+    return name.replace("-", " ").replace("_", " ")
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] = (6.4, 4.0), **kw: Any):

@@ -13,7 +13,103 @@ from dataclasses import dataclass
 from adcskit._validation import check_choice
 from adcskit.studies._base import Study
 
-__all__ = ["StudyInfo", "STUDIES", "get_study", "is_available", "study_names"]
+__all__ = ["PAPERS", "Paper", "StudyInfo", "STUDIES", "get_study", "is_available", "study_names"]
+
+
+@dataclass(frozen=True, slots=True)
+class Paper:
+    """Bibliographic reference of a source paper, as printed in it.
+
+    Fields a paper does not print are empty (``missing`` says which); nothing is guessed.
+    """
+
+    id: str
+    authors: str
+    title: str
+    journal: str = ""
+    volume: str = ""
+    issue: str = ""
+    pages: str = ""
+    year: str = ""
+    doi: str = ""
+    language: str = "Persian, English abstract"
+    missing: str = ""
+
+    def citation(self) -> str:
+        """One-line reference: authors, "title", journal vol(issue), pages, year. DOI."""
+        parts = [f"{self.authors}, \u201c{self.title}\u201d"]
+        if self.journal:
+            j = self.journal
+            if self.volume:
+                j += f" {self.volume}"
+                if self.issue:
+                    j += f"({self.issue})"
+            parts.append(j)
+        if self.pages:
+            parts.append(f"pp. {self.pages}")
+        if self.year:
+            parts.append(self.year)
+        text = ", ".join(parts) + "."
+        if self.doi:
+            text += f" doi:{self.doi}"
+        return text
+
+
+#: The five source papers (S0..S4). Five papers give seven studies because S0 (robust Wahba)
+#: reports two experiments (one epoch, Table 1; an orbit, Figs 1-4) and S4 (on-off control)
+#: two (the Schmitt-trigger loop itself, Figs 2-7; the gain tuning, Tables 4-6).
+PAPERS: dict[str, Paper] = {
+    p.id: p
+    for p in (
+        Paper(
+            "S0",
+            "H. Ghadiri, R. Esmaelzadeh, R. Zardashti",
+            "Robust optimal attitude determination of the satellite based on the min-max optimization algorithm",
+            journal="Journal of Space Science, Technology and Applications",
+            volume="3",
+            issue="2",
+            pages="126-139",
+            year="2024",
+            doi="10.22034/jssta.2023.412482.1139",
+        ),
+        Paper(
+            "S1",
+            "M. Navabi, Sh. Hosseini",
+            "A new online meta-heuristic adaptive GMRES method to estimate the attitude and the model of a satellite",
+            missing="journal, volume, pages, year and DOI are not printed in the source text",
+        ),
+        Paper(
+            "S2",
+            "S. M. Mousavi, S. M. Esmailifar, M. Chiniforoushan",
+            "Time-optimal control of spacecraft rotational and translational dynamics in orbital rendezvous maneuver",
+            journal="Journal of Space Science, Technology and Applications",
+            volume="1",
+            issue="2",
+            pages="147-166",
+            year="2022",
+            doi="10.22034/jssta.2022.315191.1038",
+        ),
+        Paper(
+            "S3",
+            "A. Kosari, S. Kaviri, B. Moshiri, M. Fakoor",
+            "Design of optimal thruster configuration for attitude control of geostationary satellite",
+            missing="journal, volume, pages, year and DOI are not printed in the source text",
+        ),
+        Paper(
+            "S4",
+            "V. Bohlouri, S. H. Jalali Naini",
+            "Robust optimization of satellite attitude control with thruster actuators based on a combined objective function",
+            journal="Journal of Space Science and Technology (Persian)",
+            volume="10",
+            issue="4",
+            year="Winter 1396 SH (2018)",
+            missing=(
+                "pages (page 56 is printed in a running header) and DOI are not printed in the source text; "
+                "the English title is truncated there and is translated from the Persian title"
+            ),
+        ),
+    )
+}
 
 
 @dataclass(frozen=True, slots=True)

@@ -26,6 +26,9 @@ from adcskit.config import config_to_dict, load_config
 from adcskit.studies._base import StudyResult, to_jsonable
 from adcskit.studies._registry import get_study
 
+#: Resolution of every written figure (issue 16: >= 150 dpi, readable when zoomed).
+FIGURE_DPI = 150
+
 __all__ = ["config_changes", "resolve_config", "run_study", "write_result", "write_json_atomic"]
 
 
@@ -118,7 +121,7 @@ def write_result(result: StudyResult, out: str | Path) -> Path:
     tmp = Path(tempfile.mkdtemp(dir=out, prefix=f".{result.study}.", suffix=".tmp"))
     try:
         for stem, fig in result.figures.items():
-            fig.savefig(tmp / f"{stem}.png", dpi=110)
+            fig.savefig(tmp / f"{stem}.png", dpi=FIGURE_DPI)
         for stem, rows in result.tables.items():
             _write_csv(tmp / f"{stem}.csv", list(rows))
         write_json_atomic(tmp / "result.json", result.to_dict())
