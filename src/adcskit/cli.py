@@ -82,9 +82,7 @@ def _err(message: str) -> None:
 
 
 def _cmd_list() -> int:
-    from adcskit.studies._registry import STUDIES, is_available
-
-    from adcskit.studies._registry import PAPERS
+    from adcskit.studies._registry import PAPERS, STUDIES, is_available
 
     width = max(len(n) for n in STUDIES)
     for name, info in STUDIES.items():
