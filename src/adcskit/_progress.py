@@ -76,4 +76,5 @@ def track(iterable: Iterable[T], description: str, total: int | None = None) -> 
 def status(message: str) -> None:
     """Print a one-line status message above the bars (no-op without a session)."""
     if _SESSION is not None:
-        _SESSION.console.print(message)
+        # soft_wrap: a long path stays on one line (also when output is not a terminal)
+        _SESSION.console.print(message, soft_wrap=True, highlight=False)

@@ -46,7 +46,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"adcskit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
-    sub.add_parser("list", help="list the registered studies")
+    p_list = sub.add_parser("list", help="list the registered studies and cite their papers")
+    p_list.add_argument("--quiet", action="store_true", help="names only")
 
     def common(p: argparse.ArgumentParser, out_default: str = "results") -> None:
         p.add_argument("--quick", action="store_true", help="reduced but honest run (fewer trials, coarser meshes)")
@@ -70,10 +71,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     p_report = sub.add_parser("report", help="rebuild DIR/index.html from DIR/*/result.json")
     p_report.add_argument("dir", help="results directory")
+    p_report.add_argument("--quiet", action="store_true", help="print nothing on success")
 
     p_cfg = sub.add_parser("config", help="print a study's resolved default config as TOML")
     p_cfg.add_argument("study")
-    p_cfg.add_argument("--quick", action="store_true")
+    p_cfg.add_argument("--quick", action="store_true", help="the --quick settings")
+    p_cfg.add_argument("--quiet", action="store_true", help="keys and values only, no comments")
     return parser
 
 
@@ -81,9 +84,12 @@ def _err(message: str) -> None:
     print(f"adcskit: error: {message}", file=sys.stderr)
 
 
-def _cmd_list() -> int:
+def _cmd_list(quiet: bool = False) -> int:
     from adcskit.studies._registry import PAPERS, STUDIES, is_available
 
+    if quiet:
+        print("\n".join(n for n in STUDIES if is_available(n)))
+        return EXIT_OK
     width = max(len(n) for n in STUDIES)
     for name, info in STUDIES.items():
         mark = "" if is_available(name) else "  [not implemented yet]"
@@ -95,12 +101,16 @@ def _cmd_list() -> int:
 
 
 def _cmd_config(args: argparse.Namespace) -> int:
-    from adcskit.config import config_to_dict, dump_toml
+    from adcskit.config import config_help, config_to_dict, dump_toml
     from adcskit.studies._runner import resolve_config
 
     cfg = resolve_config(args.study, None, quick=args.quick)
+    if args.quiet:
+        print(dump_toml(config_to_dict(cfg)), end="")
+        return EXIT_OK
     print(f"# adcskit {__version__}: default config of study {args.study!r}{' (--quick)' if args.quick else ''}")
-    print(dump_toml(config_to_dict(cfg)), end="")
+    print("# The defaults are the paper's settings; a changed key is reported as a custom configuration.")
+    print(dump_toml(config_to_dict(cfg), comments=config_help(type(cfg))), end="")
     return EXIT_OK
 
 
@@ -201,13 +211,20 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         if args.command == "list":
-            return _cmd_list()
+            return _cmd_list(args.quiet)
         if args.command == "config":
             return _cmd_config(args)
         if args.command == "report":
-            from adcskit.report.html import build_report
+            from adcskit.report.html import ERRORS_FILE, build_report, load_results
 
-            print(build_report(args.dir))
+            if Path(args.dir).is_dir() and not load_results(args.dir) and not (Path(args.dir) / ERRORS_FILE).is_file():
+                raise AdcskitError(
+                    f"report directory {args.dir!r} holds no results (no */result.json); "
+                    "run 'adcskit run STUDY --out DIR' or 'adcskit reproduce --out DIR' first"
+                )
+            index = build_report(args.dir)
+            if not args.quiet:
+                print(index)
             return EXIT_OK
         return _cmd_run_or_reproduce(args)
     except AdcskitError as exc:

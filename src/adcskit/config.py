@@ -24,7 +24,7 @@ from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_
 
 from adcskit.errors import ConfigError
 
-__all__ = ["load_config", "config_to_dict", "dump_toml", "read_toml", "merge_mappings"]
+__all__ = ["load_config", "config_to_dict", "config_help", "dump_toml", "read_toml", "merge_mappings"]
 
 C = TypeVar("C")
 
@@ -223,23 +223,82 @@ def _toml_value(v: Any) -> str:
     raise TypeError(f"cannot write {v!r} as a TOML value")
 
 
-def dump_toml(data: Mapping[str, Any], _prefix: str = "") -> str:
+def _doc_attributes(cls: type) -> dict[str, str]:
+    """``{field: "type: description"}`` from the numpydoc ``Attributes``/``Parameters`` section."""
+    import inspect
+
+    doc = inspect.getdoc(cls) or ""
+    out: dict[str, str] = {}
+    lines = doc.splitlines()
+    in_section = False
+    names: list[str] = []
+    for i, line in enumerate(lines):
+        stripped = line.strip()
+        if stripped in ("Attributes", "Parameters") and i + 1 < len(lines) and set(lines[i + 1].strip()) == {"-"}:
+            in_section, names = True, []
+            continue
+        if not in_section or set(stripped) == {"-"}:
+            continue
+        if line and not line.startswith(" "):
+            if " : " in line or stripped.isidentifier() or "," in stripped:
+                head, _, typ = line.partition(" : ")
+                names = [n.strip() for n in head.split(",") if n.strip()]
+                for n in names:
+                    out[n] = typ.strip()
+                continue
+            in_section = False  # another section starts
+        elif stripped and names:
+            for n in names:
+                sep = ": " if out[n] and not out[n].endswith(": ") and ": " not in out[n] else " "
+                out[n] = f"{out[n]}{sep}{stripped}".strip()
+    return out
+
+
+def config_help(cls: type) -> dict[str, str]:
+    """One line per config key of dataclass ``cls``: its type and meaning (with unit).
+
+    Nested config dataclasses give dotted keys. Taken from the class docstring's numpydoc
+    ``Attributes`` section; a key it does not describe gets its annotated type only.
+    """
+    hints = get_type_hints(cls)
+    doc = _doc_attributes(cls)
+    out: dict[str, str] = {}
+    for f in dataclasses.fields(cls):
+        tp = hints.get(f.name, Any)
+        if isinstance(tp, type) and dataclasses.is_dataclass(tp):
+            out[f.name] = doc.get(f.name, "")
+            for k, v in config_help(tp).items():
+                out[f"{f.name}.{k}"] = v
+        else:
+            out[f.name] = doc.get(f.name) or _type_name(tp)
+    return out
+
+
+def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[str, str] | None = None) -> str:
     """Write a plain mapping (as from :func:`config_to_dict`) as TOML text.
 
-    ``None`` values are written as comments, since TOML has no null.
+    ``None`` values are written as comments, since TOML has no null. ``comments`` maps a
+    (dotted) key to a line written as a ``#`` comment above it (see :func:`config_help`).
     """
+    comments = comments or {}
     lines: list[str] = []
     tables = []
     for key, value in data.items():
         if isinstance(value, Mapping):
             tables.append((key, value))
-        elif value is None:
+            continue
+        note = comments.get(f"{_prefix}{key}")
+        if note:
+            lines.append(f"# {note}")
+        if value is None:
             lines.append(f"# {key} = (unset)")
         else:
             lines.append(f"{key} = {_toml_value(value)}")
     for key, value in tables:
         name = f"{_prefix}{key}"
         lines.append("")
+        if comments.get(name):
+            lines.append(f"# {comments[name]}")
         lines.append(f"[{name}]")
-        lines.append(dump_toml(value, name + ".").rstrip("\n"))
+        lines.append(dump_toml(value, name + ".", comments=comments).rstrip("\n"))
     return "\n".join(lines).lstrip("\n") + "\n"

@@ -526,7 +526,7 @@ def simulate_batch(
 
     References
     ----------
-    S4, Fig. 1 and Table 3; "Error" (mean |e| over the last 10 s) and "ΔV" of eq. (9).
+    S4, Fig. 1 and Table 3; "Error" (mean ``|e|`` over the last 10 s) and "ΔV" of eq. (9).
     """
     params, settings = _checked_inputs(params, settings, backend)
     P = _param_matrix(params)

@@ -171,7 +171,7 @@ def geodetic_to_ecef(lat: Any, lon: Any, h: Any = 0.0) -> np.ndarray:
 
     Returns
     -------
-    numpy.ndarray, m, shape (*broadcast shape, 3)
+    numpy.ndarray, m, shape ``(*broadcast_shape, 3)``
 
     References
     ----------

@@ -89,7 +89,7 @@ class VectorSensor:
     bias : array_like, shape (3,)
         Constant body-frame bias (output unit).
     misalignment : array_like, rad, shape (3,)
-        Rotation vector of the sensor frame relative to the body frame (|θ| < π).
+        Rotation vector of the sensor frame relative to the body frame (``|θ| < π``).
     normalize : bool
         Re-normalise the output to unit length.
 
