@@ -148,3 +148,21 @@ def test_lp_exact_and_no_more_fuel_than_any_feasible_point(seed, n):
     res = allocate(A, M, method="lp-min-fuel", f_max=10.0)
     assert res.error <= 1e-9 * np.linalg.norm(M)
     assert res.x.sum() <= F.sum() + 1e-9
+
+
+def test_allocate_uses_a_thruster_sets_own_force_limit():
+    """Issue 16: a 1 N thruster set must never receive more than 1 N (the bare-matrix default is 10 N)."""
+    from adcskit.errors import InputError
+    from adcskit.thrusters import ThrusterSet
+
+    pos = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]
+    dirs = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]
+    ts = ThrusterSet(positions=pos, directions=dirs, f_max=1.0)
+    big = [3.0, 0.0, 0.0]  # needs 1.5 N from each of two thrusters
+    bare = allocate(ts.torque_matrix(), big, method="nnls")
+    own = allocate(ts, big, method="nnls")
+    assert bare.x.max() > 1.0  # the old trap: 10 N default
+    assert own.x.max() <= 1.0 + 1e-12 and not bool(own.feasible)
+    assert allocate(ts, big, method="nnls", f_max=1.0).x.max() <= 1.0 + 1e-12  # same value: fine
+    with pytest.raises(InputError, match="conflicts"):
+        allocate(ts, big, f_max=10.0)

@@ -335,20 +335,23 @@ def allocate(
     demand: Any,
     *,
     method: str = "lp-min-fuel",
-    f_max: Any = 10.0,
+    f_max: Any = None,
 ) -> AllocationResult:
     """Allocate thruster forces that produce the demanded torque(s).
 
     Parameters
     ----------
-    torque_matrix : array_like, shape (3, n), N m per N
-        ``A`` of S3 eq. 5 (:meth:`ThrusterSet.torque_matrix`).
+    torque_matrix : ThrusterSet or array_like, shape (3, n), N m per N
+        The thrusters (their torque matrix and their own ``f_max`` are used), or ``A`` of
+        S3 eq. 5 (:meth:`ThrusterSet.torque_matrix`).
     demand : array_like, shape (3,) or (N, 3), N m
         Demanded torque(s) ``M``.
     method : str
         One of :data:`ALLOCATION_METHODS`.
-    f_max : float or array_like, shape (n,), N
-        Upper force bound per thruster (S3 eq. 13, ``u^+``; lower bound 0).
+    f_max : float or array_like, shape (n,), N, optional
+        Upper force bound per thruster (S3 eq. 13, ``u^+``; lower bound 0). With a
+        :class:`ThrusterSet` leave it out: the set's own limits are used, and a different
+        explicit value is an error. With a bare matrix it defaults to 10 N (S3 Table 5).
 
     Returns
     -------
@@ -361,6 +364,23 @@ def allocate(
     S3 eq. 5, 12, 13.
     """
     method = check_choice("method", method, ALLOCATION_METHODS)
+    from adcskit.thrusters.geometry import ThrusterSet
+
+    if isinstance(torque_matrix, ThrusterSet):
+        own = np.asarray(torque_matrix.f_max, dtype=float)
+        if f_max is not None:
+            given = np.broadcast_to(as_array("f_max", f_max, ndim=(0, 1)), own.shape)
+            if not np.allclose(given, own, rtol=1e-12, atol=0.0):
+                from adcskit.errors import InputError
+
+                raise InputError(
+                    f"f_max conflicts with the ThrusterSet's own limits ({own.tolist()} N); "
+                    f"got {f_max!r} — leave f_max out to use the set's limits"
+                )
+        f_max = own
+        torque_matrix = torque_matrix.torque_matrix()
+    elif f_max is None:
+        f_max = 10.0
     A = as_array("torque_matrix", torque_matrix, ndim=2)
     if A.shape[0] != 3 or A.shape[1] < 1:
         from adcskit.errors import InputError

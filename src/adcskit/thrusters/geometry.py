@@ -135,9 +135,22 @@ class Thruster:
         return cls(position=position, direction=direction_from_angles(alpha, beta), **kw)
 
     @property
-    def isp(self) -> float:
-        """Effective exhaust velocity ``f_max / mdot`` (N s/kg; S3 Table 5 prints 2845)."""
+    def exhaust_velocity(self) -> float:
+        """Effective exhaust velocity ``f_max / mdot``, N s/kg = m/s (S3 Table 5 prints 2845 as "Isp").
+
+        >>> round(Thruster(position=[1, 0, 0], direction=[-1, 0, 0]).exhaust_velocity, 1)
+        2857.1
+        """
         return self.f_max / self.mdot
+
+    @property
+    def isp_s(self) -> float:
+        """Specific impulse in seconds, ``exhaust_velocity / g0`` (g0 = 9.80665 m/s²).
+
+        >>> round(Thruster(position=[1, 0, 0], direction=[-1, 0, 0]).isp_s, 1)
+        291.3
+        """
+        return self.f_max / self.mdot / 9.80665
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
