@@ -30,7 +30,17 @@ C = TypeVar("C")
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning a syntax error into a :class:`ConfigError`."""
+    """Read a TOML file, turning a syntax error into a :class:`ConfigError`.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d, "my.toml")
+    ...     _ = p.write_text("noise_bound = 0.1")
+    ...     read_toml(p)
+    {'noise_bound': 0.1}
+    """
     p = Path(path)
     if not p.is_file():
         raise ConfigError(f"config file must be an existing TOML file; got {str(p)!r} (not found)")
@@ -42,7 +52,13 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def merge_mappings(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
-    """Recursive merge: tables are merged key by key, other values are replaced."""
+    """Recursive merge: tables are merged key by key, other values are replaced.
+
+    Examples
+    --------
+    >>> merge_mappings({"a": 1, "t": {"x": 1, "y": 2}}, {"t": {"y": 3}})
+    {'a': 1, 't': {'x': 1, 'y': 3}}
+    """
     out: dict[str, Any] = dict(base)
     for key, value in override.items():
         if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
@@ -177,6 +193,20 @@ def load_config(
     ConfigError
         On an unknown key (the message lists the allowed ones), a missing required key, or a
         value of the wrong type.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True, kw_only=True)
+    ... class Settings:
+    ...     n_trials: int = 100
+    ...     noise_bound: float = 0.2
+    >>> load_config(Settings, {"noise_bound": 0.1})
+    Settings(n_trials=100, noise_bound=0.1)
+    >>> load_config(Settings, {"noise_bnd": 0.1})
+    Traceback (most recent call last):
+    ...
+    adcskit.errors.ConfigError: ...
     """
     if source is None:
         data: Mapping[str, Any] = {}
@@ -192,7 +222,17 @@ def load_config(
 
 
 def config_to_dict(config: Any) -> dict[str, Any]:
-    """Plain-JSON view of a config dataclass (tuples become lists)."""
+    """Plain-JSON view of a config dataclass (tuples become lists).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Mesh:
+    ...     shape: tuple = (20, 3)
+    >>> config_to_dict(Mesh())
+    {'shape': [20, 3]}
+    """
 
     def plain(v: Any) -> Any:
         if dataclasses.is_dataclass(v) and not isinstance(v, type):
@@ -259,6 +299,12 @@ def config_help(cls: type) -> dict[str, str]:
 
     Nested config dataclasses give dotted keys. Taken from the class docstring's numpydoc
     ``Attributes`` section; a key it does not describe gets its annotated type only.
+
+    Examples
+    --------
+    >>> from adcskit.studies import get_study
+    >>> config_help(get_study("wahba-table1").config_cls)["noise_bound"]
+    'float: Uniform noise bound as a fraction of each component (S0: 0.2).'
     """
     hints = get_type_hints(cls)
     doc = _doc_attributes(cls)
@@ -279,6 +325,14 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
 
     ``None`` values are written as comments, since TOML has no null. ``comments`` maps a
     (dotted) key to a line written as a ``#`` comment above it (see :func:`config_help`).
+
+    Examples
+    --------
+    >>> print(dump_toml({"n_trials": 100, "mesh": {"shape": [20, 3]}}), end="")
+    n_trials = 100
+    <BLANKLINE>
+    [mesh]
+    shape = [20, 3]
     """
     comments = comments or {}
     lines: list[str] = []

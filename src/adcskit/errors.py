@@ -12,19 +12,47 @@ __all__ = ["AdcskitError", "InputError", "InputTypeError", "ConfigError", "Solve
 
 
 class AdcskitError(Exception):
-    """Base class of every exception adcskit raises on purpose."""
+    """Base class of every exception adcskit raises on purpose.
+
+    Examples
+    --------
+    >>> from adcskit.attitude import quat_to_dcm
+    >>> try:
+    ...     quat_to_dcm([0.0, 0.0, 0.0, 0.0])
+    ... except AdcskitError as exc:
+    ...     print(type(exc).__name__)
+    InputError
+    """
 
 
 class InputError(AdcskitError, ValueError):
-    """A parameter has the right type but a value outside what is allowed."""
+    """A parameter has the right type but a value outside what is allowed.
+
+    Examples
+    --------
+    >>> isinstance(InputError("x must be > 0; got -1"), ValueError)
+    True
+    """
 
 
 class InputTypeError(AdcskitError, TypeError):
-    """A parameter has a type that cannot be converted to what is expected."""
+    """A parameter has a type that cannot be converted to what is expected.
+
+    Examples
+    --------
+    >>> isinstance(InputTypeError("x must be a number; got 'a'"), TypeError)
+    True
+    """
 
 
 class ConfigError(InputError):
-    """A configuration file or mapping has an unknown, missing or ill-typed key."""
+    """A configuration file or mapping has an unknown, missing or ill-typed key.
+
+    Examples
+    --------
+    >>> issubclass(ConfigError, InputError)
+    True
+    """
 
 
 class SolverError(AdcskitError, RuntimeError):
@@ -32,4 +60,9 @@ class SolverError(AdcskitError, RuntimeError):
 
     A solver that runs and fails to converge returns a result with ``success=False``;
     this exception is for conditions such as a missing optional dependency.
+
+    Examples
+    --------
+    >>> issubclass(SolverError, RuntimeError)
+    True
     """

@@ -53,7 +53,17 @@ def format_value(value: Any) -> str:
 
 
 def load_results(out: str | Path) -> dict[str, dict[str, Any]]:
-    """Read every ``out/<study>/result.json`` (keyed by study name)."""
+    """Read every ``out/<study>/result.json`` (keyed by study name).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from adcskit.studies import StudyResult, write_result
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     _ = write_result(StudyResult(study="demo"), out)
+    ...     list(load_results(out))
+    ['demo']
+    """
     out = Path(out)
     results: dict[str, dict[str, Any]] = {}
     for path in sorted(out.glob("*/result.json")):
@@ -135,6 +145,15 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
     ------
     InputError
         If ``out`` is not an existing directory.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from adcskit.studies import StudyResult, write_result
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     _ = write_result(StudyResult(study="demo", summary="a demo"), out)
+    ...     build_report(out).name
+    'index.html'
     """
     from jinja2 import Environment, select_autoescape
 

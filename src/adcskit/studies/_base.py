@@ -44,6 +44,11 @@ class Check:
         The evidence: numbers, with units, and how they were obtained.
     kind : {"claim", "check"}
         Claims are the paper's statements; checks are our own consistency tests.
+
+    Examples
+    --------
+    >>> Check(name="quaternions are unit", passed=True, detail="max |q| - 1 = 2e-16", kind="check").to_dict()["passed"]
+    True
     """
 
     name: str
@@ -62,7 +67,13 @@ class Check:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comparison:
-    """One row of the paper-vs-ours table shown in the report."""
+    """One row of the paper-vs-ours table shown in the report.
+
+    Examples
+    --------
+    >>> Comparison(quantity="RMS error", paper=2.2, measured=2.15, unit="deg").to_dict()["measured"]
+    2.15
+    """
 
     quantity: str
     paper: Any
@@ -87,6 +98,12 @@ class StudyResult:
     ``figures`` maps a file stem to a :class:`matplotlib.figure.Figure`; ``tables`` maps a
     file stem to a list of row mappings (one CSV each). Both are written by the runner and
     only their names go into ``result.json``.
+
+    Examples
+    --------
+    >>> r = StudyResult(study="demo", summary="nothing measured")
+    >>> sorted(k for k in r.to_dict() if k in ("claims", "checks", "findings"))
+    ['checks', 'claims', 'findings']
     """
 
     study: str
@@ -175,6 +192,13 @@ class Study:
         Config overrides for ``--quick``.
     doc : str
         Path of the study's documentation page in the repository.
+
+    Examples
+    --------
+    >>> from adcskit.studies import get_study
+    >>> s = get_study("wahba-table1")
+    >>> s.name, s.config_cls.__name__
+    ('wahba-table1', 'Config')
     """
 
     name: str
@@ -226,6 +250,13 @@ def new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] =
     """A matplotlib Figure and its axes, without pyplot's global state (Agg, thread-safe).
 
     Returns ``(fig, axes)`` like :func:`matplotlib.pyplot.subplots`.
+
+    Examples
+    --------
+    >>> fig, ax = new_figure()
+    >>> _ = ax.plot([0, 1], [0, 1]); _ = ax.set_xlabel("time (s)")
+    >>> type(fig).__name__
+    'Figure'
     """
     from matplotlib.figure import Figure
 

@@ -170,12 +170,24 @@ STUDIES: dict[str, StudyInfo] = {
 
 
 def study_names() -> list[str]:
-    """All registered study names, in report order."""
+    """All registered study names, in report order.
+
+    Examples
+    --------
+    >>> study_names()[:2]
+    ['wahba-table1', 'wahba-orbit']
+    """
     return list(STUDIES)
 
 
 def is_available(name: str) -> bool:
-    """Whether the study's module is present in this installation."""
+    """Whether the study's module is present in this installation.
+
+    Examples
+    --------
+    >>> is_available("onoff-tuning")
+    True
+    """
     check_choice("study", name, STUDIES)
     return importlib.util.find_spec(STUDIES[name].module) is not None
 
@@ -188,6 +200,11 @@ def get_study(name: str) -> Study:
     InputError
         If ``name`` is not registered (the message lists the valid names) or its module is
         not available yet.
+
+    Examples
+    --------
+    >>> get_study("rendezvous").paper
+    'S2'
     """
     from adcskit.errors import InputError
 

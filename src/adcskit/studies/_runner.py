@@ -33,7 +33,13 @@ __all__ = ["config_changes", "resolve_config", "run_study", "write_result", "wri
 
 
 def resolve_config(name: str, config: Mapping[str, Any] | str | Path | None = None, *, quick: bool = False):
-    """The study's config dataclass: defaults <- quick overrides <- ``config``."""
+    """The study's config dataclass: defaults <- quick overrides <- ``config``.
+
+    Examples
+    --------
+    >>> resolve_config("wahba-table1", {"n_trials": 10}).n_trials
+    10
+    """
     study = get_study(name)
     return load_config(study.config_cls, config, overrides=study.quick if quick else None)
 
@@ -114,7 +120,17 @@ def _csv_cell(v: Any) -> Any:
 
 
 def write_result(result: StudyResult, out: str | Path) -> Path:
-    """Write ``result`` into ``out/<study>/`` atomically and return that directory."""
+    """Write ``result`` into ``out/<study>/`` atomically and return that directory.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from adcskit.studies import StudyResult
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     d = write_result(StudyResult(study="demo"), out)
+    ...     sorted(p.name for p in d.iterdir())
+    ['result.json']
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     final = out / result.study
@@ -170,6 +186,13 @@ def run_study(
         Results directory.
     executor : spec or Executor, optional
         Where campaigns run (see :func:`adcskit.uncertainty.make_executor`).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as out:  # doctest: +SKIP
+    ...     result = run_study("onoff-schmitt", quick=True, out=out)
+    ...     print(result.claims[0].outcome)
     """
     from adcskit.uncertainty.executor import Executor, make_executor
 

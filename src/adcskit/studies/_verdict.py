@@ -142,6 +142,12 @@ class Reading:
         The deciding quantity per seed (empty for a yes/no claim).
     detail : str
         How the outcome was reached.
+
+    Examples
+    --------
+    >>> r = decide([True, True, True], reading="variance ratio")
+    >>> r.reading, r.outcome, r.n_seeds
+    ('variance ratio', 'holds', 3)
     """
 
     reading: str
@@ -195,6 +201,12 @@ class Claim:
         custom settings): the outcome is then not a verdict on the paper.
     protocol_keys : tuple of str or None
         Config keys whose change makes the claim not comparable (None: any key).
+
+    Examples
+    --------
+    >>> c = Claim(id="c1", statement="A is faster than B", where="Table 1", outcome="holds", n_seeds=5, fraction_held=1.0)
+    >>> c.to_dict()["outcome"], c.display_outcome
+    ('holds', 'holds')
     """
 
     id: str
@@ -251,6 +263,11 @@ class Finding(Claim):
 
     Same fields as :class:`Claim`; ``statement`` is our question or hypothesis, ``where``
     is usually empty and ``paper`` None. Findings are never counted as the paper's claims.
+
+    Examples
+    --------
+    >>> Finding(id="f1", statement="our baseline beats the paper's", outcome="inconclusive").to_dict()["where"]
+    ''
     """
 
 
@@ -365,6 +382,14 @@ class ClaimSpec:
         reading is used and ``Claim.readings`` is empty.
     protocol_keys : tuple of str or None
         Config keys that define the paper's protocol for this claim (None: every key).
+
+    Examples
+    --------
+    >>> spec = ClaimSpec(id="lower-rms", statement="min-max has a lower RMS error", where="Fig. 4",
+    ...                  quantity="RMS ratio min-max / q-method", value=lambda m: m["ratio"],
+    ...                  threshold=1.0, better="below")
+    >>> spec.evaluate({"default": [{"ratio": r} for r in (0.8, 0.7, 0.75, 0.82, 0.78)]}).outcome
+    'holds'
     """
 
     id: str
@@ -432,7 +457,15 @@ class ClaimSpec:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class FindingSpec(ClaimSpec):
-    """Declarative definition of a finding (our question); evaluates to a :class:`Finding`."""
+    """Declarative definition of a finding (our question); evaluates to a :class:`Finding`.
+
+    Examples
+    --------
+    >>> spec = FindingSpec(id="f", statement="ours uses less fuel", quantity="fuel ratio",
+    ...                    value=lambda m: m["r"], threshold=1.0, better="below")
+    >>> type(spec.evaluate({"default": [{"r": 0.9}, {"r": 1.1}]})).__name__
+    'Finding'
+    """
 
     where: str = ""
     _cls = Finding
