@@ -70,13 +70,14 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
     compiled by ``numba.njit`` (called from :func:`simulate_parallel` under ``prange``) and
     by ``numba.cuda.jit(device=True)`` (called by one GPU thread per sample).
 
-    ``buf`` is the sample's delay line, ``int8[>= buf_len]`` scratch supplied by the driver
-    (a fresh ``np.empty`` on the CPU, ``cuda.local.array`` on the GPU); ``buf_len`` is a
-    power of two larger than the longest delay in steps + 2. It holds Schmitt outputs
-    {-1, 0, +1}, exact in int8: 1 byte per entry instead of 8 keeps a thread's line small
-    (32 B at S4's delays), which on the GPU lets the resident threads' local memory stay in
-    L1 instead of spilling to L2. ``rec`` is ``(N, n_steps + 1, N_TRACE)`` (record traces)
-    or has a zero first axis.
+    ``buf`` is the sample's delay line, scratch of length ``>= buf_len`` supplied by the
+    driver: a float64 ``np.empty`` on the CPU (in L1 there anyway), an int8
+    ``cuda.local.array`` on the GPU. ``buf_len`` is a power of two larger than the longest
+    delay in steps + 2. The line holds Schmitt outputs {-1, 0, +1}, exact in either dtype
+    (stores cast, ``1.0 * buf[j]`` reads back a float64), so both give the same numbers; on
+    the GPU 1 byte per entry instead of 8 keeps a thread's line at 32 B for S4's delays, so
+    the resident threads' local memory can stay in L1 instead of spilling to L2. ``rec`` is
+    ``(N, n_steps + 1, N_TRACE)`` (record traces) or has a zero first axis.
     """
     record = rec.shape[0] > 0
     mask = buf_len - 1
@@ -168,13 +169,13 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
                 firings += 1.0
         cnt -= 1
         # pure delay (linear interpolation between the two neighbouring command samples)
-        buf[k & mask] = int(s)
+        buf[k & mask] = s  # exact in any dtype of the line: s is -1, 0 or +1
         if k - nd >= 0:
-            ua = float(buf[(k - nd) & mask])
+            ua = 1.0 * buf[(k - nd) & mask]
         else:
             ua = 0.0
         if k - nd - 1 >= 0:
-            ub = float(buf[(k - nd - 1) & mask])
+            ub = 1.0 * buf[(k - nd - 1) & mask]
         else:
             ub = 0.0
         ud = (1.0 - frac) * ua + frac * ub
@@ -238,7 +239,7 @@ def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
     for i in numba.prange(n):
-        buf = np.empty(buf_len, dtype=np.int8)
+        buf = np.empty(buf_len)
         _sample_cpu(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
     return out
 
@@ -248,7 +249,7 @@ def _simulate_python(P, C, n_steps, hold, n_win, buf_len, rec):
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
     for i in range(n):
-        _sample(i, P, C, n_steps, hold, n_win, buf_len, np.empty(buf_len, np.int8), rec, out)
+        _sample(i, P, C, n_steps, hold, n_win, buf_len, np.empty(buf_len), rec, out)
     return out
 
 
