@@ -81,7 +81,13 @@ GPU_EXTRA_HINT = (
 
 
 def simulator_enabled() -> bool:
-    """True when numba's CUDA simulator is on (``NUMBA_ENABLE_CUDASIM=1`` at import)."""
+    """True when numba's CUDA simulator is on (``NUMBA_ENABLE_CUDASIM=1`` at import).
+
+    Examples
+    --------
+    >>> isinstance(simulator_enabled(), bool)
+    True
+    """
     return bool(getattr(numba.config, "ENABLE_CUDASIM", 0))
 
 
@@ -92,6 +98,13 @@ def import_cuda() -> Any:
     ------
     SolverError
         If no CUDA target can be imported; the message names the ``gpu`` extra.
+
+    Examples
+    --------
+    >>> try:
+    ...     cuda = import_cuda()
+    ... except SolverError as exc:
+    ...     assert "adcskit[gpu]" in str(exc)
     """
     try:
         from numba import cuda
@@ -108,6 +121,12 @@ def cuda_status() -> tuple[bool, str]:
     -------
     (bool, str)
         ``(True, description)`` when kernels can run, ``(False, reason)`` otherwise.
+
+    Examples
+    --------
+    >>> ok, why = cuda_status()
+    >>> isinstance(ok, bool) and isinstance(why, str)
+    True
     """
     try:
         cuda = import_cuda()
@@ -130,7 +149,13 @@ def cuda_status() -> tuple[bool, str]:
 
 
 def cuda_usable() -> bool:
-    """True when a *real* CUDA device can run kernels (the simulator does not count)."""
+    """True when a *real* CUDA device can run kernels (the simulator does not count).
+
+    Examples
+    --------
+    >>> cuda_usable() in (True, False)
+    True
+    """
     return not simulator_enabled() and cuda_status()[0]
 
 
@@ -195,6 +220,17 @@ class PerSample:
     cpu : numba dispatcher
         ``numba.njit(inline="always")`` compilation, inlined into the njit drivers that
         call it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> def twice(i, x, out):
+    ...     out[i] = 2.0 * x[i]
+    >>> ps = PerSample(twice, cache=False)
+    >>> out = np.zeros(2)
+    >>> ps.cpu(1, np.array([1.0, 3.0]), out)
+    >>> float(out[1])
+    6.0
     """
 
     def __init__(self, fn: Callable[..., Any], *, cache: bool = True) -> None:
@@ -216,6 +252,12 @@ class LazyKernels:
 
     The key holds the kernel's compile-time constants (e.g. the length of a per-thread
     ``cuda.local.array``), so each distinct value compiles once per process.
+
+    Examples
+    --------
+    >>> kernels = LazyKernels(lambda n: [0.0] * n)
+    >>> kernels.get(3) is kernels.get(3)
+    True
     """
 
     def __init__(self, factory: Callable[..., Any]) -> None:
