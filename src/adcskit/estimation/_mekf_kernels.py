@@ -94,6 +94,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
@@ -492,8 +493,10 @@ def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_
     """
     N = q0.shape[0]
     for k in prange(N):
-        _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, qtrue,
-                    btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
+        # prange's index is uint64, which would unify with the int 0 of a shared-reference
+        # index to float64: pass it as int64
+        _filter_one(np.int64(k), q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v,
+                    sigma_u, qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
 
 
 # --- njit dispatchers for callers outside compiled code (the stepping class, tests) ---------
