@@ -50,11 +50,10 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     b_true − b_est]`` (~χ²(6) for a consistent filter), by Cholesky in ``work``; NaN if ``P``
     is not positive definite.
 ``gyro_step(omega_true, bias, sigma_v, sigma_u, dt, n_v, n_u, out) -> None``
-    Discrete Farrenkopf gyro (Crassidis & Junkins 2012 eq. 7.? / Markley & Crassidis 2014
-    §6.2.1, "simulation" form): with standard normal draws ``n_v``, ``n_u`` (3,),
-    ``b⁺ = b + σu √dt n_u``;
-    ``out = omega_true + (b + b⁺)/2 + sqrt(σv²/dt + σu² dt/12) n_v``; ``bias`` is updated in
-    place to ``b⁺``. (Exported here for :mod:`adcskit.sensors` and the simulator.)
+    Discrete Farrenkopf gyro reading (re-exported from :mod:`adcskit.sensors._gyro_kernels`,
+    where it is documented): with standard normal draws ``n_v``, ``n_u`` (3,),
+    ``b⁺ = b + σu √dt n_u``; ``out = omega_true + (b + b⁺)/2 + sqrt(σv²/dt + σu² dt/12) n_v``;
+    ``bias`` is updated in place to ``b⁺``.
 
 Model and equations
 -------------------
@@ -97,6 +96,8 @@ import math
 import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
+
+from adcskit.sensors._gyro_kernels import gyro_step, gyro_step_jit  # noqa: F401 (re-export)
 
 #: Length of the ``work`` scratch array every kernel takes.
 WORK_SIZE = 48
@@ -415,17 +416,6 @@ def mekf_nees(q_est, b_est, P, q_true, b_true, work):
     return nees
 
 
-@register_jitable
-def gyro_step(omega_true, bias, sigma_v, sigma_u, dt, n_v, n_u, out):
-    """Discrete Farrenkopf gyro sample (see the module docstring); updates ``bias``."""
-    sb = sigma_u * math.sqrt(dt)
-    sn = math.sqrt(sigma_v * sigma_v / dt + sigma_u * sigma_u * dt / 12.0)
-    for i in range(3):
-        b_new = bias[i] + sb * n_u[i]
-        out[i] = omega_true[i] + 0.5 * (bias[i] + b_new) + sn * n_v[i]
-        bias[i] = b_new
-
-
 # --- whole-batch filter: the time loop of one sample, and the prange wrapper -----------------
 
 
@@ -504,4 +494,3 @@ mekf_propagate_jit = njit(cache=True, nogil=True)(mekf_propagate)
 mekf_update_vector_jit = njit(cache=True, nogil=True)(mekf_update_vector)
 mekf_update_quaternion_jit = njit(cache=True, nogil=True)(mekf_update_quaternion)
 mekf_nees_jit = njit(cache=True, nogil=True)(mekf_nees)
-gyro_step_jit = njit(cache=True, nogil=True)(gyro_step)
