@@ -102,7 +102,7 @@ from adcskit.sensors._gyro_kernels import gyro_step, gyro_step_jit  # noqa: F401
 #: Length of the ``work`` scratch array every kernel takes.
 WORK_SIZE = 48
 
-# work layout: propagate uses [0, 36): Φ11 (9), Φ12 (9), T = top rows of Φ P (18);
+# work layout: propagate uses [0, 45): Φ11 (9), Φ12 (9), T = top rows of Φ P (18), W (9);
 # updates use [0, 21): u (6), K (6), dx (6), bhat (3) and [21, 24): residual;
 # NEES uses [0, 42): Cholesky factor (36) + error vector (6).
 _U, _K, _DX, _BH, _Y = 0, 6, 12, 18, 21
@@ -122,6 +122,8 @@ def _g(n, x):
         for k in range(1, 11):
             term *= -x2 / ((2 * k + n - 1) * (2 * k + n))
             s += term
+            if abs(term) < 1e-17 * s:  # s >= 1/(n+1)! / 2 > 0 for x < 1
+                break
         return s
     if n == 1:
         return math.sin(x) / x
@@ -221,25 +223,23 @@ def mekf_propagate(q, b, P, omega_meas, dt, sigma_v, sigma_u, work):
     a2 = dt2 * g2
     c1 = dt2 * g2
     c2 = -dt3 * g3
+    # W = [ω̂×] in work[36:45] (row-major); W² = ω̂ω̂ᵀ − w² I
+    work[36] = 0.0
+    work[37] = -w2
+    work[38] = w1
+    work[39] = w2
+    work[40] = 0.0
+    work[41] = -w0
+    work[42] = -w1
+    work[43] = w0
+    work[44] = 0.0
+    wn2 = wn * wn
     for i in range(3):
+        wi = w0 if i == 0 else (w1 if i == 1 else w2)
         for j in range(3):
-            if i == j:
-                wij = 0.0
-            elif i == 0 and j == 1:
-                wij = -w2
-            elif i == 0 and j == 2:
-                wij = w1
-            elif i == 1 and j == 0:
-                wij = w2
-            elif i == 1 and j == 2:
-                wij = -w0
-            elif i == 2 and j == 0:
-                wij = -w1
-            else:
-                wij = w0
-            wi = w0 if i == 0 else (w1 if i == 1 else w2)
             wj = w0 if j == 0 else (w1 if j == 1 else w2)
-            w2ij = wi * wj - (wn * wn if i == j else 0.0)
+            wij = work[36 + 3 * i + j]
+            w2ij = wi * wj - (wn2 if i == j else 0.0)
             work[3 * i + j] = (1.0 if i == j else 0.0) + a1 * wij + a2 * w2ij
             work[9 + 3 * i + j] = (-dt if i == j else 0.0) + c1 * wij + c2 * w2ij
     # T = rows 0..2 of Φ P = Φ11 P[0:3, :] + Φ12 P[3:6, :]  -> work[18:36]
@@ -273,21 +273,8 @@ def mekf_propagate(q, b, P, omega_meas, dt, sigma_v, sigma_u, work):
         wi = w0 if i == 0 else (w1 if i == 1 else w2)
         for j in range(3):
             wj = w0 if j == 0 else (w1 if j == 1 else w2)
-            w2ij = wi * wj - (wn * wn if i == j else 0.0)
-            if i == j:
-                wij = 0.0
-            elif i == 0 and j == 1:
-                wij = -w2
-            elif i == 0 and j == 2:
-                wij = w1
-            elif i == 1 and j == 0:
-                wij = w2
-            elif i == 1 and j == 2:
-                wij = -w0
-            elif i == 2 and j == 0:
-                wij = -w1
-            else:
-                wij = w0
+            w2ij = wi * wj - (wn2 if i == j else 0.0)
+            wij = work[36 + 3 * i + j]
             P[i, j] += (q11d if i == j else 0.0) + q11w2 * w2ij
             q12 = (q12d if i == j else 0.0) + q12w * wij + q12w2 * w2ij
             P[i, 3 + j] += q12
