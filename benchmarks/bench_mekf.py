@@ -113,7 +113,7 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--quick", action="store_true", help="smaller problem sizes")
     ap.add_argument("--json", metavar="PATH", help="write the results as JSON")
     args = ap.parse_args(argv)
-    N, T = (500, 1000) if args.quick else (4000, 3000)
+    N, T = (500, 1000) if args.quick else (2000, 2000)
     n_anchor, repeats = (2, 2) if args.quick else (3, 3)
 
     q0, P0, gyro, body, ref, qt, bt = _data(N, T)
