@@ -430,3 +430,50 @@ def test_validation_errors():
         mekf_filter([0, 0, 0, 1], np.zeros(3), P0, t, g, full_covariance="yes", **kw)
     with pytest.raises(InputError, match="gyro"):
         mekf_filter([0, 0, 0, 1], np.zeros(3), P0, t, np.full((5, 3), np.inf), **kw)
+
+
+def test_kernels_run_as_cuda_device_functions_in_the_simulator(tmp_path):
+    # design.md: the per-sample step compiles with numba.njit and numba.cuda.jit from the same
+    # source. Without a GPU, numba's CUDA simulator runs the device functions (in a fresh
+    # process: the simulator is chosen when numba.cuda is first imported); results must equal
+    # the njit kernels'. A real-device compile is the GPU issue's CI job.
+    import os
+    import subprocess
+    import sys
+
+    script = tmp_path / "cudasim.py"
+    script.write_text(
+        "import numpy as np\n"
+        "from numba import cuda\n"
+        "from adcskit.estimation import _mekf_kernels as mk\n"
+        "prop = cuda.jit(device=True)(mk.mekf_propagate)\n"
+        "upd = cuda.jit(device=True)(mk.mekf_update_vector)\n"
+        "@cuda.jit\n"
+        "def kern(q, b, P, om, vb, vr, work, out):\n"
+        "    i = cuda.grid(1)\n"
+        "    if i < q.shape[0]:\n"
+        "        prop(q[i], b[i], P[i], om[i], 0.1, 1e-4, 1e-6, work[i])\n"
+        "        out[i, 0] = upd(q[i], b[i], P[i], vb[i], vr[i], 0.01, work[i])\n"
+        "rng = np.random.default_rng(0)\n"
+        "N = 3\n"
+        "q = np.tile([0.1, -0.2, 0.3, 0.9], (N, 1)); q /= np.linalg.norm(q[0])\n"
+        "b = rng.normal(size=(N, 3)) * 1e-3; A = rng.normal(size=(N, 6, 6))\n"
+        "P = A @ A.transpose(0, 2, 1) * 1e-4; om = rng.normal(size=(N, 3)) * 0.1\n"
+        "vb = rng.normal(size=(N, 3)); vr = rng.normal(size=(N, 3))\n"
+        "q2, b2, P2 = q.copy(), b.copy(), P.copy(); w = np.zeros((N, mk.WORK_SIZE))\n"
+        "out = np.zeros((N, 2))\n"
+        "kern[1, 32](q, b, P, om, vb, vr, w, out)\n"
+        "for i in range(N):\n"
+        "    mk.mekf_propagate_jit(q2[i], b2[i], P2[i], om[i], 0.1, 1e-4, 1e-6, w[i])\n"
+        "    nis = mk.mekf_update_vector_jit(q2[i], b2[i], P2[i], vb[i], vr[i], 0.01, w[i])\n"
+        "    assert abs(nis - out[i, 0]) <= 1e-12 * abs(nis), (nis, out[i, 0])\n"
+        "np.testing.assert_allclose(q, q2, atol=1e-15)\n"
+        "np.testing.assert_allclose(P, P2, rtol=1e-12, atol=1e-20)\n"
+        "print('ok')\n"
+    )
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+    src = os.path.join(os.path.dirname(__file__), "..", "..", "src")
+    env["PYTHONPATH"] = os.path.abspath(src) + os.pathsep + env.get("PYTHONPATH", "")
+    proc = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0 and proc.stdout.strip().endswith("ok"), proc.stderr[-2000:]
