@@ -459,11 +459,10 @@ def _flae_quat(B, K, q):
         return lam, False
     # Gauss-Jordan elimination of N = K − λ I with full pivoting: three pivots (rows p,
     # columns recorded in the bit mask ``used``), the remaining column is the free variable
-    # of the one-dimensional null space
-    M = np.empty((4, 4))
+    # of the one-dimensional null space. Done in place in K (no allocation); K is rebuilt
+    # from B afterwards for the caller's refinement and residual check.
+    M = K
     for i in range(4):
-        for j in range(4):
-            M[i, j] = K[i, j]
         M[i, i] -= lam
     used = 0
     pc0 = pc1 = pc2 = -1
@@ -476,6 +475,7 @@ def _flae_quat(B, K, q):
                     if v > bv:
                         bi, bj, bv = i, j, v
         if not bv > 0.0:
+            _build_K(B, K)
             return lam, False
         if bi != p:
             for j in range(4):
@@ -487,9 +487,9 @@ def _flae_quat(B, K, q):
             pc1 = bj
         else:
             pc2 = bj
-        piv = M[p, bj]
+        piv = 1.0 / M[p, bj]
         for j in range(4):
-            M[p, j] /= piv
+            M[p, j] *= piv
         for i in range(4):
             if i != p:
                 f = M[i, bj]
@@ -503,6 +503,7 @@ def _flae_quat(B, K, q):
     q[pc0] = -M[0, free]
     q[pc1] = -M[1, free]
     q[pc2] = -M[2, free]
+    _build_K(B, K)
     _normalise_quat(q)
     return lam, True
 
