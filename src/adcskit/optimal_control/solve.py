@@ -10,9 +10,21 @@ interval end ``λ_f = Λ̃_f`` (``Λ̃_f``: multiplier of the quadrature row, eq
 ``λ₀ = Λ̃_f − Σ_k D_k0 Λ̃_k`` (the multiplier of whatever fixes ``X₀``: the initial boundary
 condition in the first interval, the linkage row elsewhere — S2's ``Λ₀ = Λ̃₀``). For Radau
 ``λ_k = Λ̃_k / w_k`` and ``λ(+1) = Σ_k D_{k,N+1} Λ̃_k`` (Garg et al. 2010). CasADi's
-Lagrangian is ``L = J + λᵀ g``, so ``Λ̃`` is minus CasADi's ``lam_g`` (checked against the
-double integrator's analytic costates in the tests; the Gauss estimates are exact there to
-solver tolerance, the Radau ones are first-order close, error ~6e-3 on the 10×4 mesh). The Hamiltonian is ``H = g + λᵀ f`` at the collocation points.
+Lagrangian is ``L = J + λᵀ g``, so ``Λ̃`` is minus CasADi's ``lam_g``. Both mappings are exact
+to solver tolerance where the NLP's multipliers are unique (tests: the minimum-energy double
+integrator, 1e-8 at every node). On a bang-bang problem they are not unique: on the
+minimum-time double integrator a constant shift ``c`` of ``λ_v`` satisfies every KKT equation
+(the control-bound multipliers absorb it, and it enters the ``tf`` row as ``c·Σ w_k u_k = 0``)
+within a range set by the nodes next to the switch; IPOPT returns an interior member, so the
+estimate is off by a constant ``c = O(h)`` — for Radau, whose LGR point ``τ = −1`` sits at a
+switch on a mesh point, and for Gauss when its nodes are not symmetric about the switch. That
+first-order error of the Radau estimate (issue 11) is this degeneracy, not a mapping defect.
+The Hamiltonian is ``H = g + λᵀ f`` at the collocation points.
+
+Warm starts (:func:`solve` with a previous solution as ``guess``) pass IPOPT the previous
+primal point (interpolated by its Lagrange polynomials on another mesh) and, on the same mesh,
+its multipliers, with :data:`WARM_START_IPOPT_OPTIONS`; :func:`solve_mesh_sequence` follows
+one local optimum through finer meshes and flags branch jumps.
 
 References
 ----------
