@@ -158,3 +158,74 @@ def test_quick_claims_stable_over_seeds(quick_runs):
         assert main["outcome"] == "depends on reading"
         # |25.8727 - ours| under eq. 2 as printed, in units of the 6e-5 s printed-digit tolerance
         assert main["measured"] < 0.5
+
+
+# Full run (docs/studies/rendezvous.md, root seed 0, 16 starts): per Table 4 row and dynamics
+# reading, each local branch as (20x3 tf, mesh-converged tf) in s.
+_FULL_RUN = {
+    "paper": [
+        [(25.872707, 25.869985), (26.156706, 26.154030)],
+        [(25.789172, 25.787211), (26.036549, 26.033553)],
+        [(25.935950, 25.932394), (26.168250, 26.165240)],
+        [(25.660546, 25.659054), (25.903084, 25.898659)],
+        [(28.279790, 28.278463), (28.569248, 28.564751)],
+    ],
+    "full": [
+        [(25.873064, 25.870373), (26.156518, 26.153865)],
+        [(25.789525, 25.787594), (26.036981, 26.033926)],
+        [(25.936541, 25.933023), (26.168950, 26.165930)],
+        [(25.660937, 25.659419), (25.903429, 25.899004)],
+        [(28.280283, 28.278972), (28.569770, 28.565267)],
+    ],
+}
+
+
+def _rows_from(branches_per_row):
+    rows = {}
+    for i, pairs in enumerate(branches_per_row):
+        br = [
+            {"tf_paper_mesh_s": a, "tf_converged_s": b, "on_branch": True, "converged": True}
+            for a, b in pairs
+        ]
+        rows[i] = {
+            "branches": br,
+            "optima_paper_mesh_s": [a for a, _ in pairs],
+            "best_paper_mesh_s": min(a for a, _ in pairs),
+            "converged_optima_s": sorted(b for _, b in pairs),
+            "best_converged_s": min(b for _, b in pairs),
+            "n_starts": 16,
+        }
+    return rows
+
+
+def test_claim_decisions_from_the_full_run_branches():
+    # the decision logic alone (no solves): the full run's branches must give the full run's
+    # outcomes, so a change of a tolerance or of the branch identification that flips a
+    # verdict fails here
+    from adcskit.studies.rendezvous import Config, _decide, _derive
+
+    cfg = Config()
+    meas = {}
+    for dyn, rows in _FULL_RUN.items():
+        m = _derive(_rows_from(rows), dyn, cfg)
+        m["main"] = {"bang_bang_all": True, "h_max_dev_paper_mesh": 0.021}
+        meas[dyn] = m
+    claims, findings = _decide(meas, cfg, list(range(5)))
+    got = {c.id: (c.outcome, tuple(r.outcome for r in c.readings)) for c in claims}
+    H, N, D = "holds", "does not hold", "depends on reading"
+    assert got["tf_main"] == (D, (H, H, N, H))  # digits / same optimum x printed / full
+    assert got["table4_gpm_row2"] == (N, (N, N, N, N))  # 26.1674: no optimum of ours
+    assert got["table4_gpm_row3"] == (D, (H, H, N, H))
+    assert got["table4_gpm_row4"] == (D, (N, H, N, H))  # 25.6607 vs 25.660546: 1.5e-4 s
+    assert got["table4_gpm_row5"] == (N, (N, N, N, N))  # 28.7185: no optimum of ours
+    assert got["agrees_with_gpops"] == (N, (N, N))
+    assert got["gpm_sometimes_shorter"] == (H, (H, H))  # rows 3, 4: 0.89 %, 0.93 % shorter
+    fnd = {f.id: f.outcome for f in findings}
+    assert fnd == {
+        "several_converged_optima": H,
+        "second_optima_persist": H,
+        "gpops_on_converged_branches": H,
+        "gpops_is_best": N,  # rows 2, 3, 4: GPOPS sits on the second branch
+    }
+    # GPOPS rows 2-4 are the second converged branch, rows 1 and 5 the best
+    assert meas["paper"]["gpops_branch"] == [0, 1, 1, 1, 0]

@@ -164,7 +164,8 @@ class OptimalControlSolution:
         Wall time of the NLP build (0 when cached) and of IPOPT (s).
     warm_start : str
         How the solve was started: ``"cold"`` (IPOPT defaults from a guess), ``"primal"``
-        (warm-start options, primal point interpolated from a previous solution) or
+        (warm-start options from a primal point: a previous solution on another mesh,
+        interpolated, or a :class:`Guess` with ``warm_start=True``) or
         ``"primal-dual"`` (same mesh: the previous NLP point and its multipliers).
     nlp : NLPPoint or None
         The raw NLP point (for warm starts).

@@ -534,6 +534,12 @@ def _measurement(results, reading: str, cfg: Config, rows_present: list[int]) ->
         paper = _paper_row(res["s0"])
         i = PAPER_ROWS.index(paper) if paper is not None else len(PAPER_ROWS) + len(rows)
         rows[i] = _row_measure(res, reading, cfg)
+    return _derive(rows, reading, cfg)
+
+
+def _derive(rows: dict[int, dict], reading: str, cfg: Config) -> dict[str, Any]:
+    """The quantities the claims and findings read, from the per-row branch records
+    (``rows[i]``: Table 4 row ``i``, as built by :func:`_row_measure`)."""
     m: dict[str, Any] = {"rows": rows, "reading": reading}
     n_pm = sum(len(r["branches"]) for r in rows.values())
     n_dist = 0
@@ -576,6 +582,35 @@ def _measurement(results, reading: str, cfg: Config, rows_present: list[int]) ->
     m["gpops_branch"] = gb
     m["gpops_rank"] = grank
     return m
+
+
+def _decide(meas: dict[str, dict], cfg: Config, rows_present: list[int]):
+    """Claims and findings from the measurements of every dynamics reading (``meas[dyn]``)."""
+    first = cfg.readings[0]
+    runs: dict[str, list[dict]] = {}
+    for r in cfg.readings:
+        runs[READING_NAMES[r]] = [meas[r]]
+        for prec in (_DIGITS, _OPTIMUM):
+            runs[_reading_name(r, prec)] = [{**meas[r], "precision": prec}]
+    claims = []
+    for spec, default in _claim_specs(cfg, rows_present):
+        detail = ""
+        if spec.id == "tf_main" or spec.id.startswith("table4_gpm_row"):
+            i = 0 if spec.id == "tf_main" else int(spec.id.removeprefix("table4_gpm_row")) - 1
+            detail = _tf_detail(meas, i, cfg)
+        claims.append(spec.evaluate(runs, default=default, detail=detail))
+    findings = []
+    for spec in _finding_specs(cfg, rows_present):
+        detail = ""
+        if spec.id.startswith("gpops"):
+            detail = "; ".join(
+                f"{READING_NAMES[d]}: "
+                + ", ".join(_gpops_text(meas[d], i, cfg) for i in sorted(meas[d]["rows"]))
+                for d in cfg.readings
+            )
+        findings.append(spec.evaluate(runs, default=READING_NAMES[first], detail=detail))
+
+    return claims, findings
 
 
 def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> StudyResult:
@@ -621,28 +656,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         meas[reading] = m
 
     # ------------------------------------------------------------------ claims and findings
-    runs: dict[str, list[dict]] = {}
-    for r in cfg.readings:
-        runs[READING_NAMES[r]] = [meas[r]]
-        for prec in (_DIGITS, _OPTIMUM):
-            runs[_reading_name(r, prec)] = [{**meas[r], "precision": prec}]
-    claims = []
-    for spec, default in _claim_specs(cfg, rows_present):
-        detail = ""
-        if spec.id == "tf_main" or spec.id.startswith("table4_gpm_row"):
-            i = 0 if spec.id == "tf_main" else int(spec.id.removeprefix("table4_gpm_row")) - 1
-            detail = _tf_detail(meas, i, cfg)
-        claims.append(spec.evaluate(runs, default=default, detail=detail))
-    findings = []
-    for spec in _finding_specs(cfg, rows_present):
-        detail = ""
-        if spec.id.startswith("gpops"):
-            detail = "; ".join(
-                f"{READING_NAMES[d]}: "
-                + ", ".join(_gpops_text(meas[d], i, cfg) for i in sorted(meas[d]["rows"]))
-                for d in cfg.readings
-            )
-        findings.append(spec.evaluate(runs, default=READING_NAMES[first], detail=detail))
+    claims, findings = _decide(meas, cfg, rows_present)
 
     # ------------------------------------------------------------------ consistency checks
     checks = []
