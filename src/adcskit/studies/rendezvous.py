@@ -794,7 +794,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             if paper is not None and reading == first:
                 comparison.append(
                     Comparison(
-                        quantity=f"tf, s0={list(res['s0'])}, 20x3 (GPM)",
+                        quantity=f"tf, s0={list(res['s0'])}, 20x3 (GPM), {READING_NAMES[first]}",
                         paper=paper[1],
                         measured=r["best_paper_mesh_s"],
                         unit="s",
@@ -808,7 +808,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                 )
                 comparison.append(
                     Comparison(
-                        quantity=f"tf, s0={list(res['s0'])}, converged (GPOPS)",
+                        quantity=f"tf, s0={list(res['s0'])}, converged (GPOPS), {READING_NAMES[first]}",
                         paper=paper[2],
                         measured=r["best_converged_s"],
                         unit="s",
