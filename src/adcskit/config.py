@@ -22,6 +22,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
+from adcskit._validation import check_mapping, check_path
 from adcskit.errors import ConfigError
 
 __all__ = ["load_config", "config_to_dict", "dump_toml", "read_toml", "merge_mappings"]
@@ -31,18 +32,25 @@ C = TypeVar("C")
 
 def read_toml(path: str | Path) -> dict[str, Any]:
     """Read a TOML file, turning a syntax error into a :class:`ConfigError`."""
-    p = Path(path)
+    p = check_path("path", path)
     if not p.is_file():
-        raise ConfigError(f"config file must be an existing TOML file; got {str(p)!r} (not found)")
+        why = "a directory" if p.is_dir() else ("not a regular file" if p.exists() else "not found")
+        raise ConfigError(f"config file path must be an existing TOML file; got {str(p)!r} ({why})")
     try:
         with p.open("rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"config file {str(p)!r} is not valid TOML: {exc}") from None
+        raise ConfigError(f"config file path {str(p)!r} is not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ConfigError(f"config file path {str(p)!r} is not valid TOML: not UTF-8 text (a binary file?)") from None
+    except OSError as exc:
+        raise ConfigError(f"config file path {str(p)!r} cannot be read: {exc.strerror}") from None
 
 
 def merge_mappings(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
     """Recursive merge: tables are merged key by key, other values are replaced."""
+    check_mapping("base", base)
+    check_mapping("override", override)
     out: dict[str, Any] = dict(base)
     for key, value in override.items():
         if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
@@ -185,7 +193,8 @@ def load_config(
     elif isinstance(source, Mapping):
         data = source
     else:
-        raise ConfigError(f"config must be a mapping or a TOML path; got {source!r}")
+        raise ConfigError(f"config source must be a mapping or a TOML path; got {source!r}")
+    check_mapping("overrides", overrides, allow_none=True)
     if overrides:
         data = merge_mappings(overrides, data)
     return _build(cls, data)
@@ -228,6 +237,7 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "") -> str:
 
     ``None`` values are written as comments, since TOML has no null.
     """
+    check_mapping("data", data)
     lines: list[str] = []
     tables = []
     for key, value in data.items():

@@ -27,11 +27,12 @@ import abc
 import concurrent.futures as cf
 import multiprocessing
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence, Sized
 from typing import Any
 
 from adcskit._progress import track
-from adcskit.errors import InputError
+from adcskit._validation import check_callable, check_int, short_repr
+from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
     "Executor",
@@ -82,13 +83,23 @@ class SerialExecutor(Executor):
         return 1
 
     def map(self, fn, tasks, *, description="tasks"):
+        _check_map(fn, tasks)
         return [fn(t) for t in track(tasks, description, total=len(tasks))]
+
+
+def _check_map(fn: Any, tasks: Any) -> None:
+    """Boundary check of ``Executor.map``: a callable and a sized sequence of tasks."""
+    check_callable("fn", fn)
+    if isinstance(tasks, str | bytes) or not isinstance(tasks, Sized) or not isinstance(tasks, Iterable):
+        raise InputTypeError(f"tasks must be a sequence of tasks; got {short_repr(tasks)}")
 
 
 class ProcessExecutor(Executor):
     """A local process pool (``spawn`` start method)."""
 
     def __init__(self, n_workers: int | None = None) -> None:
+        if n_workers is not None:
+            n_workers = check_int("n_workers", n_workers, minimum=1, maximum=1024)
         n = n_workers or os.cpu_count() or 1
         self._n = int(n)
         self.spec = f"processes:{self._n}"
@@ -101,6 +112,7 @@ class ProcessExecutor(Executor):
         return self._n
 
     def map(self, fn, tasks, *, description="tasks"):
+        _check_map(fn, tasks)
         futures = {self._pool.submit(fn, t): i for i, t in enumerate(tasks)}
         results: list[Any] = [None] * len(futures)
         try:
