@@ -11,7 +11,6 @@ from __future__ import annotations
 import numbers
 import operator
 import os
-import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -126,10 +125,12 @@ def as_array(
     ):
         raise InputTypeError(f"{name} must be an array of numbers; got {short_repr(value)}")
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("error", np.exceptions.ComplexWarning)
-            arr = np.array(probe, dtype=dtype, copy=True)
-    except (TypeError, ValueError, OverflowError, np.exceptions.ComplexWarning) as exc:
+        # complex values were refused above, so the conversion cannot drop an imaginary part;
+        # a probe freshly built from a list is converted in place of a second copy
+        arr = np.array(probe, dtype=dtype, copy=probe is value or probe.dtype != dtype)
+        if arr is value:
+            arr = arr.copy()
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InputTypeError(
             f"{name} must be an array of numbers; got {short_repr(value)} ({_first_line(exc)})"
         ) from None
@@ -146,14 +147,17 @@ def as_array(
         ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape))
         if not ok:
             raise InputError(f"{name} must have shape {_describe_shape(shape)}; got shape {arr.shape}")
-    if finite and np.issubdtype(arr.dtype, np.number) and not np.all(np.isfinite(arr)):
+    if not (arr.size and np.issubdtype(arr.dtype, np.number)):
+        return arr
+    amax = max(arr.max(), -arr.min())  # no temporary array; NaN propagates, inf shows as inf
+    if finite and not np.isfinite(amax):
         bad = np.argwhere(~np.isfinite(arr))
         where = tuple(int(i) for i in bad[0]) if arr.ndim else ()
         raise InputError(
             f"{name} must be finite (no NaN or inf); got {arr[where] if arr.ndim else arr} "
             f"at index {where}"
         )
-    if max_abs is not None and arr.size and np.issubdtype(arr.dtype, np.number):
+    if max_abs is not None and not amax <= max_abs:
         big = np.isfinite(arr) & (np.abs(arr) > max_abs)  # inf is judged by ``finite`` alone
         if np.any(big):
             where = tuple(int(i) for i in np.argwhere(big)[0]) if arr.ndim else ()
