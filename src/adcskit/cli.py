@@ -21,7 +21,8 @@ import traceback
 from pathlib import Path
 
 from adcskit import __version__
-from adcskit.errors import AdcskitError
+from adcskit._validation import check_path
+from adcskit.errors import AdcskitError, InputError, InputTypeError
 
 __all__ = ["main", "build_parser"]
 
@@ -166,8 +167,18 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
         skipped = [n for n in STUDIES if not is_available(n)]
         if skipped and not args.quiet:
             print(f"adcskit: not implemented yet, skipped: {', '.join(skipped)}", file=sys.stderr)
-    out.mkdir(parents=True, exist_ok=True)
+    # every argument is checked before anything is written (exit 2, one line, no output)
+    check_path("--out", args.out, writable_dir=True)
+    if getattr(args, "config", None) is not None:
+        from adcskit.studies._runner import resolve_config
+
+        resolve_config(args.study, args.config, quick=args.quick)  # unreadable/bad TOML -> ConfigError
     executor = make_executor(args.executor)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        executor.close()
+        raise InputError(f"--out directory cannot be created: {str(out)!r} ({exc.strerror})") from None
     failures: dict[str, dict] = {}
     done: list[str] = []
     interrupted = False
@@ -207,6 +218,8 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``adcskit`` console script."""
+    if argv is not None and (isinstance(argv, str | bytes) or not all(isinstance(a, str) for a in argv)):
+        raise InputTypeError(f"argv must be None or a list of strings; got {argv!r}")
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -22,6 +22,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
+from adcskit._validation import check_mapping, check_path
 from adcskit.errors import ConfigError
 
 __all__ = ["load_config", "config_to_dict", "config_help", "dump_toml", "read_toml", "merge_mappings"]
@@ -41,14 +42,19 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     ...     read_toml(p)
     {'noise_bound': 0.1}
     """
-    p = Path(path)
+    p = check_path("path", path)
     if not p.is_file():
-        raise ConfigError(f"config file must be an existing TOML file; got {str(p)!r} (not found)")
+        why = "a directory" if p.is_dir() else ("not a regular file" if p.exists() else "not found")
+        raise ConfigError(f"config file path must be an existing TOML file; got {str(p)!r} ({why})")
     try:
         with p.open("rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"config file {str(p)!r} is not valid TOML: {exc}") from None
+        raise ConfigError(f"config file path {str(p)!r} is not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ConfigError(f"config file path {str(p)!r} is not valid TOML: not UTF-8 text (a binary file?)") from None
+    except OSError as exc:
+        raise ConfigError(f"config file path {str(p)!r} cannot be read: {exc.strerror}") from None
 
 
 def merge_mappings(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
@@ -59,6 +65,8 @@ def merge_mappings(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict
     >>> merge_mappings({"a": 1, "t": {"x": 1, "y": 2}}, {"t": {"y": 3}})
     {'a': 1, 't': {'x': 1, 'y': 3}}
     """
+    check_mapping("base", base)
+    check_mapping("override", override)
     out: dict[str, Any] = dict(base)
     for key, value in override.items():
         if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
@@ -215,7 +223,8 @@ def load_config(
     elif isinstance(source, Mapping):
         data = source
     else:
-        raise ConfigError(f"config must be a mapping or a TOML path; got {source!r}")
+        raise ConfigError(f"config source must be a mapping or a TOML path; got {source!r}")
+    check_mapping("overrides", overrides, allow_none=True)
     if overrides:
         data = merge_mappings(overrides, data)
     return _build(cls, data)
@@ -334,6 +343,7 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
     [mesh]
     shape = [20, 3]
     """
+    check_mapping("data", data)
     comments = comments or {}
     lines: list[str] = []
     tables = []

@@ -48,6 +48,15 @@ def vectors(name: str, v: Any) -> tuple[np.ndarray, bool]:
     return as_batch(name, v, (3,))
 
 
+#: Largest MRP magnitude accepted: the MRP formulas use ``|σ|⁴``, which must stay finite.
+MRP_MAX = 1e75
+
+
+def mrps(name: str, sigma: Any) -> tuple[np.ndarray, bool]:
+    """``(N, 3)`` MRP vectors with ``|σ_i| <= MRP_MAX`` (``|σ|⁴`` must not overflow)."""
+    return as_batch(name, sigma, (3,), max_abs=MRP_MAX)
+
+
 def out(arr: np.ndarray, batched: bool) -> np.ndarray:
     """Return ``arr`` with the leading batch axis removed when the input was a single item."""
     return arr if batched else arr[0]

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from adcskit.attitude import _kernels as _k
-from adcskit.attitude._checks import broadcast, out, quats, vectors
+from adcskit.attitude._checks import broadcast, mrps, out, quats, vectors
 
 __all__ = ["mrp_b_matrix", "mrp_kinematics", "quat_kinematics", "xi_matrix"]
 
@@ -51,7 +51,7 @@ def quat_kinematics(q: Any, omega: Any) -> np.ndarray:
 
 def mrp_b_matrix(sigma: Any) -> np.ndarray:
     """``B(σ) = (1 − σᵀσ) I₃ + 2[σ×] + 2σσᵀ`` (S2 eq. 5), shape (3, 3) or (N, 3, 3)."""
-    s, batched = vectors("sigma", sigma)
+    s, batched = mrps("sigma", sigma)
     s2 = np.sum(s * s, axis=1)[:, None, None]
     B = (1 - s2) * np.eye(3) + 2 * _k.skew(s) + 2 * s[:, :, None] * s[:, None, :]
     return out(B, batched)
@@ -59,7 +59,7 @@ def mrp_b_matrix(sigma: Any) -> np.ndarray:
 
 def mrp_kinematics(sigma: Any, omega: Any) -> np.ndarray:
     """MRP rate ``σ̇ = ¼ B(σ) ω`` (1/s); S2 eq. 4."""
-    s, sb = vectors("sigma", sigma)
+    s, sb = mrps("sigma", sigma)
     w, wb = vectors("omega", omega)
     s, w = broadcast("sigma", s, "omega", w)
     s2 = np.sum(s * s, axis=1, keepdims=True)

@@ -19,8 +19,9 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._validation import check_range
 from adcskit.attitude import _kernels as _k
-from adcskit.attitude._checks import dcms, out, quats, vectors
+from adcskit.attitude._checks import MRP_MAX, dcms, mrps, out, quats
 from adcskit.errors import InputError
 
 __all__ = ["dcm_to_mrp", "mrp_shadow", "mrp_switch", "mrp_to_dcm", "mrp_to_quat", "quat_to_mrp"]
@@ -34,13 +35,13 @@ def quat_to_mrp(q: Any) -> np.ndarray:
 
 def mrp_to_quat(sigma: Any) -> np.ndarray:
     """Canonical scalar-last quaternion(s) of MRPs ``σ`` (either set)."""
-    arr, batched = vectors("sigma", sigma)
+    arr, batched = mrps("sigma", sigma)
     return out(_k.mrp_to_quat(arr), batched)
 
 
 def mrp_to_dcm(sigma: Any) -> np.ndarray:
     """Attitude matrix ``C(σ)`` (reference → body), Schaub & Junkins eq. 3.154."""
-    arr, batched = vectors("sigma", sigma)
+    arr, batched = mrps("sigma", sigma)
     return out(_k.mrp_to_dcm(arr), batched)
 
 
@@ -52,7 +53,7 @@ def dcm_to_mrp(A: Any) -> np.ndarray:
 
 def mrp_shadow(sigma: Any) -> np.ndarray:
     """Shadow set ``σˢ = −σ / |σ|²`` (same attitude). ``σ = 0`` has no shadow (error)."""
-    arr, batched = vectors("sigma", sigma)
+    arr, batched = mrps("sigma", sigma)
     n2 = np.sum(arr * arr, axis=1)
     bad = np.flatnonzero(n2 == 0)
     if bad.size:
@@ -65,9 +66,8 @@ def mrp_shadow(sigma: Any) -> np.ndarray:
 
 def mrp_switch(sigma: Any, threshold: float = 1.0) -> np.ndarray:
     """Replace ``σ`` by its shadow set where ``|σ| > threshold`` (default 1, i.e. Φ > 180°)."""
-    if not np.isfinite(threshold) or threshold < 1.0:
-        raise InputError(f"threshold must be a finite number >= 1; got {threshold!r}")
-    arr, batched = vectors("sigma", sigma)
+    threshold = check_range("threshold", threshold, 1.0, MRP_MAX)
+    arr, batched = mrps("sigma", sigma)
     n2 = np.sum(arr * arr, axis=1)
     sw = n2 > threshold**2
     res = arr.copy()

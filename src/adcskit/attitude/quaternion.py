@@ -206,7 +206,7 @@ def random_quat(n: int | None = None, rng: Any = None) -> np.ndarray:
         Random source (``None`` = seed 0).
     """
     gen = as_rng(rng)
-    m = 1 if n is None else check_int("n", n, minimum=1)
+    m = 1 if n is None else check_int("n", n, minimum=1, maximum=10**8)
     q = gen.standard_normal((m, 4))
     q = _k.canonical(q)  # normalised Gaussian 4-vectors are uniform on S³
     return q[0] if n is None else q

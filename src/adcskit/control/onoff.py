@@ -106,7 +106,10 @@ class LoopSettings:
     def __post_init__(self) -> None:
         check_positive("dt", self.dt, unit="s")
         check_positive("t_final", self.t_final, unit="s")
-        check_range("t_window", self.t_window, 0.0, self.t_final, unit="s", lo_open=True)
+        check_range("t_window", self.t_window, 0.0, self.t_final, unit="s", lo_open=True, hi_name="t_final")
+        if self.t_final / self.dt > 1e9:
+            raise InputError(f"dt must be >= t_final / 1e9 (at most 1e9 steps); got dt = {self.dt:g} s "
+                             f"with t_final = {self.t_final:g} s")
         check_positive("tau_thruster", self.tau_thruster, unit="s")
         check_positive("tau_deriv", self.tau_deriv, unit="s")
         check_positive("command_rate_hz", self.command_rate_hz, unit="Hz")
@@ -188,6 +191,9 @@ class LoopParams:
     theta_ref: Any = math.radians(15.0)
     theta0: Any = 0.0
     omega0: Any = 0.0
+
+    def __post_init__(self) -> None:
+        _param_matrix(self)  # validate at construction (finite, ranges, broadcastable)
 
     def replace(self, **changes: Any) -> LoopParams:
         """A copy with some fields changed."""
@@ -318,7 +324,7 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
     """
     arr = as_array("u", u, ndim=1)
     on = check_positive("u_on", u_on, allow_zero=True)
-    off = check_range("u_off", u_off, 0.0, on)
+    off = check_range("u_off", u_off, 0.0, on, hi_name="u_on")
     if state not in (-1, 0, 1, -1.0, 0.0, 1.0):
         raise InputError(f"state must be -1, 0 or 1; got {state!r}")
     out = np.empty_like(arr)
@@ -437,6 +443,7 @@ def _param_matrix(params: LoopParams) -> np.ndarray:
     P[:, _k.DOMEGA] = 2.0 * math.pi * np.atleast_1d(b["disturbance_freq_hz"])
     checks = {
         "inertia": (P[:, _k.INERTIA] > 0, "> 0 kg m^2"),
+        "torque": (P[:, _k.TORQUE] >= 0, ">= 0 N m"),
         "delay": (P[:, _k.DELAY] >= 0, ">= 0 s"),
         "u_on": (u_on >= 0, ">= 0"),
         "off_ratio": ((ratio >= 0) & (ratio <= 1), "in [0, 1]"),
@@ -450,7 +457,10 @@ def _param_matrix(params: LoopParams) -> np.ndarray:
 
 
 def _buffer_length(P: np.ndarray, dt: float) -> int:
-    max_steps = int(math.floor(float(np.max(P[:, _k.DELAY])) / dt)) + 2
+    delay = float(np.max(P[:, _k.DELAY]))
+    if delay / dt > 2**24:  # the delay line holds delay/dt samples
+        raise InputError(f"delay must be <= 2**24 * dt = {2**24 * dt:g} s (the delay line's length); got {delay:g} s")
+    max_steps = int(math.floor(delay / dt)) + 2
     return 1 << max(1, max_steps.bit_length())
 
 

@@ -190,6 +190,11 @@ def _problem(body_mid, body_radius, ref_mid, ref_radius, weights) -> _Problem:
     a = w / w.sum()
     bmu = bm / nb[:, None]
     rmu = rm / nr[:, None]
+    for name, u in (("body_mid", bmu), ("ref_mid", rmu)):
+        # the attitude is unobservable from parallel directions, whatever the start point
+        if np.abs(np.cross(u[:, None, :], u[None, :, :])).max() < 1e-9:
+            raise InputError(f"{name} vectors must not all be parallel (the attitude about their "
+                             f"common axis is undetermined); got shape {u.shape} of collinear vectors")
     Km = _kmat(np.einsum("n,ni,nj->ij", a, bmu, rmu))
     return _Problem(bm=bmu, br=radii[0] / nb[:, None], rm=rmu, rr=radii[1] / nr[:, None], a=a,
                     wsum=float(w.sum()), Km=Km)
@@ -221,6 +226,8 @@ def interval_objectives(q, alpha, beta, body_mid, body_radius, ref_mid, ref_radi
     """
     p = _problem(body_mid, body_radius, ref_mid, ref_radius, weights)
     qa = as_array("q", q, shape=(4,))
+    if not np.linalg.norm(qa / max(np.abs(qa).max(), 1e-300)) > 0 or np.abs(qa).max() < 1e-150:
+        raise InputError(f"q must be a non-zero quaternion; got {qa.tolist()}")
     qa = qa / np.linalg.norm(qa)
     n = p.bm.shape[0]
     al = as_array("alpha", alpha, shape=(n, 3))

@@ -191,6 +191,11 @@ def _prepare(body: Any, ref: Any, weights: Any) -> tuple[np.ndarray, np.ndarray,
         if np.any(w[np.isfinite(w)] <= 0):
             bad = w[np.isfinite(w) & (w <= 0)][0]
             raise InputError(f"weights must be > 0 (they are 1/σ² of each observation); got {bad:g}")
+        fin = w[np.isfinite(w)]
+        if fin.size and (fin.max() > 1e100 or fin.min() < 1e-100):
+            bad = fin.max() if fin.max() > 1e100 else fin.min()
+            raise InputError(f"weights must be in [1e-100, 1e100] (1/σ², the covariance and condition "
+                             f"number overflow outside); got {bad:g}")
     return _kernel_ready(b), _kernel_ready(r), _kernel_ready(w), batched
 
 
@@ -265,7 +270,7 @@ def solve_wahba(
         buf = np.empty(16)
         s = _k.solve_single(b, r, w, code, buf)
         if s != 0:
-            raise InputError(f"cannot solve this Wahba problem: {STATUS_MESSAGES[s]}")
+            raise InputError(f"cannot solve this Wahba problem: {_blame(s, b, r, w)}")
         return _single_result(buf, method)
     N = b.shape[0]
     q = np.empty((N, 4))
@@ -308,12 +313,53 @@ def davenport_k(body: Any, ref: Any, weights: Any = None) -> np.ndarray:
     b, r, w, batched = _prepare(body, ref, weights)
     if not batched:
         b, r, w = b[None], r[None], w[None]
-    w = np.broadcast_to(w, b.shape[:2])
-    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    r = r / np.linalg.norm(r, axis=-1, keepdims=True)
+    w = np.broadcast_to(_finite_weights(w), b.shape[:2])
+    b, r = _unit("body", b), _unit("ref", r)
     a = w / w.sum(axis=1, keepdims=True)
     K = _k_from(b, r, a)
     return K if batched else K[0]
+
+
+def _blame(status: int, b: np.ndarray, r: np.ndarray, w: np.ndarray) -> str:
+    """The kernel's status as a message naming the argument at fault (error path only)."""
+    text = STATUS_MESSAGES[status]
+    if status == _k.NONFINITE:
+        for name, a in (("body", b), ("ref", r), ("weights", w)):
+            if not np.all(np.isfinite(a)):
+                return f"{name} must be finite ({text})"
+    if status == _k.ZERO_LENGTH:
+        name = "body" if np.any(np.all(b == 0, axis=-1)) else "ref"
+        return f"{name} must not contain zero-length vectors ({text})"
+    if status == _k.COLLINEAR_BODY:
+        return f"body vectors must not all be parallel ({text})"
+    if status == _k.COLLINEAR_REF:
+        return f"ref vectors must not all be parallel ({text})"
+    if status == _k.TOO_FEW:
+        return f"body and ref must hold at least 2 observations ({text})"
+    return text
+
+
+def _unit(name: str, v: np.ndarray) -> np.ndarray:
+    """Unit vectors of ``v`` (..., 3), rejecting what ``solve_wahba`` reports as unusable.
+
+    NaN/inf entries and zero vectors raise :class:`InputError`; the scaling by the largest
+    component first keeps 1e-300 and 1e300 vectors from under- or overflowing the norm.
+    """
+    if not np.all(np.isfinite(v)):
+        raise InputError(f"{name} must be finite (no NaN or inf); got {STATUS_MESSAGES[_k.NONFINITE]}")
+    scale = np.abs(v).max(axis=-1, keepdims=True)
+    if np.any(scale == 0):
+        idx = tuple(int(i) for i in np.argwhere(scale[..., 0] == 0)[0])
+        raise InputError(f"{name} must contain non-zero vectors (they are normalised); got a zero "
+                         f"vector at index {idx}")
+    u = v / scale
+    return u / np.linalg.norm(u, axis=-1, keepdims=True)
+
+
+def _finite_weights(w: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(w)):
+        raise InputError(f"weights must be finite (no NaN or inf); got {w[~np.isfinite(w)][0]}")
+    return w
 
 
 def _k_from(b: np.ndarray, r: np.ndarray, a: np.ndarray) -> np.ndarray:
@@ -340,9 +386,9 @@ def wahba_loss(q: Any, body: Any, ref: Any, weights: Any = None) -> Any:
     if not batched:
         b, r, w = b[None], r[None], w[None]
     w = np.broadcast_to(w, b.shape[:2])
+    w = _finite_weights(w)
     qa, _ = _as_quat(q, b.shape[0], batched)
-    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    r = r / np.linalg.norm(r, axis=-1, keepdims=True)
+    b, r = _unit("body", b), _unit("ref", r)
     A = quat_to_dcm_np(qa)
     res = b - np.einsum("kij,knj->kni", A, r)
     loss = 0.5 * np.einsum("kn,kni,kni->k", w, res, res)

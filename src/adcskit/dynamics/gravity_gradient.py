@@ -44,4 +44,5 @@ def orbit_rate(altitude: float, *, mu: float = MU_EARTH, radius: float = R_EARTH
     h = check_positive("altitude", altitude, allow_zero=True, unit="m")
     mu = check_positive("mu", mu)
     radius = check_positive("radius", radius)
-    return float(np.sqrt(mu / (radius + h) ** 3))
+    r = radius + h
+    return float(np.sqrt(mu / r) / r)  # = sqrt(mu / r**3) without overflowing r**3

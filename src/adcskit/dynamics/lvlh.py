@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import check_finite, check_positive
+from adcskit._validation import check_flag, check_positive
 from adcskit.dynamics.rigid_body import as_inertia
 from adcskit.errors import InputError
 
@@ -67,7 +67,7 @@ def lvlh_second_order(inertia: Any, orbit_rate: float, *, printed: bool = False)
     """
     Ix, Iy, Iz = _principal(inertia)
     n = check_positive("orbit_rate", orbit_rate, allow_zero=True, unit="rad/s")
-    check_finite("orbit_rate", n)
+    printed = check_flag("printed", printed)
     M = np.diag([Ix, Iy, Iz])
     if printed:
         N = n * (-Ix + Iy - Iz) * np.array([[0.0, 0, 1], [0, 0, 0], [1, 0, 0]])

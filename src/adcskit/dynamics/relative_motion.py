@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adcskit._validation import check_positive
+from adcskit._validation import check_finite, check_positive
 
 __all__ = ["cw_matrices", "cw_stm"]
 
@@ -53,7 +53,8 @@ def cw_stm(n: float, t: float) -> np.ndarray:
     Obtained from the classical CW solution (Vallado 2013, eq. 6-66) with the axes mapped
     ``x_RSW = −z``, ``y_RSW = x``, ``z_RSW = −y``; used as an oracle in tests.
     """
-    n = check_positive("n", n, unit="rad/s")
+    n = check_positive("n", n, unit="rad/s", min_value=1e-150)
+    t = check_finite("t", t)
     c, s = np.cos(n * t), np.sin(n * t)
     # Vallado's RSW state [xr, yr, zr, vxr, vyr, vzr] (xr radial out, yr along-track, zr normal)
     P = np.array(

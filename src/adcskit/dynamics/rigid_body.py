@@ -13,6 +13,7 @@ Markley & Crassidis (2014), eq. 3.81 (Euler's equations), eq. 3.20 (kinematics).
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -20,7 +21,14 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from adcskit._validation import as_array, as_batch, check_positive
+from adcskit._validation import (
+    as_array,
+    as_batch,
+    check_callable,
+    check_int,
+    check_positive,
+    short_repr,
+)
 from adcskit.attitude import _kernels as _k
 from adcskit.attitude._checks import broadcast, out, quats
 from adcskit.errors import InputError
@@ -115,6 +123,8 @@ def propagate_attitude(
     method: str = "DOP853",
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    max_nfev: int = 1_000_000,
+    max_wall_s: float | None = None,
 ) -> AttitudeTrajectory:
     """Integrate quaternion kinematics and Euler's equations.
 
@@ -131,11 +141,19 @@ def propagate_attitude(
         External torque in body components (e.g. gravity gradient).
     method, rtol, atol :
         Passed to ``scipy.integrate.solve_ivp``.
+    max_nfev : int
+        Guard against runaway integrations: stop with ``success=False`` after this many
+        right-hand-side evaluations, or at once when the initial rate alone needs more
+        (``|omega0| (t_end - t_start)`` radians at one evaluation per radian at least).
+    max_wall_s : float, optional
+        Wall-clock guard in seconds (off by default, since it makes results depend on the
+        machine's speed).
 
     Returns
     -------
     AttitudeTrajectory
-        ``success=False`` with the integrator's message if it fails.
+        ``success=False`` with a message if the integrator fails, a guard stops it, or the
+        torque function returns a non-finite or wrongly shaped value.
     """
     q, _ = quats("q0", q0)
     if q.shape[0] != 1:
@@ -147,18 +165,44 @@ def propagate_attitude(
         raise InputError(f"t_eval must hold >= 2 strictly increasing times (s); got {t.size} values")
     check_positive("rtol", rtol)
     check_positive("atol", atol)
+    check_callable("torque", torque, allow_none=True)
+    max_nfev = check_int("max_nfev", max_nfev, minimum=1)
+    if max_wall_s is not None:
+        max_wall_s = check_positive("max_wall_s", max_wall_s, unit="s")
+    guard = _Guard(max_nfev, max_wall_s)
+    if float(np.linalg.norm(w)) * (t[-1] - t[0]) > max_nfev:
+        return _failed(t, q[0], w, f"the initial rate |omega0| = {np.linalg.norm(w):.3g} rad/s over "
+                       f"{t[-1] - t[0]:.3g} s needs more than max_nfev = {max_nfev} evaluations")
 
     def rhs(tt: float, x: np.ndarray) -> np.ndarray:
+        guard.tick()
+        if not np.all(np.isfinite(x)):
+            raise _Abort(f"the state became non-finite at t = {tt:.6g} s")
         qq = x[:4] / np.linalg.norm(x[:4])
         ww = x[4:]
-        tau = np.zeros(3) if torque is None else np.asarray(torque(tt, qq, ww), dtype=float)
+        if torque is None:
+            tau = np.zeros(3)
+        else:
+            try:
+                tau = np.asarray(torque(tt, qq, ww), dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise _Abort(f"torque(t, q, omega) did not return 3 real numbers at t = {tt:.6g} s: {exc}") from None
+            if tau.shape != (3,) or not np.all(np.isfinite(tau)) or np.abs(tau).max() > 1e150:
+                raise _Abort(f"torque(t, q, omega) must return 3 finite numbers (N m); got "
+                             f"{short_repr(tau)} at t = {tt:.6g} s")
         v, s = qq[:3], qq[3]
         dq = np.concatenate([0.5 * (s * ww + np.cross(v, ww)), [-0.5 * v @ ww]])
         dw = np.linalg.solve(J, tau - np.cross(ww, J @ ww))
         return np.concatenate([dq, dw])
 
-    sol = solve_ivp(rhs, (t[0], t[-1]), np.concatenate([q[0], w]), method=method, t_eval=t, rtol=rtol, atol=atol)
+    try:
+        sol = solve_ivp(rhs, (t[0], t[-1]), np.concatenate([q[0], w]), method=method, t_eval=t, rtol=rtol,
+                        atol=atol)
+    except _Abort as exc:
+        return _failed(t, q[0], w, str(exc), guard.nfev)
     y = sol.y.T if sol.y.size else np.empty((0, 7))
+    if not np.all(np.isfinite(y)):
+        return _failed(t, q[0], w, "the integration produced non-finite values", int(sol.nfev))
     qs = _k.canonical(y[:, :4]) if len(y) else y[:, :4]
     return AttitudeTrajectory(
         t=np.asarray(sol.t),
@@ -169,3 +213,32 @@ def propagate_attitude(
         message=str(sol.message),
         nfev=int(sol.nfev),
     )
+
+
+class _Abort(Exception):
+    """Internal: stops :func:`propagate_attitude`'s integration; becomes ``success=False``."""
+
+
+class _Guard:
+    """Counts right-hand-side evaluations and wall time of one integration."""
+
+    def __init__(self, max_nfev: int, max_wall_s: float | None) -> None:
+        self.nfev = 0
+        self.max_nfev = max_nfev
+        self.max_wall_s = max_wall_s
+        self.t0 = time.perf_counter()
+
+    def tick(self) -> None:
+        self.nfev += 1
+        if self.nfev > self.max_nfev:
+            raise _Abort(f"stopped after max_nfev = {self.max_nfev} evaluations (runaway integration; "
+                         "raise max_nfev to continue)")
+        if self.max_wall_s is not None and self.nfev % 64 == 0:
+            if time.perf_counter() - self.t0 > self.max_wall_s:
+                raise _Abort(f"stopped after max_wall_s = {self.max_wall_s:g} s of wall-clock time")
+
+
+def _failed(t: np.ndarray, q0: np.ndarray, w0: np.ndarray, message: str, nfev: int = 0) -> AttitudeTrajectory:
+    """A ``success=False`` trajectory holding only the initial state."""
+    return AttitudeTrajectory(t=t[:1].copy(), q=q0[None].copy(), omega=w0[None].copy(), success=False,
+                              status=-1, message=message, nfev=int(nfev))

@@ -153,7 +153,8 @@ def eci_to_ecef_state(r_eci: Any, v_eci: Any, times: Any) -> tuple[np.ndarray, n
 
 def ecef_to_eci_state(r_ecef: Any, v_ecef: Any, times: Any) -> tuple[np.ndarray, np.ndarray]:
     """Position and velocity from ECEF to ECI (inverse of :func:`eci_to_ecef_state`)."""
-    vv = as_array("v_ecef", v_ecef, shape=np.shape(r_ecef))
+    rr = as_array("r_ecef", r_ecef)
+    vv = as_array("v_ecef", v_ecef, shape=rr.shape)
     v_inertial_ecef = vv + np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]),
                                     as_array("r_ecef", r_ecef))
     return ecef_to_eci(r_ecef, times), ecef_to_eci(v_inertial_ecef, times)
@@ -239,6 +240,8 @@ def geocentric_to_ecef(radius: Any, colat: Any, lon: Any) -> np.ndarray:
     r_, th, ph = np.broadcast_arrays(
         as_array("radius", radius), as_array("colat", colat), as_array("lon", lon)
     )
+    if np.any(r_ < 0):
+        raise InputError(f"radius must be >= 0 m; got {r_.min():g}")
     return np.stack(
         [r_ * np.sin(th) * np.cos(ph), r_ * np.sin(th) * np.sin(ph), r_ * np.cos(th)], axis=-1
     )

@@ -197,7 +197,7 @@ def circular_orbit(
     R = check_positive("radius", radius, unit="m")
     tt = _times_1d(t)
     a = R + h
-    n = np.sqrt(mu_ / a**3)
+    n = np.sqrt(mu_ / a) / a  # = sqrt(mu / a^3) without overflowing a^3
     u = u0 + n * tt
     cu, su = np.cos(u), np.sin(u)
     P = _perifocal_to_eci(Om, inc, 0.0)
@@ -260,7 +260,7 @@ def elements_to_rv(
     ----------
     Vallado (2013), Alg. 10 (COE2RV).
     """
-    a_ = check_positive("a", a, unit="m")
+    a_ = check_positive("a", a, unit="m", min_value=1.0)
     ecc = check_range("e", e, 0.0, 1.0, hi_open=True)
     inc = check_range("inclination", inclination, 0.0, np.pi, unit="rad")
     P = _perifocal_to_eci(check_finite("raan", raan), inc, check_finite("argp", argp))
@@ -305,13 +305,17 @@ def rv_to_elements(r: Any, v: Any, *, mu: float = MU_EARTH) -> dict[str, np.ndar
     rn = np.linalg.norm(rr, axis=1)
     h = np.cross(rr, vv)
     hn = np.linalg.norm(h, axis=1)
+    if np.any(rn < 1e-100) or np.any(hn < 1e-100 * np.maximum(rn, 1.0)):
+        raise InputError("r and v must describe an orbit with non-zero position and angular momentum "
+                         "(r x v != 0); got a zero or rectilinear r, v")
     nvec = np.cross(np.array([0.0, 0.0, 1.0]), h)
     nn = np.linalg.norm(nvec, axis=1)
     evec = np.cross(vv, h) / mu_ - rr / rn[:, None]
     e = np.linalg.norm(evec, axis=1)
     energy = 0.5 * np.einsum("ij,ij->i", vv, vv) - mu_ / rn
     if np.any(energy >= 0):
-        raise InputError("r, v must describe an elliptic orbit (negative specific energy)")
+        raise InputError(f"r, v must describe an elliptic orbit (negative specific energy) for "
+                         f"mu = {mu_:g} m^3/s^2; got energy {float(energy.max()):g} m^2/s^2")
     a = -mu_ / (2.0 * energy)
     inc = np.arccos(np.clip(h[:, 2] / hn, -1.0, 1.0))
     raan = np.mod(np.arctan2(nvec[:, 1], nvec[:, 0]), 2 * np.pi)
@@ -361,7 +365,7 @@ class KeplerOrbit:
     mu: float = MU_EARTH
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "a", check_positive("a", self.a, unit="m"))
+        object.__setattr__(self, "a", check_positive("a", self.a, unit="m", min_value=1.0))
         object.__setattr__(self, "e", check_range("e", self.e, 0.0, 1.0, hi_open=True))
         object.__setattr__(
             self, "inclination", check_range("inclination", self.inclination, 0.0, np.pi, unit="rad")
@@ -374,7 +378,7 @@ class KeplerOrbit:
     @property
     def mean_motion(self) -> float:
         """Mean motion ``sqrt(mu / a^3)``, rad/s."""
-        return float(np.sqrt(self.mu / self.a**3))
+        return float(np.sqrt(self.mu / self.a) / self.a)  # no overflow of a^3
 
     @property
     def period(self) -> float:

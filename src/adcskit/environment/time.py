@@ -85,14 +85,32 @@ def as_utc(times: Any, name: str = "times") -> np.ndarray:
         )
     try:
         out = arr.astype("datetime64[ns]")
-    except (TypeError, ValueError) as exc:
+        coarse = arr.astype("datetime64[s]")  # wide range: detects silent ns wrap-around
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InputTypeError(
             f"{name} must be UTC instants (numpy datetime64, datetime or ISO-8601 strings); "
             f"got {short_repr(times)} ({exc})"
         ) from None
-    if np.any(np.isnat(out)):
+    if out.size == 0:
+        raise InputError(f"{name} must not be empty; got shape {out.shape}")
+    if np.any(np.isnat(out)) or np.any(np.isnat(coarse)):
         raise InputError(f"{name} must not contain NaT (not-a-time); got {short_repr(times)}")
+    _check_ns_range(name, out, coarse, times)
     return out
+
+
+#: Instants representable as datetime64[ns]: 1678-01-01 .. 2262-04-11 (numpy's int64 range).
+_NS_MIN = np.datetime64("1678-01-01T00:00:00", "s")
+_NS_MAX = np.datetime64("2262-04-11T00:00:00", "s")
+
+
+def _check_ns_range(name: str, out: np.ndarray, coarse: np.ndarray, original: Any) -> None:
+    bad = (coarse < _NS_MIN) | (coarse > _NS_MAX) | (out.astype("datetime64[s]") != coarse)
+    if np.any(bad):
+        raise InputError(
+            f"{name} must be between 1678-01-01 and 2262-04-11 UTC (the range of datetime64[ns]); "
+            f"got {short_repr(original)}"
+        )
 
 
 def utc_times(epoch: Any, t: Any) -> np.ndarray:
@@ -118,8 +136,17 @@ def utc_times(epoch: Any, t: Any) -> np.ndarray:
     ep = as_utc(epoch, "epoch")
     if ep.ndim != 0:
         raise InputError(f"epoch must be one instant; got shape {ep.shape}")
-    tt = as_array("t", t)
-    return ep + np.round(tt * 1e9).astype("timedelta64[ns]")
+    tt = as_array("t", t, nonempty=False)
+    # offsets must keep epoch + t inside datetime64[ns] (int64 nanoseconds, about ±292 years)
+    if tt.size and np.abs(tt).max() > 9e9:
+        raise InputError(f"t must be offsets of magnitude <= 9e9 s (datetime64[ns] range); "
+                         f"got max |t| = {np.abs(tt).max():g}")
+    dt = np.round(tt * 1e9).astype("timedelta64[ns]")
+    when = ep.astype("datetime64[s]").astype(np.int64) + tt  # seconds since 1970, as floats
+    if tt.size and (np.any(when < _NS_MIN.astype(np.int64)) or np.any(when > _NS_MAX.astype(np.int64))):
+        raise InputError(f"t must keep epoch + t between 1678-01-01 and 2262-04-11 UTC; got t in "
+                         f"[{tt.min():g}, {tt.max():g}] s from epoch {ep}")
+    return ep + dt
 
 
 def _days_since_j2000(times: np.ndarray) -> np.ndarray:

@@ -261,7 +261,7 @@ def _k_qr(Phi, Z, T0, Tp, o, gen):
     d = np.abs(np.diag(Rm))
     if d.min() <= o["rank_tol"] * d.max():
         return dict(Theta=T0.copy(), nit=1, nfev=0, status=2,
-                    message=f"rank-deficient regressors (|R_ii| min/max = {d.min() / d.max():.2e})")
+                    message=f"rank-deficient regressors (|R_ii| min/max = {d.min() / d.max() if d.max() > 0 else 0.0:.2e})")
     # LAPACK trtrs with a Fortran-order right-hand side: with a C-order one (and with
     # scipy.linalg.solve_triangular) OpenBLAS takes ~3 ms per tiny solve on this machine
     ThT, info = sla.lapack.dtrtrs(Rm, np.asfortranarray(Qm.T @ Z), lower=0)
@@ -275,6 +275,9 @@ def _krylov(name):
 
     def kernel(Phi, Z, T0, Tp, o, gen):
         M, b = _normal_system(Phi, Z)
+        deficient = _rank_deficient(Phi)
+        if deficient:
+            return dict(Theta=T0.copy(), nit=0, nfev=0, status=2, message=deficient)
         cnt = _Counter(M)
         nit = [0]
         kw: dict[str, Any] = dict(rtol=o["rtol"], atol=o["atol"], maxiter=o["maxiter"] or 10 * M.shape[0])
@@ -294,7 +297,22 @@ def _krylov(name):
     return kernel
 
 
+def _rank_deficient(Phi) -> str | None:
+    """Message if the regressors do not determine Theta (the test QR applies), else None."""
+    N, q = Phi.shape
+    if N < q:
+        return f"rank-deficient: {N} samples < {q} unknowns per row"
+    sv = np.linalg.svd(Phi, compute_uv=False)
+    if sv.max() == 0 or sv.min() <= 1e-12 * sv.max():
+        ratio = 0.0 if sv.max() == 0 else sv.min() / sv.max()
+        return f"rank-deficient regressors (singular value min/max = {ratio:.2e})"
+    return None
+
+
 def _k_lsqr(Phi, Z, T0, Tp, o, gen):
+    deficient = _rank_deficient(Phi)
+    if deficient:
+        return dict(Theta=T0.copy(), nit=0, nfev=0, status=2, message=deficient)
     n = Z.shape[1]
     H = np.kron(np.eye(n), Phi)  # rows: (row i of Theta, time t)
     b = Z.T.ravel()
@@ -466,7 +484,13 @@ class RecursiveLeastSquares:
         self.nit = 0
 
     def update(self, phi, z) -> None:
-        """One sample: regressor ``phi`` (q,) and target ``z`` (n,) (plain float arrays)."""
+        """One sample: regressor ``phi`` (q,) and target ``z`` (n,) (plain float arrays).
+
+        Deliberately **unvalidated** (a fast inner loop): ``phi`` and ``z`` must already be
+        finite float arrays of the right shapes, or the result is undefined. Use the
+        validated :meth:`update_batch` (or :func:`identify_model` with ``method="rls"``) for
+        untrusted input.
+        """
         lam = self.forgetting
         Pphi = self.P @ phi
         k = Pphi / (lam + phi @ Pphi)
@@ -476,6 +500,15 @@ class RecursiveLeastSquares:
         self.nit += 1
 
     def update_batch(self, Phi, Z) -> None:
+        """Validated entry point: samples ``Phi`` (N, q) and targets ``Z`` (N, n), in order.
+
+        Checks shapes and finiteness once, then runs :meth:`update` per sample.
+        """
+        n, q = self.Theta.shape
+        Phi = as_array("Phi", Phi, ndim=2, nonempty=False)
+        if Phi.shape[1:] != (q,):
+            raise InputError(f"Phi must have shape (N, {q}) to match Theta0; got shape {Phi.shape}")
+        Z = as_array("Z", Z, shape=(Phi.shape[0], n), nonempty=False)
         for phi, z in zip(Phi, Z):
             self.update(phi, z)
 

@@ -42,8 +42,16 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
-from adcskit.errors import InputError
+from adcskit._validation import (
+    as_array,
+    as_rng,
+    check_callable,
+    check_choice,
+    check_int,
+    check_positive,
+    short_repr,
+)
+from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation.identification import (
     IDENTIFICATION_METHODS,
     RecursiveLeastSquares,
@@ -169,7 +177,7 @@ def joint_estimate(
     n = A_prior.shape[0]
     if C is None:
         C = np.eye(n)
-    A_prior, B, C, Q, R = _check_model(A_prior, B, C, Q, R)
+    A_prior, B, C, Q, R = _check_model(A_prior, B, C, Q, R, a_name="A_prior")
     if C.shape != (n, n) or not np.allclose(C, np.eye(n)):
         raise InputError("C must be the identity: the regression targets are the measurements (S1 eq. 17)")
     p = B.shape[1]
@@ -180,7 +188,7 @@ def joint_estimate(
     u = as_array("u", u, shape=(N, p))
     x0 = np.zeros(n) if x0 is None else as_array("x0", x0, shape=(n,))
     P0 = _check_cov("P0", P0, n)
-    passes = check_int("passes", passes, minimum=1)
+    passes = check_int("passes", passes, minimum=1, maximum=10_000)
     q = n + p if estimate_B else n
     if start is None:
         start = q if method in _UNREGULARISED else 1
@@ -336,9 +344,13 @@ def augmented_ekf(
     Simon (2006) §13.4; S1 (the baseline S1 does not run; its uncertainty is in the
     moments of inertia).
     """
+    check_callable("model", model)
     p0 = as_array("p0", p0, ndim=1)
     n_p = p0.shape[0]
-    A0, B0 = model(p0.copy())
+    pair = model(p0.copy())
+    if not (isinstance(pair, tuple | list) and len(pair) == 2):
+        raise InputTypeError(f"model must return a pair (A_d, B_d); model(p0) returned {short_repr(pair)}")
+    A0, B0 = pair
     A0 = as_array("model(p0)[0]", A0, ndim=2)
     n = A0.shape[0]
     if C is None:
@@ -354,7 +366,7 @@ def augmented_ekf(
     P0 = _check_cov("P0", P0, n)
     P_p0 = _check_cov("P_p0", P_p0, n_p)
     Q_p = _check_cov("Q_p", Q_p, n_p)
-    p_min = float(check_positive("p_min", p_min, allow_zero=True))
+    p_min = float(check_positive("p_min", p_min))  # > 0: the model is evaluated at the floor
     h = check_positive("fd_step", fd_step)
 
     nz = n + n_p
@@ -389,8 +401,9 @@ def augmented_ekf(
             e = np.zeros(n_p)
             e[i] = d
             Ap, Bp = model(p_f + e)
-            Am, Bm = model(np.maximum(p_f - e, p_min * 0.5))
-            J[:, i] = ((Ap - Am) @ x_f + (Bp - Bm) @ u[t]) / (2 * d)
+            lo = np.maximum(p_f - e, p_min)  # never below the documented floor
+            Am, Bm = model(lo)
+            J[:, i] = ((Ap - Am) @ x_f + (Bp - Bm) @ u[t]) / (d + p_f[i] - lo[i])
             nfev += 2
         F = np.zeros((nz, nz))
         F[:n, :n], F[:n, n:], F[n:, n:] = Ad, J, np.eye(n_p)

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from adcskit._validation import as_array, as_rng, check_choice
+from adcskit._validation import as_array, as_rng, check_choice, check_positive
 from adcskit.errors import InputError
 
 __all__ = [
@@ -192,11 +192,11 @@ class LinearSimulation:
 # --------------------------------------------------------------------------- validation
 
 
-def _check_model(A, B, C, Q, R):
-    A = as_array("A", A, ndim=2)
+def _check_model(A, B, C, Q, R, *, a_name="A"):
+    A = as_array(a_name, A, ndim=2)
     n = A.shape[0]
     if A.shape != (n, n):
-        raise InputError(f"A must be square (n, n); got shape {A.shape}")
+        raise InputError(f"{a_name} must be square (n, n); got shape {A.shape}")
     B = as_array("B", B, ndim=2)
     if B.shape[0] != n:
         raise InputError(f"B must have shape ({n}, p) to match A; got shape {B.shape}")
@@ -212,7 +212,8 @@ def _check_model(A, B, C, Q, R):
 def _check_cov(name, value, n, *, positive=False):
     M = as_array(name, value)
     if M.ndim == 0:
-        M = float(M) * np.eye(n)
+        # a scalar variance: exactly >= 0 (> 0); the eigenvalue tolerance below is for matrices
+        M = check_positive(name, M, allow_zero=not positive) * np.eye(n)
     if M.shape != (n, n):
         raise InputError(f"{name} must be a scalar or have shape ({n}, {n}); got shape {M.shape}")
     if not np.allclose(M, M.T, rtol=1e-10, atol=1e-14 * max(1.0, np.abs(M).max())):
@@ -251,8 +252,10 @@ class KalmanFilter:
     def step(self, y, u, A, B, C, Q, R):
         """Process measurement ``y(t)`` and input ``u(t)``; returns ``(x_f, P_f, nu, S)``.
 
-        Inputs are plain float arrays of consistent shapes (not re-validated: this is the
-        inner loop of :func:`kalman_filter` and of the joint estimator).
+        Deliberately **unvalidated** (this is the inner loop of :func:`kalman_filter` and of
+        the joint estimator): inputs must already be finite float arrays of consistent shapes,
+        or the result is undefined. For untrusted input use the validated entry point beside
+        it, :func:`kalman_filter`, which checks every argument once and runs this step.
         """
         x_f, P_f, self.x_pred, self.P_pred, nu, S, _ = self._step(
             self.x_pred, self.P_pred, y, u, A, B, C, Q, R

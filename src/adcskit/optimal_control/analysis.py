@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from adcskit._validation import check_choice, check_positive, check_range
+from adcskit._validation import check_choice, check_int, check_positive, check_range
 from adcskit.errors import InputTypeError
 from adcskit.optimal_control.solve import OptimalControlSolution
 
@@ -183,6 +183,7 @@ def resimulate(
     check_choice("control", control, ("lagrange", "nearest", "switching"))
     rtol = check_positive("rtol", rtol)
     atol = check_positive("atol", atol)
+    points_per_interval = check_int("points_per_interval", points_per_interval, minimum=1, maximum=100_000)
     prob = solution.problem
     f = solution.dynamics_fun
     if control == "switching":

@@ -53,7 +53,7 @@ def legendre_gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     ----------
     S2, eq. 30–31 (Gauss quadrature of the end state and of the cost).
     """
-    n = check_int("n", n, minimum=1)
+    n = check_int("n", n, minimum=1, maximum=1000)
     tau, w = roots_legendre(n)
     return np.asarray(tau, float), np.asarray(w, float)
 
@@ -78,7 +78,7 @@ def legendre_gauss_radau(n: int) -> tuple[np.ndarray, np.ndarray]:
     ----------
     Garg et al., Automatica 46(11), 2010, eq. 5–6.
     """
-    n = check_int("n", n, minimum=1)
+    n = check_int("n", n, minimum=1, maximum=1000)
     if n == 1:
         return np.array([-1.0]), np.array([2.0])
     c = np.zeros(n + 1)

@@ -13,13 +13,20 @@ S2, eq. 8–11 (Bolza problem), eq. 17–21 (transformation to ``τ ∈ [-1, 1]`
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, check_finite, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    check_finite,
+    check_int,
+    check_positive,
+    check_real,
+    short_repr,
+)
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = ["OptimalControlProblem", "Mesh", "Guess"]
@@ -103,8 +110,8 @@ class OptimalControlProblem:
     def __post_init__(self) -> None:
         if not callable(self.dynamics):
             raise InputTypeError(f"dynamics must be callable f(x, u, t); got {self.dynamics!r}")
-        nx = check_int("n_states", self.n_states, minimum=1)
-        nu = check_int("n_controls", self.n_controls, minimum=0)
+        nx = check_int("n_states", self.n_states, minimum=1, maximum=100_000)
+        nu = check_int("n_controls", self.n_controls, minimum=0, maximum=100_000)
         s = object.__setattr__
         s(self, "state_names", tuple(self.state_names) or tuple(f"x{i}" for i in range(nx)))
         s(self, "control_names", tuple(self.control_names) or tuple(f"u{i}" for i in range(nu)))
@@ -132,7 +139,7 @@ class OptimalControlProblem:
                 raise InputError(f"{which} must lie inside the state bounds; got {v}")
         s(self, "t0", check_finite("t0", self.t0))
         try:
-            lo, hi = (float(v) for v in self.tf_bounds)
+            lo, hi = (check_real("tf_bounds", v) for v in self.tf_bounds)
         except (TypeError, ValueError):
             raise InputTypeError(f"tf_bounds must be two numbers (s); got {self.tf_bounds!r}") from None
         if not (lo >= self.t0 and hi >= lo and hi > self.t0) or np.isnan(hi):
@@ -220,10 +227,15 @@ class Mesh:
     fractions: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
-        nodes = tuple(check_int("mesh nodes", int(n) if isinstance(n, np.integer) else n, minimum=1) for n in self.nodes)
+        if isinstance(self.nodes, str | bytes) or not isinstance(self.nodes, Iterable):
+            raise InputTypeError(f"mesh nodes must be a sequence of integers; got {short_repr(self.nodes)}")
+        nodes = tuple(check_int("mesh nodes", n, minimum=1, maximum=1000) for n in np.asarray(self.nodes, dtype=object).ravel())
         if not nodes:
-            raise InputError("mesh must have at least one interval")
-        fr = tuple(float(f) for f in self.fractions) or tuple([1.0 / len(nodes)] * len(nodes))
+            raise InputError("mesh nodes must list at least one interval; got ()")
+        if len(nodes) > 100_000:
+            raise InputError(f"mesh nodes must list at most 100000 intervals; got {len(nodes)}")
+        fr = tuple(as_array("mesh fractions", self.fractions, ndim=1, nonempty=False).tolist()) or tuple(
+            [1.0 / len(nodes)] * len(nodes))
         if len(fr) != len(nodes) or any(f <= 0 for f in fr) or abs(sum(fr) - 1.0) > 1e-12:
             raise InputError(f"mesh fractions must be {len(nodes)} positive numbers summing to 1; got {fr}")
         object.__setattr__(self, "nodes", nodes)
@@ -232,8 +244,8 @@ class Mesh:
     @classmethod
     def uniform(cls, n_intervals: int, n_nodes: int) -> Mesh:
         """``n_intervals`` equal intervals with ``n_nodes`` collocation points each."""
-        n_intervals = check_int("n_intervals", n_intervals, minimum=1)
-        n_nodes = check_int("n_nodes", n_nodes, minimum=1)
+        n_intervals = check_int("n_intervals", n_intervals, minimum=1, maximum=100_000)
+        n_nodes = check_int("n_nodes", n_nodes, minimum=1, maximum=1000)
         return cls(nodes=(n_nodes,) * n_intervals)
 
     @property

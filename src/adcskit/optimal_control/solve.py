@@ -35,14 +35,14 @@ Garg et al., Automatica 46(11), 2010, Theorem 1.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from adcskit._progress import track
-from adcskit._validation import as_rng, check_choice, check_int, check_positive
+from adcskit._validation import as_rng, check_choice, check_flag, check_int, check_positive
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
@@ -276,6 +276,7 @@ def default_guess(problem: OptimalControlProblem) -> Guess:
     Free boundary components take the other end's value, else the middle of finite bounds,
     else 0. Controls are 0 clipped into their bounds.
     """
+    _check_problem(problem)
     x0 = np.array(problem.initial_state, float)
     xf = np.array(problem.final_state, float)
     both = np.isfinite(problem.state_lower) & np.isfinite(problem.state_upper)
@@ -302,6 +303,11 @@ def _interp_fun(t_samples, values, t0_src, tf_src, t0_new, tf_new):
     return f
 
 
+def _check_problem(problem: Any) -> None:
+    if not isinstance(problem, OptimalControlProblem):
+        raise InputTypeError(f"problem must be an OptimalControlProblem; got {type(problem).__name__}")
+
+
 def _resolve_options(options: dict[str, Any] | None, *, warm: bool = False) -> dict[str, Any]:
     opts = dict(DEFAULT_IPOPT_OPTIONS)
     if warm:
@@ -309,6 +315,12 @@ def _resolve_options(options: dict[str, Any] | None, *, warm: bool = False) -> d
     if options is not None:
         if not isinstance(options, dict):
             raise InputTypeError(f"ipopt_options must be a dict of IPOPT options; got {options!r}")
+        for key, value in options.items():
+            if not isinstance(key, str) or not (
+                isinstance(value, str) or (isinstance(value, int | float) and not isinstance(value, bool)
+                                           and np.isfinite(value))):
+                raise InputTypeError(f"ipopt_options must map option names (str) to a string or a finite "
+                                     f"number; got {key!r}: {value!r}")
         opts.update(options)
     return opts
 
@@ -320,6 +332,8 @@ def _as_mesh(mesh) -> Mesh:
         n_int, n_nodes = mesh
     except (TypeError, ValueError):
         raise InputTypeError(f"mesh must be a Mesh or (n_intervals, n_nodes); got {mesh!r}") from None
+    n_int = check_int("mesh[0] (number of intervals)", n_int, minimum=1, maximum=100_000)
+    n_nodes = check_int("mesh[1] (nodes per interval)", n_nodes, minimum=1, maximum=1000)
     return Mesh.uniform(n_int, n_nodes)
 
 
@@ -399,7 +413,14 @@ def solve(
         raise InputTypeError(f"warm_start must be True, False or None; got {warm_start!r}")
     opts = _resolve_options(ipopt_options, warm=warm)
     t_build = time.perf_counter()
-    tr = get_transcription(problem, method, mesh, opts)
+    try:
+        tr = get_transcription(problem, method, mesh, opts)
+    except RuntimeError as exc:  # CasADi refusing an IPOPT option (unknown name, wrong type) or the problem
+        lines = [ln for ln in str(exc).splitlines() if ln.strip()]
+        last = lines[-1] if lines else str(exc)
+        if "ipopt" in str(exc).lower():
+            raise InputError(f"ipopt_options not accepted by IPOPT: {last}; got {ipopt_options!r}") from None
+        raise InputError(f"problem could not be transcribed by CasADi: {last}") from None
     build_s = time.perf_counter() - t_build
     return _solve_with(problem, tr, guess, build_s, prev=prev, warm=warm)
 
@@ -627,8 +648,11 @@ def solve_mesh_sequence(
     >>> r.converged, r.on_branch, round(r.final.tf, 6)
     (True, True, 4.0)
     """
+    _check_problem(problem)
     rtol = check_positive("rtol", rtol)
     jump_factor = check_positive("jump_factor", jump_factor)
+    if isinstance(meshes, str | bytes) or not isinstance(meshes, Iterable):
+        raise InputTypeError(f"meshes must be a sequence of meshes; got {meshes!r}")
     meshes = [_as_mesh(m) for m in meshes]
     if not meshes:
         raise InputError("meshes must contain at least one mesh")
@@ -729,6 +753,9 @@ class MultistartResult:
 def random_guess(problem: OptimalControlProblem, rng, *, spread: float = 0.5, knots: int = 6) -> Guess:
     """A seeded random guess: straight line plus smooth noise, smooth random controls in bounds,
     ``tf`` uniformly in ``[0.7, 1.5] × tf_guess`` (clipped to the bounds)."""
+    _check_problem(problem)
+    spread = check_positive("spread", spread, allow_zero=True, max_value=1e6)
+    knots = check_int("knots", knots, minimum=2, maximum=100_000)
     rng = as_rng(rng)
     base = default_guess(problem)
     sx, su = problem.scales()
@@ -770,7 +797,11 @@ def multistart(
     rtol : float
         Objectives within this relative distance are the same optimum.
     """
-    n_starts = check_int("n_starts", n_starts, minimum=1)
+    _check_problem(problem)
+    n_starts = check_int("n_starts", n_starts, minimum=1, maximum=100_000)
+    include_default = check_flag("include_default", include_default)
+    check_positive("spread", spread, allow_zero=True, max_value=1e6)
+    check_positive("rtol", rtol)
     rng = as_rng(rng)
     sols = []
     for i in track(range(n_starts), f"multistart {problem.name}"):

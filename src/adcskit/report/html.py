@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from adcskit import __version__
+from adcskit._validation import check_path
 from adcskit.errors import InputError
 
 __all__ = ["build_report", "load_results", "format_value"]
@@ -64,7 +65,7 @@ def load_results(out: str | Path) -> dict[str, dict[str, Any]]:
     ...     list(load_results(out))
     ['demo']
     """
-    out = Path(out)
+    out = check_path("out", out)
     results: dict[str, dict[str, Any]] = {}
     for path in sorted(out.glob("*/result.json")):
         if path.parent.name.startswith("."):
@@ -159,9 +160,9 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
 
     from adcskit.studies._registry import PAPERS, STUDIES, is_available
 
-    out = Path(out)
+    out = check_path("out", out)
     if not out.is_dir():
-        raise InputError(f"report directory must be an existing directory; got {str(out)!r}")
+        raise InputError(f"out (the report directory) must be an existing directory; got {str(out)!r}")
     results = load_results(out)
     errors: dict[str, Any] = {}
     err_path = out / ERRORS_FILE

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, as_batch, check_range
+from adcskit._validation import as_array, as_batch, check_flag, check_range
 from adcskit.errors import InputError
 
 __all__ = ["interval_from_bounds", "midpoint_radius", "vector_bounds"]
@@ -114,6 +114,7 @@ def vector_bounds(
     v, batched = as_batch("measured", measured, (3,))
     th = check_range("angle_bound", angle_bound, 0.0, np.pi, unit="rad", hi_open=True)
     f = check_range("fraction", fraction, 0.0, 1.0, hi_open=True)
+    normalized = check_flag("normalized", normalized)
     if f > 0:
         lo, hi = _fraction_bounds(v, f, normalized)
         if th > 0:

@@ -47,9 +47,11 @@ from adcskit._validation import (
     as_batch,
     as_rng,
     check_finite,
+    check_flag,
     check_positive,
     check_range,
 )
+from adcskit.attitude._checks import dcms
 from adcskit.errors import InputError, InputTypeError
 from adcskit.sensors.intervals import midpoint_radius
 
@@ -136,8 +138,7 @@ class VectorSensor:
         mis.setflags(write=False)
         object.__setattr__(self, "bias", bias)
         object.__setattr__(self, "misalignment", mis)
-        if not isinstance(self.normalize, bool):
-            raise InputTypeError(f"normalize must be a bool; got {self.normalize!r}")
+        object.__setattr__(self, "normalize", check_flag("normalize", self.normalize))
 
     def _key(self) -> tuple:
         return (type(self), self.noise_std, self.angle_bound, self.component_fraction,
@@ -165,8 +166,12 @@ class VectorSensor:
         return b if batched else b[0]
 
     def _true(self, A: Any, r: Any) -> tuple[np.ndarray, bool]:
-        AA, a_batched = as_batch("A", A, (3, 3))
+        AA, a_batched = dcms("A", A)  # a rotation matrix: zero or skewed matrices are rejected
         rr, r_batched = as_batch("r", r, (3,))
+        scale = np.abs(rr).max(axis=1) if rr.size else np.ones(0)
+        if np.any(scale < 1e-150):
+            raise InputError(f"r must contain non-zero reference vectors; got a zero vector at index "
+                             f"{int(np.flatnonzero(scale < 1e-150)[0])}")
         if a_batched and r_batched and len(AA) != len(rr):
             raise InputError(f"A and r must have the same batch length; got {len(AA)} and {len(rr)}")
         rr = self._prepare(rr)

@@ -43,7 +43,7 @@ import numba
 import numpy as np
 from scipy.optimize import linprog, lsq_linear
 
-from adcskit._validation import as_array, as_batch, check_choice
+from adcskit._validation import as_array, as_batch, check_choice, check_positive_array
 
 __all__ = ["AllocationResult", "ALLOCATION_METHODS", "allocate"]
 
@@ -388,16 +388,15 @@ def allocate(
         raise InputError(f"torque_matrix must have shape (3, n) with n >= 1; got {A.shape}")
     n = A.shape[1]
     M, batched = as_batch("demand", demand, (3,))
-    fmax = np.broadcast_to(as_array("f_max", f_max, ndim=(0, 1)), (n,)).astype(float)
-    if fmax.shape != (n,) or np.any(fmax <= 0):
-        from adcskit.errors import InputError
-
-        raise InputError(f"f_max must be > 0 N, scalar or shape ({n},); got {f_max!r}")
+    fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=(n,))
     F, status, nit = ALLOCATION_METHODS[method](A, M, fmax)
     T = F @ A.T
     err = np.linalg.norm(M - T, axis=1)
     feasible = err <= 1e-9 * np.linalg.norm(M, axis=1) + 1e-14 * np.linalg.norm(A, 2) * fmax.max()
     status = np.where(status == 2, 2, np.where(feasible, 0, 1))
+    # a non-finite force or residual is a solver failure, never a met demand
+    status = np.where(np.isfinite(err) & np.all(np.isfinite(F), axis=1), status, 2)
+    feasible = feasible & (status != 2)
     n_bad = int(np.sum(status == 2))
     n_err = int(np.sum(status == 1))
     msg = (

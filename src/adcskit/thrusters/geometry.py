@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linprog
 
-from adcskit._validation import as_array, as_batch, check_positive
+from adcskit._validation import as_array, as_batch, check_positive, check_positive_array
 from adcskit.errors import InputError
 
 __all__ = [
@@ -79,6 +79,10 @@ def angles_from_direction(direction: Any) -> tuple[np.ndarray, np.ndarray]:
     Tables 1 and 3 use that second branch for the X faces. For ``d = ±Y`` ``beta`` is 0.
     """
     d, batched = as_batch("direction", direction, (3,))
+    scale = np.abs(d).max(axis=1, keepdims=True) if d.size else np.ones((0, 1))
+    if np.any(scale == 0):
+        raise InputError("direction must be non-zero vectors (a zero vector has no angles)")
+    d = d / scale
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     alpha = np.arcsin(np.clip(d[:, 1], -1.0, 1.0))
     beta = np.arctan2(d[:, 2], d[:, 0])
@@ -191,9 +195,8 @@ class ThrusterSet:
         object.__setattr__(self, "positions", pos)
         object.__setattr__(self, "directions", d)
         for name, unit, zero in (("f_max", "N", False), ("t_min", "s", True), ("mdot", "kg/s", False)):
-            v = np.broadcast_to(as_array(name, getattr(self, name), ndim=(0, 1)), (n,)).copy()
-            if np.any(v < 0) or (not zero and np.any(v == 0)):
-                raise InputError(f"{name} must be {'>= 0' if zero else '> 0'} {unit}; got {v}")
+            v = check_positive_array(name, as_array(name, getattr(self, name), ndim=(0, 1)), allow_zero=zero,
+                                     unit=unit, broadcast_to=(n,))
             object.__setattr__(self, name, v)
         object.__setattr__(self, "com", as_array("com", self.com, shape=(3,)))
         names = tuple(str(s) for s in self.names)
@@ -334,6 +337,7 @@ def check_controllability(torque_matrix: Any, *, tol: float = 1e-9) -> Controlla
     if A.shape[0] != 3:
         raise InputError(f"torque_matrix must have shape (3, n); got {A.shape}")
     n = A.shape[1]
+    tol = check_positive("tol", tol, allow_zero=True)
     scale = max(float(np.abs(A).max()), 1e-300)
     As = A / scale
     rank = int(np.linalg.matrix_rank(As, tol=1e-10))

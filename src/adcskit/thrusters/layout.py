@@ -60,8 +60,17 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
-from adcskit.errors import InputError
+from adcskit._validation import (
+    as_array,
+    as_rng,
+    check_choice,
+    check_int,
+    check_positive,
+    check_positive_array,
+    check_range,
+    short_repr,
+)
+from adcskit.errors import InputError, InputTypeError
 from adcskit.thrusters.allocation import _rpi_layouts
 from adcskit.thrusters.geometry import ThrusterSet
 
@@ -129,9 +138,7 @@ class MountingFace:
             object.__setattr__(self, key, value)
         object.__setattr__(self, "half_u", check_positive("half_u", self.half_u, allow_zero=True, unit="m"))
         object.__setattr__(self, "half_v", check_positive("half_v", self.half_v, allow_zero=True, unit="m"))
-        mc = float(self.max_cant)
-        if not (0.0 <= mc <= math.pi / 2):
-            raise InputError(f"max_cant of face {self.name!r} must be in [0, pi/2] rad; got {mc:g}")
+        mc = check_range("max_cant", self.max_cant, 0.0, math.pi / 2, unit="rad")
         object.__setattr__(self, "max_cant", mc)
 
     def to_dict(self) -> dict[str, Any]:
@@ -179,7 +186,7 @@ def box_faces(
         faces.append(
             MountingFace(
                 name=name, centre=sign * h[k] * e[k], normal=sign * e[k], axis_u=e[iu], axis_v=e[iv],
-                half_u=float(h[iu]), half_v=float(h[iv]), max_cant=float(mc),
+                half_u=float(h[iu]), half_v=float(h[iv]), max_cant=mc,
             )
         )
     if len({f.name for f in faces}) != len(faces):
@@ -188,6 +195,9 @@ def box_faces(
 
 
 def _face_table(faces: Sequence[MountingFace]) -> dict[str, np.ndarray]:
+    if isinstance(faces, str | bytes | MountingFace) or not isinstance(faces, Sequence) or not faces or not all(
+            isinstance(f, MountingFace) for f in faces):
+        raise InputTypeError(f"faces must be a non-empty sequence of MountingFace; got {short_repr(faces)}")
     return {
         "centre": np.stack([f.centre for f in faces]),
         "normal": np.stack([f.normal for f in faces]),
@@ -321,8 +331,8 @@ def score_layout(
     D = as_array("demands", demands, ndim=2)
     if D.shape[1] != 3:
         raise InputError(f"demands must have shape (K, 3); got {D.shape}")
-    fmax = np.broadcast_to(as_array("f_max", f_max, ndim=(0, 1)), (n,)).astype(float)
-    tmin = np.broadcast_to(as_array("t_min", t_min, ndim=(0, 1)), (n,)).astype(float)
+    fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=(n,))
+    tmin = check_positive_array("t_min", t_min, allow_zero=True, unit="s", broadcast_to=(n,))
     fun, err, e_min, sum_tp, tp = _score(
         A, D, fmax, tmin, check_positive("t_s", t_s, unit="s"),
         check_positive("gain", gain, unit="N m/rad"), _check_weights(weights),
@@ -532,7 +542,7 @@ def design_layout(
     ----------
     S3 §4-6, eq. 18-20, Tables 1-7.
     """
-    n = check_int("n_thrusters", n_thrusters, minimum=1)
+    n = check_int("n_thrusters", n_thrusters, minimum=1, maximum=10_000)
     check_choice("algorithm", algorithm, DESIGN_ALGORITHMS)
     check_choice("de_strategy", de_strategy, DE_STRATEGIES)
     faces = tuple(mounting) if mounting is not None else box_faces()
@@ -542,18 +552,16 @@ def design_layout(
     if D.shape[1] != 3 or D.shape[0] < 1:
         raise InputError(f"demands must have shape (K, 3) with K >= 1; got {D.shape}")
     w = _check_weights(weights)
-    fmax = np.full(n, check_positive("f_max", f_max, unit="N"))
+    fmax = np.full(n, check_positive("f_max", f_max, unit="N", min_value=1e-100))
     tmin = np.full(n, check_positive("t_min", t_min, allow_zero=True, unit="s"))
     mdot = check_positive("mdot", mdot, unit="kg/s")
     t_s = check_positive("t_s", t_s, unit="s")
     gain = check_positive("gain", gain, unit="N m/rad")
     com = as_array("com", com, shape=(3,))
-    pop_size = check_int("pop_size", pop_size, minimum=4)
-    n_gen = check_int("n_gen", n_gen, minimum=1)
+    pop_size = check_int("pop_size", pop_size, minimum=4, maximum=100_000)
+    n_gen = check_int("n_gen", n_gen, minimum=1, maximum=1_000_000)
     de_F = check_positive("de_F", de_F)
-    de_CR = float(de_CR)
-    if not 0.0 <= de_CR <= 1.0:
-        raise InputError(f"de_CR must be in [0, 1]; got {de_CR:g}")
+    de_CR = check_range("de_CR", de_CR, 0.0, 1.0)
     seed = int(as_rng(rng).integers(2**31 - 1))
 
     from pymoo.core.callback import Callback

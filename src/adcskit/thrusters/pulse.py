@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, check_positive
+from adcskit._validation import as_array, check_positive, check_positive_array
 from adcskit.errors import InputError
 
 __all__ = [
@@ -66,15 +66,17 @@ def pulse_width(force: Any, *, f_max: Any = 10.0, t_s: float = 0.2) -> np.ndarra
     numpy.ndarray, s
         ``t_p = F t_s / F_max``, same shape as ``force``.
     """
-    F = as_array("force", force)
-    fmax = as_array("f_max", f_max)
+    return _pulse_width("force", force, f_max, t_s)
+
+
+def _pulse_width(name: str, force: Any, f_max: Any, t_s: Any) -> np.ndarray:
+    F = as_array(name, force)
+    fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=F.shape[-1:])
     t_s = check_positive("t_s", t_s, unit="s")
-    if np.any(fmax <= 0):
-        raise InputError(f"f_max must be > 0 N; got {fmax}")
     tol = 1e-9 * np.max(fmax)
     if np.any(F < -tol) or np.any(F > fmax + tol):
         raise InputError(
-            f"force must lie in [0, f_max] N (thrusters push one way); got range "
+            f"{name} must lie in [0, f_max] N (thrusters push one way); got range "
             f"[{F.min():g}, {F.max():g}] with f_max {np.max(fmax):g}"
         )
     return np.clip(F, 0.0, fmax) * t_s / fmax
@@ -86,10 +88,9 @@ def realisable_pulses(t_p: Any, *, t_min: Any = 3e-3, mode: str = "drop") -> np.
     ``mode="drop"``: pulses shorter than ``t_min`` are not fired (dead zone of S3 §2-2);
     ``mode="round"``: they are rounded to 0 or ``t_min``, whichever is nearer.
     """
-    tp = as_array("t_p", t_p)
-    tm = as_array("t_min", t_min)
-    if np.any(tp < 0) or np.any(tm < 0):
-        raise InputError("t_p and t_min must be >= 0 s")
+    tp = check_positive_array("t_p", t_p, allow_zero=True, unit="s")
+    tm = check_positive_array("t_min", t_min, allow_zero=True, unit="s",
+                              broadcast_to=tp.shape[-1:] if tp.ndim else ())
     short = tp < tm
     if mode == "drop":
         return np.where(short, 0.0, tp)
@@ -116,7 +117,9 @@ def min_impulse_bit(lever_arm: Any, *, f_max: Any = 10.0, t_min: Any = 3e-3) -> 
     d = as_array("lever_arm", lever_arm)
     if np.any(d < 0):
         raise InputError(f"lever_arm must be >= 0 m; got minimum {d.min():g}")
-    return d * as_array("f_max", f_max) * as_array("t_min", t_min)
+    fm = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=d.shape[-1:] if d.ndim else ())
+    tm = check_positive_array("t_min", t_min, allow_zero=True, unit="s", broadcast_to=d.shape[-1:] if d.ndim else ())
+    return d * fm * tm
 
 
 def min_reachable_error(
@@ -145,10 +148,9 @@ def min_reachable_error(
 
 def fuel_mass(t_p: Any, *, mdot: Any = 3.5e-3) -> np.ndarray:
     """Propellant used by pulses of width ``t_p`` (kg), S3 eq. 7; sum it for a manoeuvre."""
-    tp = as_array("t_p", t_p)
-    if np.any(tp < 0):
-        raise InputError(f"t_p must be >= 0 s; got minimum {tp.min():g}")
-    return tp * as_array("mdot", mdot)
+    tp = check_positive_array("t_p", t_p, allow_zero=True, unit="s")
+    md = check_positive_array("mdot", mdot, allow_zero=True, unit="kg/s", broadcast_to=tp.shape[-1:] if tp.ndim else ())
+    return tp * md
 
 
 def manoeuvre_fuel(
@@ -171,7 +173,7 @@ def manoeuvre_fuel(
     ----------
     S3 eq. 6-7.
     """
-    tp = pulse_width(forces, f_max=f_max, t_s=t_s)
+    tp = _pulse_width("forces", forces, f_max, t_s)
     if t_min is not None:
         tp = realisable_pulses(tp, t_min=t_min)
     return float(np.sum(fuel_mass(tp, mdot=mdot)))

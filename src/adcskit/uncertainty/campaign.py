@@ -26,14 +26,14 @@ import hashlib
 import os
 import pickle
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from adcskit._validation import check_int
+from adcskit._validation import check_callable, check_int, check_path, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
 
@@ -171,11 +171,18 @@ def run_campaign(
     CampaignResult
         Values in task order, and how many chunks were resumed.
     """
-    if not callable(fn):
-        raise InputTypeError(f"fn must be callable; got {fn!r}")
+    check_callable("fn", fn)
+    if isinstance(tasks, str | bytes) or not isinstance(tasks, Iterable):
+        raise InputTypeError(f"tasks must be a sequence of tasks; got {short_repr(tasks)}")
     tasks = list(tasks)
     if not tasks:
         raise InputError("tasks must not be empty")
+    if directory is not None:
+        directory = check_path("directory", directory, writable_dir=True)
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"directory cannot be created: {str(directory)!r} ({exc.strerror})") from None
     owns = not isinstance(executor, Executor)
     ex = make_executor(executor)
     try:

@@ -38,12 +38,13 @@ import os
 import pickle
 import tempfile
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence, Sized
 from pathlib import Path
 from typing import Any
 
 from adcskit._progress import track
-from adcskit.errors import InputError
+from adcskit._validation import check_callable, check_int, short_repr
+from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
     "Executor",
@@ -126,14 +127,24 @@ class SerialExecutor(Executor):
         return 1
 
     def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
+        _check_map(fn, tasks)
         args = () if shared is NO_SHARED else (shared,)
         return [fn(t, *args) for t in track(tasks, description, total=len(tasks))]
+
+
+def _check_map(fn: Any, tasks: Any) -> None:
+    """Boundary check of ``Executor.map``: a callable and a sized sequence of tasks."""
+    check_callable("fn", fn)
+    if isinstance(tasks, str | bytes) or not isinstance(tasks, Sized) or not isinstance(tasks, Iterable):
+        raise InputTypeError(f"tasks must be a sequence of tasks; got {short_repr(tasks)}")
 
 
 class ProcessExecutor(Executor):
     """A local process pool (``spawn`` start method)."""
 
     def __init__(self, n_workers: int | None = None) -> None:
+        if n_workers is not None:
+            n_workers = check_int("n_workers", n_workers, minimum=1, maximum=1024)
         n = n_workers or os.cpu_count() or 1
         self._n = int(n)
         self.spec = f"processes:{self._n}"
@@ -146,6 +157,7 @@ class ProcessExecutor(Executor):
         return self._n
 
     def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
+        _check_map(fn, tasks)
         tmpdir = None
         if shared is NO_SHARED:
             futures = {self._pool.submit(fn, t): i for i, t in enumerate(tasks)}
@@ -213,6 +225,7 @@ class DaskExecutor(Executor):
     def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
         from dask.distributed import as_completed
 
+        _check_map(fn, tasks)
         if shared is NO_SHARED:
             futures = self._client.map(fn, list(tasks), pure=False)
         else:

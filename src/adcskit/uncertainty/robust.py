@@ -102,7 +102,7 @@ def mean_change_converged(history: Sequence[float], *, tol: float = 1e-7, window
     """
     tol = check_positive("tol", tol)
     window = check_int("window", window, minimum=1)
-    h = np.asarray(history, dtype=float)
+    h = as_array("history", history, ndim=1, nonempty=False)
     if h.size < window + 1:
         return False
     d = np.abs(np.diff(h[-(window + 1) :]))

@@ -20,7 +20,15 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
-from adcskit._validation import as_rng, check_finite, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    as_rng,
+    check_finite,
+    check_int,
+    check_positive,
+    check_real,
+    short_repr,
+)
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = ["Gaussian", "TruncatedGaussian", "Fixed", "latin_hypercube", "SampleStats", "sample_stats"]
@@ -39,6 +47,7 @@ class Gaussian:
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
         """Inverse CDF at ``u`` in (0, 1)."""
+        u = _probabilities(u)
         if self.std == 0.0:
             return np.full(np.shape(u), float(self.mean))
         return stats.norm.ppf(u, loc=self.mean, scale=self.std)
@@ -63,6 +72,8 @@ class TruncatedGaussian:
     def __post_init__(self) -> None:
         check_finite("mean", self.mean)
         check_positive("std", self.std, allow_zero=True)
+        check_real("low", self.low)
+        check_real("high", self.high)
         if not (self.low < self.high):
             raise InputError(f"low must be < high; got low={self.low!r}, high={self.high!r}")
         if self.std == 0.0 and not (self.low <= self.mean <= self.high):
@@ -70,6 +81,7 @@ class TruncatedGaussian:
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
         """Inverse CDF at ``u`` in (0, 1)."""
+        u = _probabilities(u)
         if self.std == 0.0:
             return np.full(np.shape(u), float(self.mean))
         a = (self.low - self.mean) / self.std
@@ -90,13 +102,23 @@ class Fixed:
         check_finite("value", self.value)
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
-        return np.full(np.shape(u), float(self.value))
+        """Inverse CDF at ``u`` in (0, 1): ``value`` everywhere."""
+        return np.full(np.shape(_probabilities(u)), float(self.value))
 
     def to_dict(self) -> dict[str, Any]:
         return {"kind": "fixed", "value": self.value}
 
 
 _DISTS = (Gaussian, TruncatedGaussian, Fixed)
+
+
+def _probabilities(u: Any) -> np.ndarray:
+    """``u`` as a float array of probabilities in the open interval (0, 1)."""
+    arr = as_array("u", u, nonempty=False)
+    if np.any((arr <= 0) | (arr >= 1)):
+        raise InputError(f"u must hold probabilities in (0, 1) (the quantiles at 0 and 1 are infinite); "
+                         f"got range [{arr.min():g}, {arr.max():g}]")
+    return arr
 
 
 def latin_hypercube(
@@ -129,7 +151,7 @@ def latin_hypercube(
             raise InputTypeError(
                 f"dists[{name!r}] must be a Gaussian, TruncatedGaussian or Fixed; got {type(d).__name__}"
             )
-    n = check_int("n", n, minimum=1)
+    n = check_int("n", n, minimum=1, maximum=10**8)
     gen = as_rng(rng)
     unit = qmc.LatinHypercube(d=len(dists), rng=gen).random(n)
     return {name: np.asarray(d.ppf(unit[:, j]), dtype=float) for j, (name, d) in enumerate(dists.items())}
@@ -155,13 +177,13 @@ class SampleStats:
 def sample_stats(x: Any) -> SampleStats:
     """Mean, standard deviation (``ddof=1``), extremes and 5/50/95 % quantiles of ``x``.
 
-    NaN entries are ignored; ``n`` counts the finite ones.
+    NaN and infinite entries are ignored; ``n`` counts the finite ones. An input without any
+    finite value raises :class:`~adcskit.errors.InputError` (there is nothing to summarise).
     """
-    arr = np.asarray(x, dtype=float).ravel()
+    arr = as_array("x", x, finite=False, nonempty=False).ravel()
     arr = arr[np.isfinite(arr)]
     if arr.size == 0:
-        nan = float("nan")
-        return SampleStats(n=0, mean=nan, std=nan, min=nan, max=nan, p05=nan, p50=nan, p95=nan)
+        raise InputError(f"x must contain at least one finite value; got {short_repr(x)}")
     q = np.quantile(arr, [0.05, 0.5, 0.95])
     return SampleStats(
         n=int(arr.size),

@@ -34,8 +34,8 @@ def _energy(x, u, t):
 
 def double_integrator_min_time(distance: float = 1.0, accel_max: float = 1.0) -> OptimalControlProblem:
     """Minimum-time rest-to-rest move of ``distance`` (m) with ``|u| <= accel_max`` (m/s²)."""
-    d = check_positive("distance", distance, unit="m")
-    a = check_positive("accel_max", accel_max, unit="m/s^2")
+    d = check_positive("distance", distance, unit="m", min_value=1e-50, max_value=1e50)
+    a = check_positive("accel_max", accel_max, unit="m/s^2", min_value=1e-50, max_value=1e50)
     tf = 2.0 * np.sqrt(d / a)
     return OptimalControlProblem(
         name="double-integrator-min-time",
@@ -57,8 +57,8 @@ def double_integrator_min_time(distance: float = 1.0, accel_max: float = 1.0) ->
 
 def double_integrator_min_energy(distance: float = 1.0, duration: float = 1.0) -> OptimalControlProblem:
     """Minimum-energy rest-to-rest move of ``distance`` (m) in fixed ``duration`` (s)."""
-    d = check_positive("distance", distance, unit="m")
-    T = check_positive("duration", duration, unit="s")
+    d = check_positive("distance", distance, unit="m", min_value=1e-50, max_value=1e50)
+    T = check_positive("duration", duration, unit="s", min_value=1e-50, max_value=1e50)
     return OptimalControlProblem(
         name="double-integrator-min-energy",
         dynamics=_f,

@@ -209,6 +209,7 @@ def rendezvous_problem(
     if not isinstance(params, RendezvousParams):
         raise InputError(f"params must be a RendezvousParams; got {type(params).__name__}")
     dynamics = check_choice("dynamics", dynamics, RENDEZVOUS_DYNAMICS)
+    tf_guess = check_positive("tf_guess", tf_guess, unit="s")
     s0 = as_array("s0", s0, shape=(3,))
     sf = as_array("sf", sf, shape=(3,))
     sigma_f = as_array("sigma_f", sigma_f, shape=(3,))

@@ -1,0 +1,713 @@
+"""The registry of valid calls of the robustness suite: one entry per public callable.
+
+HOW TO ADD AN ENTRY (a new public function, class or method):
+
+    @case("estimation.my_function", positive=("dt",))
+    def _():
+        return dict(x=[1.0, 2.0, 3.0], dt=0.1, method="fast")
+
+The decorated function returns the keyword arguments of ONE valid, fast (< ~50 ms) call; it is
+called afresh for every mutation. The name is ``"<subpackage>.<name in its __all__>"``
+(``".method"`` may follow for a method; pass ``target=`` to build the bound method). Every
+argument present in the dict is mutated according to its inferred kind (float, int, flag,
+choice (str), array, mapping, callable, object); override with ``kinds={"arg": "times"}`` or
+``kinds={"arg": "skip"}``. See :class:`harness.Case` for ``positive``, ``degenerate``,
+``nonfinite_ok``, ``nan_ok``, ``aliases``, ``extra`` and ``slow``. Names that are not callables
+with a meaningful valid call (result dataclasses, exception types) go into ``EXEMPT`` with a
+reason. ``test_every_public_name_has_an_entry`` fails for a public name in neither.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from harness import Case
+
+CASES: dict[str, Case] = {}
+
+
+def case(name: str, **opts: Any) -> Callable[[Callable[[], dict[str, Any]]], Callable[[], dict[str, Any]]]:
+    """Register the decorated valid-call factory under ``name``."""
+
+    def deco(factory: Callable[[], dict[str, Any]]) -> Callable[[], dict[str, Any]]:
+        if name in CASES:
+            raise KeyError(f"duplicate robustness case {name!r}")
+        CASES[name] = Case(name=name, valid=factory, **opts)
+        return factory
+
+    return deco
+
+
+def method(cls_path: str, make: Callable[[], Any], meth: str) -> Callable[[], Callable[..., Any]]:
+    """``target=`` for a method of an instance built by ``make``."""
+    return lambda: getattr(make(), meth)
+
+
+#: Public names without an entry, with the reason. Exception types are exempt automatically.
+EXEMPT: dict[str, str] = {}
+
+
+def exempt(reason: str, *names: str) -> None:
+    for n in names:
+        EXEMPT[n] = reason
+
+
+RESULT = "result dataclass: built by adcskit from validated data, not an entry point"
+exempt(
+    RESULT,
+    "dynamics.AttitudeTrajectory",
+    "environment.OrbitState",
+    "determination.WahbaResult",
+    "determination.RobustWahbaResult",
+    "estimation.AugmentedEKFResult",
+    "estimation.IdentificationResult",
+    "estimation.JointResult",
+    "estimation.KalmanResult",
+    "estimation.LinearSimulation",
+    "optimal_control.BangBangResult",
+    "optimal_control.MeshSequenceResult",
+    "optimal_control.MultistartResult",
+    "optimal_control.OptimalControlSolution",
+    "optimal_control.ResimulationResult",
+    "thrusters.AllocationResult",
+    "thrusters.Controllability",
+    "thrusters.LayoutResult",
+    "thrusters.LayoutScore",
+    "control.OnOffMetrics",
+    "control.OnOffTrace",
+    "uncertainty.CampaignResult",
+    "uncertainty.SampleStats",
+    "studies.StudyResult",
+    "studies.Check",
+    "studies.Comparison",
+)
+exempt("abstract base class with no behaviour of its own", "uncertainty.Executor")
+exempt(
+    "study registry record and figure helper: owned by the studies framework, exercised by "
+    "tests/test_framework.py",
+    "studies.Study",
+    "studies.new_figure",
+)
+exempt(
+    "cache control without arguments (no input to validate)",
+    "optimal_control.clear_cache",
+    "studies.study_names",
+    "cli.build_parser",
+)
+exempt(
+    "needs a live Dask scheduler (optional dependency); its arguments are validated by the "
+    "same helpers as ProcessExecutor",
+    "uncertainty.DaskExecutor",
+)
+
+# ============================================================================================
+# attitude
+# ============================================================================================
+
+Q = [0.1, -0.2, 0.3, 0.9273618495495703]  # unit quaternion, scalar last
+Q2 = [0.0, 0.0, 0.0, 1.0]
+DCM = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+SIGMA = [0.1, 0.2, -0.1]
+W = [0.01, -0.02, 0.03]
+
+for _n in ("quat_canonical", "quat_from_scalar_first", "quat_inverse", "quat_normalize",
+           "quat_to_dcm", "quat_to_mrp", "quat_to_scalar_first", "to_scipy", "xi_matrix"):
+    case(f"attitude.{_n}", exact=_n != "to_scipy")(lambda: dict(q=list(Q)))
+
+for _n in ("dcm_to_mrp", "dcm_to_quat"):
+    case(f"attitude.{_n}")(lambda: dict(A=[list(r) for r in DCM]))
+
+case("attitude.dcm_to_euler")(lambda: dict(A=[list(r) for r in DCM], seq="321"))
+case("attitude.euler_to_dcm")(lambda: dict(angles=[0.1, 0.2, 0.3], seq="313"))
+case("attitude.error_angle")(lambda: dict(q1=list(Q), q2=list(Q2)))
+case("attitude.quat_kinematics")(lambda: dict(q=list(Q), omega=list(W)))
+case("attitude.quat_multiply")(lambda: dict(p=list(Q), q=list(Q2)))
+case("attitude.random_quat")(lambda: dict(n=3, rng=1))
+case("attitude.skew")(lambda: dict(v=[1.0, 2.0, 3.0]))
+for _n in ("mrp_b_matrix", "mrp_shadow", "mrp_to_dcm", "mrp_to_quat"):
+    case(f"attitude.{_n}")(lambda: dict(sigma=list(SIGMA)))
+case("attitude.mrp_kinematics")(lambda: dict(sigma=list(SIGMA), omega=list(W)))
+case("attitude.mrp_switch")(lambda: dict(sigma=[0.9, 0.5, 0.1], threshold=1.0))
+
+
+@case("attitude.from_scipy", kinds={"rotation": "object"})
+def _():
+    from scipy.spatial.transform import Rotation
+
+    return dict(rotation=Rotation.from_quat(Q))
+
+
+# ============================================================================================
+# dynamics
+# ============================================================================================
+
+J = [[10.0, 0.1, 0.0], [0.1, 8.0, 0.0], [0.0, 0.0, 6.0]]
+JD = [[10.0, 0.0, 0.0], [0.0, 8.0, 0.0], [0.0, 0.0, 6.0]]
+
+case("dynamics.as_inertia")(lambda: dict(inertia=[list(r) for r in J]))
+case("dynamics.cw_matrices", positive=("n",))(lambda: dict(n=1.1e-3))
+case("dynamics.cw_stm", positive=("n",))(lambda: dict(n=1.1e-3, t=100.0))
+case("dynamics.discretize", positive=("dt",))(
+    lambda: dict(A=[[0.0, 1.0], [0.0, 0.0]], B=[[0.0], [1.0]], dt=0.1, method="zoh")
+)
+case("dynamics.euler_equations")(lambda: dict(omega=list(W), inertia=[list(r) for r in J], torque=[0.1, 0.0, 0.0]))
+case("dynamics.gravity_gradient_torque", positive=("mu",))(
+    lambda: dict(r_body=[7.0e6, 1.0e5, 0.0], inertia=[list(r) for r in J], mu=3.986004418e14)
+)
+case("dynamics.lvlh_attitude_model", positive=("orbit_rate",))(
+    lambda: dict(inertia=[list(r) for r in JD], orbit_rate=1.1e-3, printed=False)
+)
+case("dynamics.lvlh_second_order", positive=("orbit_rate",))(
+    lambda: dict(inertia=[list(r) for r in JD], orbit_rate=1.1e-3, printed=False)
+)
+case("dynamics.orbit_rate", positive=("mu", "radius"))(lambda: dict(altitude=5e5, mu=3.986004418e14, radius=6378137.0))
+
+
+def _torque(t: float, q: np.ndarray, w: np.ndarray) -> np.ndarray:
+    return np.array([1e-3, 0.0, 0.0])
+
+
+@case(
+    "dynamics.propagate_attitude",
+    positive=("rtol", "atol"),
+    nan_ok=(),
+    extra={
+        "q0-1e299": ("q0", [0.0, 0.0, 1e299, 1e299], "finite"),
+        "omega0-1e299": ("omega0", [1e299, 0.0, 0.0], "finite"),
+        "torque-inf": ("torque", lambda t, q, w: np.array([np.inf, 0.0, 0.0]), "nonfinite"),
+        "torque-shape": ("torque", lambda t, q, w: np.zeros(2), "type"),
+        "torque-huge": ("torque", lambda t, q, w: np.array([1e300, 0.0, 0.0]), "finite"),
+    },
+)
+def _():
+    return dict(q0=list(Q), omega0=list(W), inertia=[list(r) for r in J], t_eval=[0.0, 1.0, 2.0],
+                torque=_torque, method="DOP853", rtol=1e-8, atol=1e-10)
+
+
+# ============================================================================================
+# environment
+# ============================================================================================
+
+T0 = "2024-03-20T12:00:00"
+TIMES = ["2024-03-20T12:00:00", "2024-03-21T00:00:00"]
+R_ECI = [7.0e6, 1.0e5, 2.0e5]
+TLE_00005 = (
+    "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753",
+    "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667",
+)
+TK = {"times": "times"}
+
+case("environment.as_utc", kinds=TK)(lambda: dict(times=T0))
+for _n in ("decimal_year", "dipole_coefficients", "eci_to_ecef_matrix", "gmst", "julian_centuries",
+           "julian_date", "sun_direction", "sun_position"):
+    case(f"environment.{_n}", kinds=TK)(lambda: dict(times=list(TIMES)))
+case("environment.utc_times", kinds={"epoch": "times"})(lambda: dict(epoch=T0, t=[0.0, 60.0, 1e4]))
+case("environment.ecef_to_eci", kinds=TK)(lambda: dict(r_ecef=list(R_ECI), times=T0))
+case("environment.eci_to_ecef", kinds=TK)(lambda: dict(r_eci=list(R_ECI), times=T0))
+case("environment.ecef_to_eci_state", kinds=TK)(lambda: dict(r_ecef=list(R_ECI), v_ecef=[0.0, 7.5e3, 0.0], times=T0))
+case("environment.eci_to_ecef_state", kinds=TK)(lambda: dict(r_eci=list(R_ECI), v_eci=[0.0, 7.5e3, 0.0], times=T0))
+case("environment.ecef_to_geocentric")(lambda: dict(r_ecef=list(R_ECI)))
+case("environment.ecef_to_geodetic")(lambda: dict(r_ecef=list(R_ECI)))
+case("environment.enu_to_ecef_matrix")(lambda: dict(lat=0.5, lon=1.0))
+case("environment.ned_to_ecef_matrix")(lambda: dict(lat=0.5, lon=1.0))
+case("environment.geocentric_to_ecef", positive=("radius",))(lambda: dict(radius=7.0e6, colat=1.0, lon=0.5))
+case("environment.geodetic_to_ecef")(lambda: dict(lat=0.5, lon=1.0, h=5e5))
+case("environment.in_shadow", kinds=TK, positive=("radius",))(lambda: dict(r_eci=list(R_ECI), times=T0, radius=6378137.0))
+case("environment.magnetic_field", kinds=TK)(lambda: dict(r_eci=list(R_ECI), times=T0, model="dipole"))
+case("environment.solve_kepler")(lambda: dict(mean_anomaly=[0.1, 1.0, 3.0], e=0.1))
+case("environment.rv_to_elements", positive=("mu",))(lambda: dict(r=list(R_ECI), v=[0.0, 7.5e3, 100.0], mu=3.986004418e14))
+case("environment.elements_to_rv", positive=("a", "mu"))(
+    lambda: dict(a=7.0e6, e=0.01, inclination=0.9, raan=0.1, argp=0.2, true_anomaly=[0.0, 1.0], mu=3.986004418e14)
+)
+case("environment.circular_orbit", kinds={"epoch": "times"}, positive=("mu", "radius"))(
+    lambda: dict(altitude=5e5, inclination=0.9, raan=0.1, arg_lat0=0.0, t=[0.0, 60.0], epoch=T0,
+                 mu=3.986004418e14, radius=6378137.0)
+)
+case("environment.kepler_orbit", kinds={"epoch": "times"}, positive=("a", "mu"))(
+    lambda: dict(a=7.0e6, e=0.01, inclination=0.9, raan=0.1, argp=0.2, mean_anomaly0=0.0,
+                 t=[0.0, 60.0], epoch=T0, mu=3.986004418e14)
+)
+case("environment.KeplerOrbit", kinds={"epoch": "times"}, positive=("a", "mu"))(
+    lambda: dict(a=7.0e6, e=0.01, inclination=0.9, raan=0.1, argp=0.2, mean_anomaly0=0.0, epoch=T0,
+                 mu=3.986004418e14)
+)
+
+
+def _kepler() -> Any:
+    from adcskit.environment import KeplerOrbit
+
+    return KeplerOrbit(a=7.0e6, e=0.01, epoch=T0)
+
+
+case("environment.KeplerOrbit.propagate", target=method("environment.KeplerOrbit", _kepler, "propagate"),
+     extra={"t-1e300": ("t", [0.0, 1e300], "finite")})(lambda: dict(t=[0.0, 60.0, 600.0]))
+case("environment.sgp4_orbit", kinds={"times": "times", "tle_line1": "choice", "tle_line2": "choice"})(
+    lambda: dict(tle_line1=TLE_00005[0], tle_line2=TLE_00005[1], times="2000-06-28")
+)
+
+# ============================================================================================
+# sensors
+# ============================================================================================
+
+A_ATT = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]
+R_REF = [0.6, 0.0, 0.8]
+SENSOR_KW = dict(noise_std=0.01, angle_bound=0.02, component_fraction=0.01, bias=[0.0, 0.001, 0.0],
+                 misalignment=[0.001, -0.002, 0.0], normalize=True)
+
+for _cls in ("VectorSensor", "SunSensor", "Magnetometer"):
+    case(f"sensors.{_cls}", positive=("noise_std", "angle_bound", "component_fraction"))(lambda: dict(SENSOR_KW))
+
+
+def _sensor() -> Any:
+    from adcskit.sensors import VectorSensor
+
+    return VectorSensor(**SENSOR_KW)
+
+
+case("sensors.VectorSensor.measure", target=method("", _sensor, "measure"),
+     degenerate={"zero-attitude": {"A": np.zeros((3, 3))}, "zero-ref": {"r": [0.0, 0.0, 0.0]},
+                 "non-orthogonal": {"A": [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]]}})(
+    lambda: dict(A=[list(r) for r in A_ATT], r=list(R_REF), rng=3)
+)
+case("sensors.VectorSensor.true_body", target=method("", _sensor, "true_body"),
+     degenerate={"zero-attitude": {"A": np.zeros((3, 3))}, "zero-ref": {"r": [0.0, 0.0, 0.0]}})(
+    lambda: dict(A=[list(r) for r in A_ATT], r=list(R_REF))
+)
+case("sensors.VectorSensor.interval", target=method("", _sensor, "interval"))(lambda: dict(measured=[0.6, 0.0, 0.8]))
+case("sensors.interval_from_bounds")(lambda: dict(lower=[0.0, 0.1, 0.2], upper=[0.1, 0.3, 0.4]))
+case("sensors.midpoint_radius", positive=("angle_bound", "fraction"))(
+    lambda: dict(measured=[0.6, 0.0, 0.8], angle_bound=0.01, fraction=0.01, normalized=False)
+)
+case("sensors.vector_bounds", positive=("angle_bound", "fraction"))(
+    lambda: dict(measured=[0.6, 0.0, 0.8], angle_bound=0.01, fraction=0.01, normalized=False)
+)
+
+# ============================================================================================
+# determination
+# ============================================================================================
+
+BODY = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+REF = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+COLLINEAR = [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
+
+case("determination.davenport_k", positive=("weights",),
+     degenerate={})(lambda: dict(body=[list(r) for r in BODY], ref=[list(r) for r in REF], weights=[1.0, 2.0, 3.0]))
+case("determination.wahba_loss", positive=("weights",))(
+    lambda: dict(q=list(Q), body=[list(r) for r in BODY], ref=[list(r) for r in REF], weights=[1.0, 2.0, 3.0])
+)
+case("determination.solve_wahba", positive=("weights",),
+     degenerate={"collinear": {"body": COLLINEAR, "ref": COLLINEAR}})(
+    lambda: dict(body=[list(r) for r in BODY], ref=[list(r) for r in REF], weights=[1.0, 2.0, 3.0],
+                 method="q-method", covariance=True)
+)
+_RB = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+_RR = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+
+
+@case(
+    "determination.robust_wahba",
+    positive=("body_radius", "ref_radius", "weights", "search_range"),
+    degenerate={
+        "collinear-q0": {"body_mid": COLLINEAR, "ref_mid": COLLINEAR, "q0": [0.0, 0.0, 0.0, 1.0]},
+        "collinear": {"body_mid": COLLINEAR, "ref_mid": COLLINEAR},
+    },
+    kinds={"delta": "skip"},
+)
+def _():
+    return dict(body_mid=[list(r) for r in _RB], body_radius=[[0.02] * 3] * 3, ref_mid=[list(r) for r in _RR],
+                ref_radius=[[0.02] * 3] * 3, weights=[1.0, 1.0, 1.0], method="minmax", search_range=0.1,
+                q0=[0.0, 0.0, 0.7071067811865476, 0.7071067811865476], solver="closed-form", maxiter=50, rng=0)
+
+
+case("determination.interval_objectives", positive=("body_radius", "ref_radius", "weights"))(
+    lambda: dict(q=list(Q), alpha=np.full((3, 3), 0.5), beta=np.full((3, 3), 0.5), body_mid=[list(r) for r in _RB],
+                 body_radius=[[0.02] * 3] * 3, ref_mid=[list(r) for r in _RR], ref_radius=[[0.02] * 3] * 3,
+                 weights=[1.0, 1.0, 1.0])
+)
+
+# ============================================================================================
+# estimation
+# ============================================================================================
+
+A2 = [[0.9, 0.1], [0.0, 0.8]]
+B2 = [[0.0], [1.0]]
+C2 = [[1.0, 0.0], [0.0, 1.0]]
+
+
+def _sim(n: int = 30) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(0)
+    u = rng.normal(size=(n, 1))
+    x = np.zeros((n + 1, 2))
+    for k in range(n):
+        x[k + 1] = np.array(A2) @ x[k] + np.array(B2) @ u[k] + 0.01 * rng.normal(size=2)
+    return x, u
+
+
+case("estimation.simulate_linear", positive=("R", "Q"))(
+    lambda: dict(A=A2, B=B2, C=C2, u=_sim()[1], x0=[0.1, 0.0], R=0.01, Q=0.001, rng=1)
+)
+case("estimation.kalman_filter", positive=("R", "Q", "P0"))(
+    lambda: dict(A=A2, B=B2, C=C2, y=_sim()[0][1:], u=_sim()[1], Q=0.001, R=0.01, x0=[0.0, 0.0], P0=1.0,
+                 form="predict-update")
+)
+case("estimation.KalmanFilter", positive=("P0",))(lambda: dict(x0=[0.0, 0.0], P0=[[1.0, 0.0], [0.0, 1.0]], form="predict-update"))
+case("estimation.RecursiveLeastSquares", positive=("delta",))(lambda: dict(Theta0=np.zeros((3, 2)), delta=100.0, forgetting=0.99))
+
+
+def _rls() -> Any:
+    from adcskit.estimation import RecursiveLeastSquares
+
+    return RecursiveLeastSquares(np.zeros((3, 2)), delta=100.0, forgetting=0.99)
+
+
+case("estimation.RecursiveLeastSquares.update_batch", target=method("", _rls, "update_batch"))(
+    lambda: dict(Phi=np.arange(8.0).reshape(4, 2) / 10, Z=np.arange(12.0).reshape(4, 3) / 10)
+)
+case("estimation.regression_data")(
+    lambda: dict(states=_sim()[0][:-1], targets=_sim()[0][1:], inputs=_sim()[1], B=B2, estimate_B=False)
+)
+case("estimation.identify_model", nan_ok=("reg_param",),
+     degenerate={"zero-data-gmres": {"states": np.zeros((30, 2)), "targets": np.zeros((30, 2)), "method": "gmres"},
+                 "zero-data-qr": {"states": np.zeros((30, 2)), "targets": np.zeros((30, 2))}},
+     extra={"options-bad-type": ("options", {"rtol": "abc"}, "type")})(
+    lambda: dict(states=_sim()[0][:-1], targets=_sim()[0][1:], inputs=_sim()[1], B=B2, estimate_B=False,
+                 method="qr", rng=0)
+)
+case("estimation.offline_schedule")(lambda: dict(n_states=3))
+
+
+def _model(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return np.array([[0.9, p[0]], [0.0, 0.8]]), np.array([[0.0], [1.0]])
+
+
+case("estimation.augmented_ekf", positive=("P_p0", "Q_p", "Q", "R", "P0", "p_min", "fd_step"),
+     nan_ok=())(
+    lambda: dict(y=_sim()[0][1:], u=_sim()[1], model=_model, p0=[0.05], P_p0=1.0, Q_p=1e-6, C=C2, Q=0.001,
+                 R=0.01, x0=[0.0, 0.0], P0=1.0, p_min=0.05, fd_step=1e-6)
+)
+case("estimation.joint_estimate", positive=("Q", "R", "P0"), slow=True)(
+    lambda: dict(y=_sim()[0][1:], u=_sim()[1], A_prior=A2, B=B2, C=C2, Q=0.001, R=0.01, x0=[0.0, 0.0],
+                 P0=1.0, method="adaptive-gmres-online", estimate_B=False, start=10, passes=1,
+                 form="predict-update", rng=0)
+)
+
+# ============================================================================================
+# optimal_control
+# ============================================================================================
+
+
+def _di() -> Any:
+    from adcskit.optimal_control.problems import double_integrator_min_energy
+
+    return double_integrator_min_energy(1.0, 1.0)
+
+
+_SOL: dict[str, Any] = {}
+
+
+def _solution() -> Any:
+    if "s" not in _SOL:
+        from adcskit.optimal_control import solve
+
+        _SOL["s"] = solve(_di(), method="gauss", mesh=(3, 3))
+    return _SOL["s"]
+
+
+#: Infinite bounds of a problem are legitimate (unbounded states); so are the scales derived.
+OCP_NAN = ("state_lower", "state_upper", "control_lower", "control_upper", "state_scale", "control_scale",
+           "tf_bounds", "problem")
+
+IPOPT_EXTRA = {
+    "ipopt-unknown": ("ipopt_options", {"no_such_ipopt_option": 1}, "type"),
+    "ipopt-ill-typed": ("ipopt_options", {"max_iter": "many"}, "type"),
+    "ipopt-none-value": ("ipopt_options", {"tol": None}, "type"),
+}
+
+for _n in ("legendre_gauss", "legendre_gauss_radau", "gauss_differentiation_matrix", "radau_differentiation_matrix"):
+    case(f"optimal_control.{_n}")(lambda: dict(n=4))
+case("optimal_control.lagrange_matrix")(lambda: dict(support=[-1.0, 0.0, 1.0], points=[-0.5, 0.5]))
+case("optimal_control.lagrange_derivative_matrix")(lambda: dict(support=[-1.0, 0.0, 1.0], points=[-0.5, 0.5]))
+case("optimal_control.Mesh")(lambda: dict(nodes=(3, 4), fractions=(0.5, 0.5)))
+case("optimal_control.Guess", positive=("tf",))(
+    lambda: dict(t=[0.0, 0.5, 1.0], x=[[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], u=[[1.0], [0.0], [-1.0]], tf=1.0)
+)
+case("optimal_control.OptimalControlProblem", kinds={"name": "skip"},
+     nan_ok=(*OCP_NAN, "initial_state", "final_state"),
+     nonfinite_ok=("initial_state", "final_state", "control_lower", "control_upper", "dynamics", "lagrange"))(
+    lambda: dict(dynamics=lambda x, u, t: [x[1], u[0]], n_states=2, n_controls=1,
+                 initial_state=[0.0, 0.0], final_state=[1.0, 0.0], control_lower=[-10.0], control_upper=[10.0],
+                 tf_bounds=(1.0, 1.0), lagrange=lambda x, u, t: u[0] ** 2)
+)
+case("optimal_control.default_guess", kinds={"problem": "object"})(lambda: dict(problem=_di()))
+case("optimal_control.random_guess", kinds={"problem": "object"}, positive=("spread",))(
+    lambda: dict(problem=_di(), rng=2, spread=0.5, knots=4)
+)
+case("optimal_control.solve", nan_ok=OCP_NAN, kinds={"problem": "object"}, extra=IPOPT_EXTRA)(
+    lambda: dict(problem=_di(), method="gauss", mesh=(3, 3), ipopt_options={"max_iter": 200})
+)
+case("optimal_control.solve_mesh_sequence", nan_ok=(*OCP_NAN, "rel_change"), aliases={"meshes": ("mesh",)}, kinds={"problem": "object"}, positive=("rtol",), extra=IPOPT_EXTRA,
+     slow=True)(
+    lambda: dict(problem=_di(), meshes=((3, 3), (4, 3)), method="gauss", rtol=1e-5, ipopt_options={"max_iter": 200})
+)
+case("optimal_control.multistart", nan_ok=OCP_NAN, shape_stable=False, kinds={"problem": "object"}, positive=("spread", "rtol"), extra=IPOPT_EXTRA,
+     slow=True)(
+    lambda: dict(problem=_di(), n_starts=2, method="gauss", mesh=(3, 3), rng=1, include_default=True, spread=0.5,
+                 rtol=1e-4, ipopt_options={"max_iter": 200})
+)
+case("optimal_control.resimulate", kinds={"solution": "object"}, positive=("rtol", "atol"))(
+    lambda: dict(solution=_solution(), control="lagrange", method="DOP853", rtol=1e-8, atol=1e-10,
+                 points_per_interval=3)
+)
+case("optimal_control.bang_bang", kinds={"solution": "object"}, positive=("tol", "min_fraction"))(
+    lambda: dict(solution=_solution(), tol=0.02, min_fraction=0.9)
+)
+case("optimal_control.problems.double_integrator_min_energy", nan_ok=OCP_NAN, positive=("distance", "duration"))(
+    lambda: dict(distance=1.0, duration=1.0)
+)
+case("optimal_control.problems.double_integrator_min_time", nan_ok=OCP_NAN, positive=("distance", "accel_max"))(
+    lambda: dict(distance=1.0, accel_max=1.0)
+)
+case("optimal_control.problems.RendezvousParams", positive=("inertia", "mass", "torque_max", "force_max", "altitude"))(
+    lambda: dict(inertia=(5621.0, 4547.0, 2364.0), mass=3200.0, torque_max=(50.0, 50.0, 50.0),
+                 force_max=(320.0, 320.0, 320.0), altitude=580000.0)
+)
+case("optimal_control.problems.rendezvous_problem", nan_ok=OCP_NAN, positive=("tf_guess",), kinds={"params": "skip"})(
+    lambda: dict(s0=(20.0, 0.0, 0.0), sf=(0.0, 0.0, -10.0), sigma_f=(0.0, 0.41421356237309503, 0.0),
+                 dynamics="paper", tf_guess=25.0)
+)
+
+# ============================================================================================
+# thrusters
+# ============================================================================================
+
+POS = [[1.0, 0.5, 0.0], [-1.0, 0.5, 0.0], [1.0, -0.5, 0.0], [-1.0, -0.5, 0.0], [0.0, 0.5, 1.0], [0.0, -0.5, -1.0]]
+DIRS = [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
+
+
+def _tm() -> np.ndarray:
+    from adcskit.thrusters import torque_matrix
+
+    return torque_matrix(POS, DIRS)
+
+
+CUBE = np.array([[1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1], [0.5, 0, 0]], dtype=float)
+
+
+def _cube_tm() -> np.ndarray:
+    # 8 thrusters on a cube's corners, tangential directions: a controllable set.
+    from adcskit.thrusters import torque_matrix
+
+    pos, dirs = [], []
+    for sx in (1.0, -1.0):
+        for sy in (1.0, -1.0):
+            pos += [[sx, sy, 1.0], [sx, sy, -1.0]]
+            dirs += [[-sy, sx, 0.0], [sy, -sx, 0.0]]
+    d = np.array(dirs) / np.sqrt(2)
+    d[::2, 2] = 0.3
+    d[1::2, 2] = -0.3
+    return torque_matrix(np.array(pos), d / np.linalg.norm(d, axis=1, keepdims=True))
+
+
+case("thrusters.torque_matrix")(lambda: dict(positions=POS, directions=DIRS))
+case("thrusters.angles_from_direction")(lambda: dict(direction=[0.0, 0.6, 0.8]))
+case("thrusters.direction_from_angles")(lambda: dict(alpha=0.3, beta=0.2))
+case("thrusters.check_controllability", positive=("tol",))(lambda: dict(torque_matrix=_cube_tm(), tol=1e-9))
+case("thrusters.allocate", positive=("f_max",),
+     degenerate={"zero-f_max": {"f_max": 0.0}},
+     extra={"demand-1e299": ("demand", [1e299, 0.0, 0.0], "finite"),
+            "f_max-negative": ("f_max", -1.0, "negative")})(
+    lambda: dict(torque_matrix=_cube_tm(), demand=[0.5, -0.2, 0.1], method="lp-min-fuel", f_max=10.0)
+)
+case("thrusters.Thruster", positive=("f_max", "t_min", "mdot"))(
+    lambda: dict(position=[1.0, 0.0, 0.0], direction=[0.0, 1.0, 0.0], f_max=10.0, t_min=0.003, mdot=0.0035)
+)
+case("thrusters.Thruster.from_angles", positive=("f_max",))(
+    lambda: dict(position=[1.0, 0.0, 0.0], alpha=0.3, beta=0.2, f_max=10.0)
+)
+case("thrusters.ThrusterSet", positive=("f_max", "t_min", "mdot"), kinds={"names": "skip"})(
+    lambda: dict(positions=POS, directions=DIRS, f_max=10.0, t_min=0.003, mdot=0.0035, com=(0.0, 0.0, 0.0))
+)
+case("thrusters.MountingFace", positive=("half_u", "half_v", "max_cant"), kinds={"name": "skip"})(
+    lambda: dict(name="+X", centre=[1.0, 0.0, 0.0], normal=[1.0, 0.0, 0.0], axis_u=[0.0, 1.0, 0.0],
+                 axis_v=[0.0, 0.0, 1.0], half_u=1.0, half_v=1.0, max_cant=1.0)
+)
+case("thrusters.box_faces", positive=("half_size", "max_cant"), kinds={"names": "skip"})(
+    lambda: dict(half_size=(1.0, 1.0, 1.0), max_cant=1.0)
+)
+
+
+def _faces() -> Any:
+    from adcskit.thrusters import box_faces
+
+    return box_faces()
+
+
+case("thrusters.decode_layout", kinds={"faces": "object"})(
+    lambda: dict(genes=np.tile([0.1, 0.2, 0.3, 0.4, 0.5], 2), faces=_faces(), com=(0.0, 0.0, 0.0))
+)
+DEMANDS = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+case("thrusters.score_layout", positive=("f_max", "t_min", "t_s", "gain"))(
+    lambda: dict(torque_matrix=_cube_tm(), demands=DEMANDS, weights=(100.0, -99.0, 12.0), f_max=10.0, t_min=0.003,
+                 t_s=0.2, gain=600.0)
+)
+case("thrusters.design_layout", positive=("f_max", "t_min", "mdot", "t_s", "gain"), kinds={"mounting": "skip"},
+     slow=True)(
+    lambda: dict(n_thrusters=8, demands=DEMANDS, algorithm="de", f_max=10.0, t_min=0.003, mdot=0.0035, t_s=0.2,
+                 gain=600.0, pop_size=4, n_gen=1, de_strategy="current-to-best/1/bin", de_F=0.8, de_CR=0.9, rng=0)
+)
+case("thrusters.fuel_mass", positive=("t_p", "mdot"))(lambda: dict(t_p=[0.01, 0.02, 0.0], mdot=0.0035))
+case("thrusters.manoeuvre_fuel", positive=("f_max", "t_s", "mdot", "t_min"))(
+    lambda: dict(forces=[[1.0, 2.0, 0.0], [0.5, 0.0, 3.0]], f_max=10.0, t_s=0.2, mdot=0.0035, t_min=0.003)
+)
+case("thrusters.min_impulse_bit", positive=("f_max", "t_min"))(lambda: dict(lever_arm=[1.0, 0.5], f_max=10.0, t_min=0.003))
+case("thrusters.min_reachable_error", positive=("f_max", "t_min", "t_s", "gain"))(
+    lambda: dict(lever_arm=[1.0, 0.5], f_max=10.0, t_min=0.003, t_s=0.2, gain=600.0)
+)
+case("thrusters.pulse_width", positive=("force", "f_max", "t_s"))(lambda: dict(force=[1.0, 5.0, 0.0], f_max=10.0, t_s=0.2))
+case("thrusters.realisable_pulses", positive=("t_p", "t_min"))(lambda: dict(t_p=[0.001, 0.01, 0.1], t_min=0.003, mode="drop"))
+
+# ============================================================================================
+# control
+# ============================================================================================
+
+LOOP = dict(kp=56.24, ki=0.02, kd=49.99, u_on=0.15, off_ratio=0.5, inertia=10.0, torque=1.0, delay=0.02,
+            disturbance=0.05, disturbance_amp=0.0, disturbance_freq_hz=0.0, theta_ref=0.26, theta0=0.0, omega0=0.0)
+SETTINGS = dict(dt=0.001, t_final=0.2, t_window=0.1, tau_thruster=0.01, tau_deriv=0.01, command_rate_hz=50.0,
+                settle_band=0.02)
+
+case("control.LoopParams", positive=("inertia", "torque", "delay", "u_on"))(lambda: dict(LOOP))
+case("control.LoopSettings", positive=tuple(SETTINGS))(lambda: dict(SETTINGS))
+
+
+def _params() -> Any:
+    from adcskit.control import LoopParams
+
+    return LoopParams(**LOOP)
+
+
+def _settings() -> Any:
+    from adcskit.control import LoopSettings
+
+    return LoopSettings(**SETTINGS)
+
+
+case("control.simulate_batch", kinds={"params": "object", "settings": "object"}, nan_ok=("settling_time",))(
+    lambda: dict(params=_params(), settings=_settings(), backend="numba", parallel=False)
+)
+case("control.simulate_trace", kinds={"params": "object", "settings": "object"}, nan_ok=("settling_time",))(
+    lambda: dict(params=_params(), settings=_settings(), backend="numba")
+)
+case("control.schmitt_trigger")(lambda: dict(u=[0.0, 0.2, 0.1, 0.05, -0.2], u_on=0.15, u_off=0.07, state=0.0))
+case("control.fuel_to_propellant", positive=("fuel", "lever_arm", "isp", "mass"))(
+    lambda: dict(fuel=[1.0, 2.0], lever_arm=0.5, isp=220.0, mass=100.0)
+)
+
+# ============================================================================================
+# uncertainty
+# ============================================================================================
+
+case("uncertainty.Gaussian", positive=("std",))(lambda: dict(mean=1.0, std=0.1))
+case("uncertainty.TruncatedGaussian", positive=("std",), nonfinite_ok=("low", "high"), nan_ok=("low", "high"))(
+    lambda: dict(mean=1.0, std=0.1, low=0.8, high=1.3)
+)
+case("uncertainty.Fixed")(lambda: dict(value=1.0))
+for _c in ("Gaussian", "TruncatedGaussian", "Fixed"):
+    def _make(c: str = _c) -> Any:
+        import adcskit.uncertainty as u
+
+        kw = {"Fixed": dict(value=1.0)}.get(c, dict(mean=1.0, std=0.1))
+        return getattr(u, c)(**kw)
+
+    case(f"uncertainty.{_c}.ppf", target=method("", _make, "ppf"))(lambda: dict(u=[0.1, 0.5, 0.9]))
+
+
+@case("uncertainty.latin_hypercube", kinds={"dists": "mapping"})
+def _():
+    from adcskit.uncertainty import Fixed, Gaussian
+
+    return dict(dists={"a": Gaussian(mean=1.0, std=0.1), "b": Fixed(value=2.0)}, n=5, rng=1)
+
+
+case("uncertainty.sample_stats", nonfinite_ok=("x",))(lambda: dict(x=[1.0, 2.0, 3.0, 4.0]))
+case("uncertainty.mean_change_converged", positive=("tol",))(lambda: dict(history=[1.0, 1.1, 1.05, 1.04], tol=1e-3, window=2))
+case("uncertainty.robust_objective", nonfinite_ok=("errors", "overshoot_pct"), positive=("w1", "w2", "overshoot_max_pct", "penalty_weight"))(
+    lambda: dict(errors=[[0.1, 0.2], [0.3, 0.1]], overshoot_pct=[[1.0, 2.0], [3.0, 20.0]], w1=1.0, w2=1.0,
+                 overshoot_max_pct=10.0, penalty_weight=1.0)
+)
+case("uncertainty.weights_from_ratio", positive=("ratio",))(lambda: dict(ratio=2.0))
+case("uncertainty.make_executor", kinds={"spec": "choice"}, aliases={"spec": ("executor",)})(lambda: dict(spec="serial"))
+case("uncertainty.SerialExecutor")(lambda: dict())
+case("uncertainty.ProcessExecutor")(lambda: dict(n_workers=1))
+
+
+def _square(x: float) -> float:
+    return x * x
+
+
+@case("uncertainty.run_campaign", kinds={"directory": "path", "description": "skip", "executor": "skip", "tasks": "object"},
+      nan_ok=("values",), nonfinite_ok=("fn",))
+def _():
+    import tempfile
+
+    return dict(fn=_square, tasks=[1.0, 2.0, 3.0], directory=tempfile.mkdtemp(prefix="adcskit-rob-"), chunk_size=2)
+
+
+case("uncertainty.SerialExecutor.map", target=lambda: __import__("adcskit.uncertainty", fromlist=["x"]).SerialExecutor().map,
+     kinds={"description": "skip", "tasks": "object"}, nan_ok=("*",), nonfinite_ok=("fn",))(lambda: dict(fn=_square, tasks=[1.0, 2.0]))
+
+# ============================================================================================
+# report, config, cli, studies
+# ============================================================================================
+
+
+def _results_dir() -> str:
+    import tempfile
+
+    return tempfile.mkdtemp(prefix="adcskit-rob-report-")
+
+
+case("report.load_results", kinds={"out": "path"})(lambda: dict(out=_results_dir()))
+case("report.build_report", kinds={"out": "path", "title": "skip"})(lambda: dict(out=_results_dir()))
+
+
+def _toml_file() -> str:
+    import tempfile
+
+    fd, path = tempfile.mkstemp(suffix=".toml", prefix="adcskit-rob-")
+    with open(fd, "w") as f:
+        f.write('a = 1\n[b]\nc = "x"\n')
+    return path
+
+
+case("config.read_toml", kinds={"path": "path"})(lambda: dict(path=_toml_file()))
+case("config.dump_toml", kinds={"_prefix": "skip"})(lambda: dict(data={"a": 1, "b": {"c": 2.5}}))
+case("config.merge_mappings")(lambda: dict(base={"a": 1, "b": {"c": 2}}, override={"b": {"c": 3}}))
+
+
+def _cfg_cls() -> type:
+    from adcskit.control import LoopSettings
+
+    return LoopSettings
+
+
+case("config.load_config", kinds={"cls": "skip"},
+     aliases={"source": ("config", "path"), "overrides": ("config",)})(
+    lambda: dict(cls=_cfg_cls(), source={"dt": 0.002}, overrides={"t_final": 20.0})
+)
+case("config.config_to_dict", kinds={"config": "object"})(lambda: dict(config=_settings()))
+case("cli.main", kinds={"argv": "skip"}, exit_ok=True,
+     extra={"argv-unknown-command": ("argv", ["no-such-command"], "type"),
+            "argv-out-unwritable": ("argv", ["report", "--out", "/proc/adcskit-no-such-dir"], "type"),
+            "argv-none-item": ("argv", [None], "type"),
+            "argv-string": ("argv", "list", "type")})(lambda: dict(argv=["list"]))
+case("studies.get_study", aliases={"name": ("study",)})(lambda: dict(name="wahba-table1"))
+case("studies.is_available", aliases={"name": ("study",)})(lambda: dict(name="wahba-table1"))
+case("studies.resolve_config", kinds={"config": "skip"}, aliases={"name": ("study",)})(lambda: dict(name="wahba-table1", quick=True))
+exempt(
+    "runs or writes a whole study (minutes); its argument checks are exercised end to end by "
+    "tests/test_framework.py with the fake study",
+    "studies.run_study",
+    "studies.write_result",
+)

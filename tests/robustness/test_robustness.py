@@ -1,0 +1,159 @@
+"""Property-based robustness suite over every public callable (issue 12).
+
+Every public name of every subpackage's ``__all__`` has an entry in ``cases.py`` (a valid call)
+or in ``cases.EXEMPT`` (with a reason). For each entry the suite makes the valid call, the
+degenerate calls the entry declares, every generated mutation of every argument (see
+``harness.py`` for the mutations and the rules an outcome must satisfy) and, through
+hypothesis, random extreme values at random positions. Counts are printed at the end of the
+run (``robustness: N calls, R clean rejections, A accepted``).
+
+Run: ``python -m pytest tests/robustness -q`` (default, under a minute) or with ``-m slow`` for
+the exhaustive variant (all mutations of the expensive entries and more hypothesis examples).
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import math
+import pkgutil
+
+import numpy as np
+import pytest
+from cases import CASES, EXEMPT
+from harness import Mutation, call_with_timeout, check_outcome, run_case
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import adcskit
+
+
+#: Modules whose ``__all__`` is enumerated: every subpackage plus the public top-level modules.
+def public_modules() -> list[str]:
+    mods = []
+    for info in pkgutil.walk_packages(adcskit.__path__, "adcskit."):
+        if any(part.startswith("_") for part in info.name.split(".")[1:]):
+            continue
+        if info.ispkg or info.name.count(".") == 1:
+            mods.append(info.name)
+    return sorted(mods)
+
+
+def public_names() -> dict[str, object]:
+    out = {}
+    for mod_name in public_modules():
+        mod = importlib.import_module(mod_name)
+        for name in getattr(mod, "__all__", ()):
+            obj = getattr(mod, name)
+            if not callable(obj):
+                continue  # constants and registries: data, not entry points
+            if inspect.isclass(obj) and issubclass(obj, BaseException):
+                continue  # exception types
+            out[f"{mod_name.removeprefix('adcskit.')}.{name}"] = obj
+    return out
+
+
+def test_every_public_name_has_an_entry():
+    names = public_names()
+    missing = sorted(n for n in names if n not in CASES and n not in EXEMPT)
+    assert not missing, (
+        "public callables without a robustness entry (add one to tests/robustness/cases.py, "
+        f"or an EXEMPT reason): {missing}"
+    )
+    stale = sorted(n for n in EXEMPT if n not in names)
+    assert not stale, f"EXEMPT names that are not public any more: {stale}"
+
+
+FAST = sorted(n for n, c in CASES.items() if not c.slow)
+SLOW = sorted(n for n, c in CASES.items() if c.slow)
+
+
+@pytest.mark.parametrize("name", FAST)
+def test_mutations(name):
+    failures = run_case(CASES[name])
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.parametrize("name", SLOW)
+def test_mutations_expensive_entries_sampled(name):
+    """Valid call, degenerate calls and a spread sample of the mutations of a slow entry."""
+    failures = run_case(CASES[name], limit=12)
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", SLOW)
+def test_mutations_expensive_entries_exhaustive(name):
+    failures = run_case(CASES[name])
+    assert not failures, "\n".join(failures)
+
+
+# --- hypothesis: random extreme values at random positions of random numeric arguments -------
+
+EXTREMES = st.one_of(
+    st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, 1e-300, -1e-300, 0.0, 5e-324]),
+    st.floats(allow_nan=False, allow_infinity=False, min_value=-1e308, max_value=1e308),
+)
+
+
+def _numeric_args(case):
+    valid = case.valid()
+    out = []
+    for arg, v in valid.items():
+        if case.kinds.get(arg, "") in ("skip", "object", "times", "path", "choice", "callable", "mapping"):
+            continue
+        if isinstance(v, (bool, np.bool_)) or isinstance(v, (str, dict)) or callable(v) or v is None:
+            continue
+        try:
+            a = np.asarray(v, dtype=float)
+        except (TypeError, ValueError):
+            continue
+        if a.size and isinstance(v, (float, list, tuple, np.ndarray)) and not isinstance(v, (int, np.integer)):
+            out.append(arg)
+    return out
+
+
+HYP_CASES = sorted(n for n in FAST if _numeric_args(CASES[n]))
+
+
+_REFERENCE: dict[str, object] = {}
+
+
+def _hyp(name, data):
+    case = CASES[name]
+    fn = case.resolve()
+    if name not in _REFERENCE:
+        _REFERENCE[name] = call_with_timeout(fn, case.valid())
+    ref = _REFERENCE[name]
+    arg = data.draw(st.sampled_from(_numeric_args(case)), label="arg")
+    kwargs = case.valid()
+    a = np.array(kwargs[arg], dtype=float)
+    x = data.draw(EXTREMES, label="value")
+    if a.ndim:
+        idx = data.draw(st.integers(0, a.size - 1), label="index")
+        a.flat[idx] = x
+        value = a
+    else:
+        value = x
+    # a negative within rounding (> -1e-100) may legitimately be read as zero
+    cat = "nonfinite" if not math.isfinite(x) else ("negative" if x < -1e-100 else "finite")
+    kwargs[arg] = value
+    out = check_outcome(case, arg, Mutation(f"hyp={x!r}", value, cat), lambda: call_with_timeout(fn, kwargs), ref)
+    assert out.ok, out.detail
+
+
+@pytest.mark.parametrize("name", HYP_CASES)
+@settings(max_examples=6, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_random_extremes(name, data):
+    _hyp(name, data)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", HYP_CASES)
+@settings(max_examples=100, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_random_extremes_exhaustive(name, data):
+    _hyp(name, data)
