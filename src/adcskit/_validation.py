@@ -366,12 +366,29 @@ def check_int(name: str, value: Any, *, minimum: int | None = None, maximum: int
     return v
 
 
+def did_you_mean(value: Any, allowed: Iterable[str]) -> str:
+    """``" (did you mean 'x'?)"`` for the closest of ``allowed`` to a mistyped ``value``, else ``""``."""
+    import difflib
+
+    if not isinstance(value, str):
+        return ""
+    close = difflib.get_close_matches(value, [str(a) for a in allowed], n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
 def check_choice(name: str, value: Any, allowed: Mapping[str, Any] | Iterable[str]) -> str:
-    """Return ``value`` if it is one of ``allowed`` (a registry's keys), else list them."""
+    """Return ``value`` if it is one of ``allowed`` (a registry's keys), else list them.
+
+    >>> check_choice("method", "q-methd", ["q-method", "triad"])
+    Traceback (most recent call last):
+    ...
+    adcskit.errors.InputError: method must be one of 'q-method', 'triad'; got 'q-methd' (did you mean 'q-method'?)
+    """
     keys = list(allowed.keys() if isinstance(allowed, Mapping) else allowed)
     if not isinstance(value, str) or value not in keys:
         raise InputError(
             f"{name} must be one of {', '.join(repr(k) for k in keys)}; got {short_repr(value)}"
+            + did_you_mean(value, keys)
         )
     return value
 

@@ -161,8 +161,10 @@ def _build(cls: type[C], data: Mapping[str, Any], prefix: str = "") -> C:
     unknown = [k for k in data if k not in fields]
     if unknown:
         allowed = ", ".join(sorted(fields)) or "(none)"
+        from adcskit._validation import did_you_mean
+
         raise ConfigError(
-            f"unknown config key {prefix}{unknown[0]!s} = {data[unknown[0]]!r}; "
+            f"unknown config key {prefix}{unknown[0]!s} = {data[unknown[0]]!r}{did_you_mean(unknown[0], fields)}; "
             f"allowed keys{' in ' + prefix.rstrip('.') if prefix else ''}: {allowed}"
         )
     kwargs = {}
