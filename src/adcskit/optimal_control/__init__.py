@@ -15,11 +15,31 @@ References
 S2 (Gauss pseudospectral method, eq. 17–37). Benson et al. 2006; Garg et al. 2010.
 """
 
+from adcskit.optimal_control.adaptive import (
+    AdaptiveSolution,
+    ErrorCertificate,
+    MeshIteration,
+    estimate_error,
+    guess_from_function,
+    refine_mesh,
+    solve_adaptive,
+    symmetry_breaking_guess,
+)
 from adcskit.optimal_control.analysis import (
     BangBangResult,
     ResimulationResult,
     bang_bang,
     resimulate,
+)
+from adcskit.optimal_control.multiphase import (
+    Endpoint,
+    Link,
+    MultiPhaseGuess,
+    MultiPhaseProblem,
+    MultiPhaseSolution,
+    Phase,
+    default_multiphase_guess,
+    solve_multiphase,
 )
 from adcskit.optimal_control.nodes import (
     gauss_differentiation_matrix,
@@ -43,7 +63,23 @@ from adcskit.optimal_control.solve import (
 from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, clear_cache
 
 __all__ = [
+    "AdaptiveSolution",
     "BangBangResult",
+    "Endpoint",
+    "ErrorCertificate",
+    "Link",
+    "MeshIteration",
+    "MultiPhaseGuess",
+    "MultiPhaseProblem",
+    "MultiPhaseSolution",
+    "Phase",
+    "default_multiphase_guess",
+    "estimate_error",
+    "guess_from_function",
+    "refine_mesh",
+    "solve_adaptive",
+    "solve_multiphase",
+    "symmetry_breaking_guess",
     "DEFAULT_IPOPT_OPTIONS",
     "Guess",
     "METHODS",
