@@ -211,7 +211,34 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
         return None
     t_a, t_b = float(piece.ts[0]), float(piece.t_end)
     tm = 0.5 * (piece.tc[k] + piece.tc[k + 1])
-    return float((tm - t_a) / (t_b - t_a))
+    frac = (tm - t_a) / (t_b - t_a)
+    lo_j, hi_j = lo[j], hi[j]
+    if np.isfinite(hi_j - lo_j) and hi_j > lo_j:
+        # a bang-bang switch (first and last collocation values on opposite bounds): place the
+        # break where a single switch gives the same quadrature-weighted mean control as the
+        # collocation solution, ``∫ u dt`` (exact for a control entering linearly)
+        a, b = uc[0, j], uc[-1, j]
+        tol_b = 0.05 * (hi_j - lo_j)
+        first_hi = abs(a - hi_j) <= tol_b and abs(b - lo_j) <= tol_b
+        first_lo = abs(a - lo_j) <= tol_b and abs(b - hi_j) <= tol_b
+        if first_hi or first_lo:
+            tau_c = 2.0 * (piece.tc - t_a) / (t_b - t_a) - 1.0
+            w = _quadrature_weights(tau_c)
+            mean = float(w @ uc[:, j]) / 2.0
+            on_hi = (mean - lo_j) / (hi_j - lo_j)  # fraction of the interval on the upper bound
+            f_sw = on_hi if first_hi else 1.0 - on_hi
+            if 0.0 < f_sw < 1.0:
+                frac = f_sw
+    return float(frac)
+
+
+def _quadrature_weights(tau: np.ndarray) -> np.ndarray:
+    """Interpolatory quadrature weights on ``[-1, 1]`` of the points ``tau``."""
+    n = tau.size
+    V = _leg.legvander(tau, n - 1)
+    rhs = np.zeros(n)
+    rhs[0] = 2.0
+    return np.linalg.solve(V.T, rhs)
 
 
 def refine_mesh(
