@@ -21,7 +21,11 @@ from adcskit.optimal_control import (
     symmetry_breaking_guess,
 )
 from adcskit.optimal_control.adaptive import _lgr_integration
-from adcskit.optimal_control.problems import double_integrator_min_energy, double_integrator_min_time, hypersensitive
+from adcskit.optimal_control.problems import (
+    double_integrator_min_energy,
+    double_integrator_min_time,
+    hypersensitive,
+)
 
 
 @settings(max_examples=20, deadline=None)

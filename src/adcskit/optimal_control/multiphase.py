@@ -920,6 +920,10 @@ def _solve(problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGue
     )
 
 
+def _zero_mayer(x0, t0, xf, tf):
+    return 0.0
+
+
 def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, success, status, nit, viol):
     nx, nu = ph.n_states, ph.n_controls
     pdm = ca.DM(pval)
@@ -962,6 +966,9 @@ def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, suc
     u = ca.SX.sym("u", nu)
     t = ca.SX.sym("t")
     f_fixed = ca.Function("f", [x, u, t], [lay.f_fun(x, u, t, pdm)])
+    # the phase as a single-phase problem with p fixed at its optimum (a container for
+    # bounds, names and scales used by control_at / resimulate / bang_bang)
+    t_end = max(tf, t0 + 1e-9 * max(1.0, abs(t0)))
     proxy = OptimalControlProblem(
         name=ph.name,
         dynamics=lambda xx, uu, tt, _f=ph.dynamics, _p=pdm: _f(xx, uu, tt, _p),
@@ -974,12 +981,11 @@ def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, suc
         control_lower=ph.control_lower,
         control_upper=ph.control_upper,
         t0=t0,
-        tf_bounds=(tf, tf) if tf > t0 else (t0, t0 + 1e-12),
-        tf_guess=tf if tf > 0 else None,
-        mayer=lambda x0, t0_, xf, tf_: 0.0,
+        tf_bounds=(t_end, t_end),
+        mayer=_zero_mayer,
         state_scale=sx,
         control_scale=su,
-    ) if tf > 0 else None
+    )
     return OptimalControlSolution(
         success=success,
         status=status,
