@@ -7,6 +7,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies._verdict import ClaimSpec
+
+NEAR_ZERO = ClaimSpec(
+    id="near-zero", statement="the mean is near zero", where="nowhere", quantity="|mean| < 0.2",
+    held=lambda m: abs(m["mean"]) < 0.2, protocol_keys=("n_tasks",),
+)
 
 
 def draw(seed: np.random.SeedSequence) -> float:
@@ -38,10 +44,8 @@ def run(config: Config, *, quick=False, rng=None, executor=None) -> StudyResult:
         summary="A fake study for framework tests.",
         paper={"mean": 0.0, "source": "none"},
         measured={"mean": m, "means": means, "nan_value": float("nan")},
-        checks=[
-            Check(name="mean is near zero", passed=abs(m) < 0.2, detail=f"mean {m:.4f}"),
-            Check(name="ran", passed=True, detail="", kind="check"),
-        ],
+        claims=[NEAR_ZERO.evaluate({"default": [{"mean": v} for v in means]})],
+        checks=[Check(name="ran", passed=True, detail="", kind="check")],
         comparison=[Comparison(quantity="mean", paper=0.0, measured=m, unit="-", note="toy")],
         differences=["It is fake."],
         figures={"means": fig},

@@ -153,3 +153,17 @@ def test_every_available_study_default_config_roundtrips(tmp_path):
             p.write_text(dump_toml(config_to_dict(cfg)))
             assert load_config(study.config_cls, p) == cfg, name
 
+
+
+def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
+    """Issue 16 §2: a user's settings are labelled, and claims on changed protocol keys are not judged."""
+    paper = run_study("fake", quick=True, out=tmp_path / "a")
+    assert paper.config_changes == {}
+    assert all(c.comparable for c in paper.claims)
+    custom = run_study("fake", quick=True, config={"n_tasks": 5}, out=tmp_path / "b")
+    assert custom.config_changes == {"n_tasks": {"value": 5, "paper": 3}}
+    assert [c.comparable for c in custom.claims] == [False]
+    data = json.loads((tmp_path / "b" / "fake" / "result.json").read_text())
+    assert data["config_changes"]["n_tasks"]["value"] == 5
+    page = build_report(tmp_path / "b").read_text()
+    assert "not comparable" in page and "Custom configuration" in page

@@ -51,8 +51,10 @@ from adcskit.optimal_control.nodes import (
 )
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
 from adcskit.optimal_control.solve import (
+    WARM_START_IPOPT_OPTIONS,
     MeshSequenceResult,
     MultistartResult,
+    NLPPoint,
     OptimalControlSolution,
     default_guess,
     multistart,
@@ -86,9 +88,11 @@ __all__ = [
     "Mesh",
     "MeshSequenceResult",
     "MultistartResult",
+    "NLPPoint",
     "OptimalControlProblem",
     "OptimalControlSolution",
     "ResimulationResult",
+    "WARM_START_IPOPT_OPTIONS",
     "bang_bang",
     "clear_cache",
     "default_guess",

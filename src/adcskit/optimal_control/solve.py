@@ -10,9 +10,21 @@ interval end ``λ_f = Λ̃_f`` (``Λ̃_f``: multiplier of the quadrature row, eq
 ``λ₀ = Λ̃_f − Σ_k D_k0 Λ̃_k`` (the multiplier of whatever fixes ``X₀``: the initial boundary
 condition in the first interval, the linkage row elsewhere — S2's ``Λ₀ = Λ̃₀``). For Radau
 ``λ_k = Λ̃_k / w_k`` and ``λ(+1) = Σ_k D_{k,N+1} Λ̃_k`` (Garg et al. 2010). CasADi's
-Lagrangian is ``L = J + λᵀ g``, so ``Λ̃`` is minus CasADi's ``lam_g`` (checked against the
-double integrator's analytic costates in the tests; the Gauss estimates are exact there to
-solver tolerance, the Radau ones are first-order close, error ~6e-3 on the 10×4 mesh). The Hamiltonian is ``H = g + λᵀ f`` at the collocation points.
+Lagrangian is ``L = J + λᵀ g``, so ``Λ̃`` is minus CasADi's ``lam_g``. Both mappings are exact
+to solver tolerance where the NLP's multipliers are unique (tests: the minimum-energy double
+integrator, 1e-8 at every node). On a bang-bang problem they are not unique: on the
+minimum-time double integrator a constant shift ``c`` of ``λ_v`` satisfies every KKT equation
+(the control-bound multipliers absorb it, and it enters the ``tf`` row as ``c·Σ w_k u_k = 0``)
+within a range set by the nodes next to the switch; IPOPT returns an interior member, so the
+estimate is off by a constant ``c = O(h)`` — for Radau, whose LGR point ``τ = −1`` sits at a
+switch on a mesh point, and for Gauss when its nodes are not symmetric about the switch. That
+first-order error of the Radau estimate (issue 11) is this degeneracy, not a mapping defect.
+The Hamiltonian is ``H = g + λᵀ f`` at the collocation points.
+
+Warm starts (:func:`solve` with a previous solution as ``guess``) pass IPOPT the previous
+primal point (interpolated by its Lagrange polynomials on another mesh) and, on the same mesh,
+its multipliers, with :data:`WARM_START_IPOPT_OPTIONS`; :func:`solve_mesh_sequence` follows
+one local optimum through finer meshes and flags branch jumps.
 
 References
 ----------
@@ -44,7 +56,25 @@ __all__ = [
     "solve_mesh_sequence",
     "multistart",
     "default_guess",
+    "NLPPoint",
+    "WARM_START_IPOPT_OPTIONS",
 ]
+
+#: IPOPT options of a warm start (:func:`solve` with a previous solution as ``guess``): start
+#: from the given primal and dual point (``warm_start_init_point``), move it off the bounds by
+#: almost nothing, and keep the barrier parameter small and monotone. IPOPT's cold defaults
+#: (bound push 1e-2, ``mu_init`` 0.1, adaptive μ) push a bang-bang optimum into the interior
+#: and re-solve from there, which can land on another local optimum (issue 11).
+WARM_START_IPOPT_OPTIONS: dict[str, Any] = {
+    "warm_start_init_point": "yes",
+    "warm_start_bound_push": 1e-9,
+    "warm_start_bound_frac": 1e-9,
+    "warm_start_slack_bound_push": 1e-9,
+    "warm_start_slack_bound_frac": 1e-9,
+    "warm_start_mult_bound_push": 1e-9,
+    "mu_strategy": "monotone",
+    "mu_init": 1e-8,
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,6 +85,45 @@ class _Piece:
     uc: np.ndarray  # (n, nu)
     t_end: float
     x_end: np.ndarray
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class NLPPoint:
+    """The raw NLP point of a solve, kept for warm starts (primal and dual).
+
+    Attributes
+    ----------
+    method : str
+        Transcription (``"gauss"`` or ``"radau"``).
+    mesh : Mesh
+    z : (nz,) ndarray
+        Scaled decision vector (states / ``sx``, controls / ``su``, ``tf`` / ``tf_guess``).
+    lam_x : (nz,) ndarray
+        Multipliers of the variable bounds (CasADi's ``lam_x``).
+    lam_g : (ng,) ndarray
+        Multipliers of the constraint rows (CasADi's ``lam_g``).
+    p : (n_states + n_controls + 3,) ndarray
+        NLP parameters: state scales, control scales, ``tf`` scale, ``t0`` and the objective
+        scale ``|J(guess)|`` the multipliers refer to.
+    """
+
+    method: str
+    mesh: Mesh
+    z: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    p: np.ndarray
+
+    def compatible(self, method: str, mesh: Mesh, p: np.ndarray, nz: int, ng: int) -> bool:
+        """Same transcription, mesh, layout and scales: the duals can be passed as they are."""
+        return (
+            self.method == method
+            and self.mesh == mesh
+            and self.z.size == nz
+            and self.lam_g.size == ng
+            and self.p.size == p.size
+            and bool(np.array_equal(self.p[:-1], p[:-1]))
+        )
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -93,6 +162,12 @@ class OptimalControlSolution:
         Largest constraint violation of the NLP (scaled rows).
     build_s, solve_s : float
         Wall time of the NLP build (0 when cached) and of IPOPT (s).
+    warm_start : str
+        How the solve was started: ``"cold"`` (IPOPT defaults from a guess), ``"primal"``
+        (warm-start options, primal point interpolated from a previous solution) or
+        ``"primal-dual"`` (same mesh: the previous NLP point and its multipliers).
+    nlp : NLPPoint or None
+        The raw NLP point (for warm starts).
     """
 
     success: bool
@@ -118,6 +193,8 @@ class OptimalControlSolution:
     problem: OptimalControlProblem = field(repr=False)
     pieces: tuple[_Piece, ...] = field(repr=False)
     dynamics_fun: Any = field(repr=False, default=None)
+    warm_start: str = "cold"
+    nlp: NLPPoint | None = field(repr=False, default=None)
 
     # ---------------------------------------------------------------- interpolation
     def _locate(self, t: np.ndarray) -> np.ndarray:
@@ -174,6 +251,7 @@ class OptimalControlSolution:
             "max_violation": self.max_violation,
             "build_s": self.build_s,
             "solve_s": self.solve_s,
+            "warm_start": self.warm_start,
             "t": self.t,
             "x": self.x,
             "t_control": self.t_control,
@@ -205,20 +283,24 @@ def default_guess(problem: OptimalControlProblem) -> Guess:
     return Guess(t=t, x=np.vstack([x0, xf]), u=np.vstack([u, u]), tf=problem.tf_guess)
 
 
-def _interp_fun(t_samples, values, t0_new, tf_new):
+def _interp_fun(t_samples, values, t0_src, tf_src, t0_new, tf_new):
+    """Linear interpolation of samples given on ``[t0_src, tf_src]``, time-scaled onto
+    ``[t0_new, tf_new]`` (the samples need not span the whole interval: controls sampled at
+    collocation points are held constant outside them by :func:`numpy.interp`)."""
     ts = np.asarray(t_samples, float)
     vals = np.asarray(values, float)
-    span = ts[-1] - ts[0]
 
     def f(t):
-        s = (np.asarray(t, float) - t0_new) / (tf_new - t0_new) * span + ts[0] if span > 0 else np.zeros_like(t)
+        s = t0_src + (np.asarray(t, float) - t0_new) / (tf_new - t0_new) * (tf_src - t0_src)
         return np.column_stack([np.interp(s, ts, vals[:, i]) for i in range(vals.shape[1])]) if vals.shape[1] else np.zeros((np.size(t), 0))
 
     return f
 
 
-def _resolve_options(options: dict[str, Any] | None) -> dict[str, Any]:
+def _resolve_options(options: dict[str, Any] | None, *, warm: bool = False) -> dict[str, Any]:
     opts = dict(DEFAULT_IPOPT_OPTIONS)
+    if warm:
+        opts.update(WARM_START_IPOPT_OPTIONS)
     if options is not None:
         if not isinstance(options, dict):
             raise InputTypeError(f"ipopt_options must be a dict of IPOPT options; got {options!r}")
@@ -243,6 +325,7 @@ def solve(
     mesh: Mesh | tuple[int, int] = (20, 3),
     guess: Guess | OptimalControlSolution | None = None,
     ipopt_options: dict[str, Any] | None = None,
+    warm_start: bool | None = None,
 ) -> OptimalControlSolution:
     """Transcribe ``problem`` and solve the NLP with IPOPT.
 
@@ -254,57 +337,117 @@ def solve(
     mesh : Mesh or (int, int)
         Mesh or ``(n_intervals, n_nodes)`` for equal intervals; S2 uses ``(20, 3)``.
     guess : Guess or OptimalControlSolution, optional
-        Initial guess (a previous solution warm-starts a finer mesh); default
-        :func:`default_guess`.
+        Initial guess; default :func:`default_guess`. A previous solution is a warm start: on
+        any mesh its states and controls are interpolated by their Lagrange polynomials
+        (S2 eq. 22, 24) onto the new nodes; on the same mesh and transcription (and equal
+        scales) its raw NLP point and multipliers (``x0``, ``lam_x0``, ``lam_g0``) are passed
+        as they are, so that re-solving an optimum from itself returns it.
     ipopt_options : dict, optional
-        IPOPT options overriding :data:`DEFAULT_IPOPT_OPTIONS`.
+        IPOPT options overriding :data:`DEFAULT_IPOPT_OPTIONS` (and, for a warm start,
+        :data:`WARM_START_IPOPT_OPTIONS`).
+    warm_start : bool, optional
+        Use :data:`WARM_START_IPOPT_OPTIONS`. Default: when ``guess`` is a previous solution.
+        ``False`` re-solves a previous solution's trajectory with IPOPT's cold defaults.
 
     Returns
     -------
     OptimalControlSolution
-        ``success=False`` with IPOPT's status when the solve fails.
+        ``success=False`` with IPOPT's status when the solve fails; ``warm_start`` says how
+        the solve was started.
 
     References
     ----------
-    S2, eq. 17–37 and Table 1 (pseudo-code; IPOPT replaces the paper's SQP).
+    S2, eq. 17–37 and Table 1 (pseudo-code; IPOPT replaces the paper's SQP). Wächter &
+    Biegler, Math. Program. 106(1), 2006 (IPOPT; warm-start options in its documentation).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> p = double_integrator_min_time(2.0, 0.5)
+    >>> a = solve(p, mesh=(4, 3))
+    >>> b = solve(p, mesh=(4, 3), guess=a)  # primal and dual warm start
+    >>> b.warm_start, abs(b.tf - a.tf) < 1e-7, b.nit <= 3
+    ('primal-dual', True, True)
     """
     if not isinstance(problem, OptimalControlProblem):
         raise InputTypeError(f"problem must be an OptimalControlProblem; got {type(problem).__name__}")
     method = check_choice("method", method, METHODS)
     mesh = _as_mesh(mesh)
-    opts = _resolve_options(ipopt_options)
-    t_build = time.perf_counter()
-    tr = get_transcription(problem, method, mesh, opts)
-    build_s = time.perf_counter() - t_build
+    prev: OptimalControlSolution | None = None
     if guess is None:
         guess = default_guess(problem)
     elif isinstance(guess, OptimalControlSolution):
-        guess = guess.as_guess()
+        prev = guess
+        if prev.x.shape[1] != problem.n_states or prev.u.shape[1] != problem.n_controls:
+            raise InputError(
+                f"guess solution has {prev.x.shape[1]} states and {prev.u.shape[1]} controls; the problem "
+                f"has {problem.n_states} and {problem.n_controls}"
+            )
+        guess = prev.as_guess()
     elif not isinstance(guess, Guess):
         raise InputTypeError(f"guess must be a Guess or OptimalControlSolution; got {type(guess).__name__}")
-    return _solve_with(problem, tr, guess, build_s)
+    if warm_start is None:
+        warm = prev is not None
+    elif isinstance(warm_start, bool | np.bool_):
+        warm = bool(warm_start)
+    else:
+        raise InputTypeError(f"warm_start must be True, False or None; got {warm_start!r}")
+    opts = _resolve_options(ipopt_options, warm=warm)
+    t_build = time.perf_counter()
+    tr = get_transcription(problem, method, mesh, opts)
+    build_s = time.perf_counter() - t_build
+    return _solve_with(problem, tr, guess, build_s, prev=prev, warm=warm)
 
 
-def _solve_with(problem, tr, guess: Guess, build_s: float) -> OptimalControlSolution:
+def _solution_funs(prev: OptimalControlSolution, t0: float, tf: float):
+    """State and control functions of a previous solution on ``[t0, tf]`` (time rescaled)."""
+    a, b = prev.t0, prev.tf
+
+    def s(t):
+        return a + (np.asarray(t, float) - t0) / (tf - t0) * (b - a)
+
+    return (lambda t: prev.state_at(s(t))), (lambda t: prev.control_at(s(t)))
+
+
+def _solve_with(
+    problem, tr, guess: Guess, build_s: float, *, prev: OptimalControlSolution | None = None, warm: bool = False
+) -> OptimalControlSolution:
     sx, su = problem.scales()
     t0 = problem.t0
     tf_g = float(np.clip(guess.tf, *problem.tf_bounds))
     s_tf = max(abs(problem.tf_guess), 1e-9)
-    xfun = _interp_fun(guess.t, guess.x, t0, tf_g)
-    ufun = _interp_fun(guess.t if guess.t_u is None else guess.t_u, guess.u, t0, tf_g)
+    if prev is not None:
+        xfun, ufun = _solution_funs(prev, t0, tf_g)
+    else:
+        # the guess's own time span: its state samples run from t[0] to tf (S2: t0 = 0)
+        g0, gf = float(guess.t[0]), float(guess.tf)
+        xfun = _interp_fun(guess.t, guess.x, g0, gf, t0, tf_g)
+        ufun = _interp_fun(guess.t if guess.t_u is None else guess.t_u, guess.u, g0, gf, t0, tf_g)
     z0 = tr.pack(t0, tf_g, xfun, ufun, sx, su, s_tf)
     lbz, ubz, lbg, ubg = tr.bounds(problem, sx, su, s_tf)
     z0 = np.clip(z0, lbz, ubz)
     p = np.concatenate([sx, su, [s_tf, t0, 1.0]])
-    j0 = float(tr.J_fun(z0, p))
-    cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
-    p[-1] = cJ
+    duals: dict[str, np.ndarray] = {}
+    mode = "primal" if warm else "cold"
+    if warm and prev is not None and prev.nlp is not None and prev.nlp.compatible(tr.method, tr.mesh, p, tr.nz, tr.ng):
+        # same NLP up to boundary values: pass the point and its multipliers as they are
+        # (with the same objective scale, so that the multipliers mean the same thing)
+        z0 = np.clip(prev.nlp.z, lbz, ubz)
+        p = prev.nlp.p.copy()
+        duals = {"lam_x0": prev.nlp.lam_x, "lam_g0": prev.nlp.lam_g}
+        mode = "primal-dual"
+        cJ = float(p[-1])
+    else:
+        j0 = float(tr.J_fun(z0, p))
+        cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
+        p[-1] = cJ
     t_solve = time.perf_counter()
-    res = tr.solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg)
+    res = tr.solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
     solve_s = time.perf_counter() - t_solve
     stats = tr.solver.stats()
     z = np.asarray(res["x"]).ravel()
     lam_g = np.asarray(res["lam_g"]).ravel()
+    lam_x = np.asarray(res["lam_x"]).ravel()
     g = np.asarray(res["g"]).ravel()
     viol = float(np.max(np.concatenate([[0.0], lbg - g, g - ubg, lbz - z, z - ubz]))) if g.size else 0.0
     status = str(stats.get("return_status", "unknown"))
@@ -370,13 +513,15 @@ def _solve_with(problem, tr, guess: Guess, build_s: float) -> OptimalControlSolu
         problem=problem,
         pieces=tuple(pieces),
         dynamics_fun=tr.f_fun,
+        warm_start=mode,
+        nlp=NLPPoint(method=tr.method, mesh=tr.mesh, z=z, lam_x=lam_x, lam_g=lam_g, p=p),
     )
 
 
 # ------------------------------------------------------------------------- mesh sequence
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MeshSequenceResult:
-    """Solutions on a warm-started sequence of meshes.
+    """Solutions on a warm-started sequence of meshes (one local branch).
 
     Attributes
     ----------
@@ -384,8 +529,17 @@ class MeshSequenceResult:
     objectives : (n,) ndarray
     rel_change : (n,) ndarray
         ``|J_k − J_{k−1}| / |J_k|`` (NaN for the first mesh).
+    tf_change : (n,) ndarray
+        ``|tf_k − tf_{k−1}| / tf_k``; for the first mesh, the change from the ``guess``
+        solution when one was given (else NaN).
+    branch_jumps : tuple of int
+        Indices ``k`` of the solves whose objective or ``tf`` moved by more than
+        ``jump_factor × rtol`` (relative) from the previous solve (or from the guess
+        solution for ``k = 0``): the warm start left its local branch.
     converged : bool
         The last change is below ``rtol`` and the last solve succeeded.
+    on_branch : bool
+        No branch jump was flagged: the converged value belongs to the guess's branch.
     success : bool
         Every solve succeeded.
     message : str
@@ -394,6 +548,8 @@ class MeshSequenceResult:
     solutions: tuple[OptimalControlSolution, ...]
     objectives: np.ndarray
     rel_change: np.ndarray
+    tf_change: np.ndarray
+    branch_jumps: tuple[int, ...]
     converged: bool
     success: bool
     message: str
@@ -402,17 +558,30 @@ class MeshSequenceResult:
     def final(self) -> OptimalControlSolution:
         return self.solutions[-1]
 
+    @property
+    def on_branch(self) -> bool:
+        return not self.branch_jumps
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "meshes": [s.mesh.label() for s in self.solutions],
             "objectives": self.objectives,
             "tf": [s.tf for s in self.solutions],
             "rel_change": self.rel_change,
+            "tf_change": self.tf_change,
+            "warm_start": [s.warm_start for s in self.solutions],
+            "nit": [s.nit for s in self.solutions],
             "status": [s.status for s in self.solutions],
+            "branch_jumps": list(self.branch_jumps),
+            "on_branch": self.on_branch,
             "converged": self.converged,
             "success": self.success,
             "message": self.message,
         }
+
+
+def _rel(a: float, b: float) -> float:
+    return abs(a - b) / max(abs(a), 1e-300)
 
 
 def solve_mesh_sequence(
@@ -422,28 +591,63 @@ def solve_mesh_sequence(
     method: str = "gauss",
     guess: Guess | OptimalControlSolution | None = None,
     rtol: float = 1e-5,
+    jump_factor: float = 100.0,
     ipopt_options: dict[str, Any] | None = None,
 ) -> MeshSequenceResult:
-    """Solve on successively finer meshes, each warm-started from the previous solution.
+    """Follow one local optimum through successively finer meshes.
 
-    Stops as soon as the objective changes by less than ``rtol`` (relative) between two
-    consecutive successful solves, or when ``meshes`` is exhausted.
+    Each solve is warm-started (primal and, on the same mesh, dual; see :func:`solve`) from
+    the previous successful solution, so the sequence tracks the local branch of ``guess``
+    instead of re-solving from IPOPT's cold start. Stops as soon as the objective changes by
+    less than ``rtol`` (relative) between two consecutive successful solves, or when
+    ``meshes`` is exhausted. A step whose objective or ``tf`` changes by more than
+    ``jump_factor × rtol`` is flagged as a branch jump (``branch_jumps``): discretisation
+    changes of a converging branch shrink with the mesh, a jump to another local optimum
+    does not.
+
+    Parameters
+    ----------
+    meshes : sequence of Mesh or (int, int)
+    guess : Guess or OptimalControlSolution, optional
+        Start of the branch; a solution on ``meshes[0]`` is re-solved with its multipliers.
+    rtol : float
+        Relative change of the objective that ends the refinement.
+    jump_factor : float
+        A change larger than ``jump_factor × rtol`` is a branch jump (default 100).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> r = solve_mesh_sequence(double_integrator_min_time(2.0, 0.5), [(4, 3), (8, 3)], rtol=1e-6)
+    >>> r.converged, r.on_branch, round(r.final.tf, 6)
+    (True, True, 4.0)
     """
     rtol = check_positive("rtol", rtol)
+    jump_factor = check_positive("jump_factor", jump_factor)
     meshes = [_as_mesh(m) for m in meshes]
     if not meshes:
         raise InputError("meshes must contain at least one mesh")
+    ref = guess if isinstance(guess, OptimalControlSolution) and guess.success else None
     sols: list[OptimalControlSolution] = []
     changes: list[float] = []
+    tf_changes: list[float] = []
+    jumps: list[int] = []
     converged = False
-    for mesh in meshes:
+    for k, mesh in enumerate(meshes):
         sol = solve(problem, method=method, mesh=mesh, guess=guess, ipopt_options=ipopt_options)
         prev = sols[-1] if sols else None
         sols.append(sol)
         if prev is None or not (prev.success and sol.success):
             changes.append(np.nan)
         else:
-            changes.append(abs(sol.objective - prev.objective) / max(abs(sol.objective), 1e-300))
+            changes.append(_rel(sol.objective, prev.objective))
+        base = prev if prev is not None else ref
+        if base is not None and base.success and sol.success:
+            tf_changes.append(_rel(sol.tf, base.tf))
+            if max(_rel(sol.objective, base.objective), tf_changes[-1]) > jump_factor * rtol:
+                jumps.append(k)
+        else:
+            tf_changes.append(np.nan)
         if sol.success:
             guess = sol
         if np.isfinite(changes[-1]) and changes[-1] < rtol and sol.success:
@@ -455,10 +659,16 @@ def solve_mesh_sequence(
         if converged
         else f"not converged to {rtol:g} after {len(sols)} meshes (last change {changes[-1]:.2e})"
     )
+    if jumps:
+        msg += "; branch jump at " + ", ".join(
+            f"{sols[k].mesh.label()} (tf change {tf_changes[k]:.2e} > {jump_factor * rtol:.0e})" for k in jumps
+        )
     return MeshSequenceResult(
         solutions=tuple(sols),
         objectives=np.array([s.objective for s in sols]),
         rel_change=np.array(changes),
+        tf_change=np.array(tf_changes),
+        branch_jumps=tuple(jumps),
         converged=converged,
         success=ok,
         message=msg,

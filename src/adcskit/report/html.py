@@ -78,6 +78,56 @@ def _flatten(prefix: str, value: Any, rows: list[tuple[str, str]], limit: int = 
         rows.append((prefix, format_value(value)))
 
 
+OUTCOME_CLASS = {
+    "holds": "ok",
+    "does not hold": "bad",
+    "inconclusive": "warn",
+    "depends on reading": "read",
+    "not comparable": "muted",
+}
+
+
+def _display_outcome(c: dict[str, Any]) -> str:
+    return c.get("outcome", "inconclusive") if c.get("comparable", True) else "not comparable"
+
+
+def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The claims of a result, with ``display`` and ``css`` set (old result files: checks of kind claim)."""
+    claims = [dict(c) for c in data.get("claims", [])]
+    if not claims and "claims" not in data:  # result.json of an older adcskit version
+        claims = [
+            {"statement": c.get("name", ""), "outcome": "holds" if c.get("passed") else "does not hold", "detail": c.get("detail", ""), "n_seeds": 1}
+            for c in data.get("checks", [])
+            if c.get("kind", "claim") == "claim"
+        ]
+    for c in claims:
+        c["display"] = _display_outcome(c)
+        c["css"] = OUTCOME_CLASS.get(c["display"], "muted")
+    return claims
+
+
+def _tally(items: list[dict[str, Any]]) -> list[tuple[str, int, str]]:
+    """``[(outcome, count, css)]`` for the outcomes present, in a fixed order."""
+    for c in items:
+        c.setdefault("display", _display_outcome(c))
+        c.setdefault("css", OUTCOME_CLASS.get(c["display"], "muted"))
+    order = list(OUTCOME_CLASS)
+    counts = {o: sum(1 for c in items if c["display"] == o) for o in order}
+    return [(o, n, OUTCOME_CLASS[o]) for o, n in counts.items() if n]
+
+
+def _verdict_class(claims: list[dict[str, Any]]) -> str:
+    """Badge colour of a study's claim tally: green only when every claim holds."""
+    if not claims:
+        return "muted"
+    shown = {c["display"] for c in claims}
+    if shown == {"holds"}:
+        return "ok"
+    if "holds" not in shown:
+        return "bad" if "does not hold" in shown else "warn"
+    return "warn"
+
+
 def build_report(out: str | Path, *, title: str = "adcskit — reproduction report") -> Path:
     """Write ``out/index.html`` from the results under ``out`` and return its path.
 
@@ -120,8 +170,9 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
             section["status"] = "unreadable"
             section["error"] = {"message": data["_load_error"]}
         else:
-            claims = [c for c in data.get("checks", []) if c.get("kind", "claim") == "claim"]
-            checks = [c for c in data.get("checks", []) if c.get("kind", "claim") == "check"]
+            claims = _claims_of(data)
+            checks = [c for c in data.get("checks", []) if c.get("kind", "check") == "check"]
+            findings = list(data.get("findings", []))
             flat_paper: list[tuple[str, str]] = []
             flat_measured: list[tuple[str, str]] = []
             if not data.get("comparison"):
@@ -132,7 +183,11 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
                 data=data,
                 claims=claims,
                 checks=checks,
-                claims_held=sum(bool(c.get("passed")) for c in claims),
+                findings=findings,
+                tally=_tally(claims),
+                finding_tally=_tally(findings),
+                verdict_class=_verdict_class(claims),
+                changes=data.get("config_changes") or {},
                 checks_passed=sum(bool(c.get("passed")) for c in checks),
                 flat_paper=flat_paper,
                 flat_measured=flat_measured,

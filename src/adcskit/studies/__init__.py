@@ -3,10 +3,26 @@
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
 from adcskit.studies._registry import STUDIES, get_study, is_available, study_names
 from adcskit.studies._runner import resolve_config, run_study, write_result
+from adcskit.studies._verdict import (
+    OUTCOMES,
+    Claim,
+    ClaimSpec,
+    Finding,
+    FindingSpec,
+    Reading,
+    decide,
+)
 
 __all__ = [
     "STUDIES",
     "Check",
+    "Claim",
+    "ClaimSpec",
+    "Finding",
+    "FindingSpec",
+    "OUTCOMES",
+    "Reading",
+    "decide",
     "Comparison",
     "Study",
     "StudyResult",

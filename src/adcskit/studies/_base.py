@@ -21,12 +21,18 @@ from typing import Any
 
 import numpy as np
 
+from adcskit.studies._verdict import DOES_NOT_HOLD, HOLDS, Claim, Finding
+
 __all__ = ["Check", "Comparison", "Study", "StudyResult", "new_figure", "to_jsonable"]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Check:
-    """A verdict on one of the paper's claims (``kind="claim"``) or a sanity check.
+    """A consistency check of ours (pass / fail).
+
+    The paper's claims are :class:`adcskit.studies._verdict.Claim` objects, decided over
+    seeds and readings. ``kind="claim"`` is kept only for studies not yet converted: such a
+    check is reported as a single-run claim (outcome ``holds`` / ``does not hold``).
 
     Attributes
     ----------
@@ -90,6 +96,9 @@ class StudyResult:
     paper: Mapping[str, Any] = field(default_factory=dict)
     measured: Mapping[str, Any] = field(default_factory=dict)
     checks: Sequence[Check] = ()
+    claims: Sequence[Claim] = ()
+    findings: Sequence[Finding] = ()
+    config_changes: Mapping[str, Any] = field(default_factory=dict)
     comparison: Sequence[Comparison] = ()
     differences: Sequence[str] = ()
     figures: Mapping[str, Any] = field(default_factory=dict)
@@ -99,6 +108,22 @@ class StudyResult:
     quick: bool = False
     runtime_s: float = math.nan
     executor: str = "serial"
+
+    def all_claims(self) -> list[Claim]:
+        """The paper's claims, including legacy ``Check(kind="claim")`` entries."""
+        legacy = [
+            Claim(
+                id=f"legacy-{i}",
+                statement=c.name,
+                outcome=HOLDS if c.passed else DOES_NOT_HOLD,
+                n_seeds=1,
+                fraction_held=1.0 if c.passed else 0.0,
+                detail=c.detail + " (single-run verdict)",
+            )
+            for i, c in enumerate(self.checks)
+            if c.kind == "claim"
+        ]
+        return [*self.claims, *legacy]
 
     def to_dict(self) -> dict[str, Any]:
         """The ``result.json`` document (schema of ``design.md`` plus report fields)."""
@@ -116,7 +141,10 @@ class StudyResult:
             "executor": self.executor,
             "paper": to_jsonable(self.paper),
             "measured": to_jsonable(self.measured),
-            "checks": [c.to_dict() for c in self.checks],
+            "claims": [c.to_dict() for c in self.all_claims()],
+            "checks": [c.to_dict() for c in self.checks if c.kind == "check"],
+            "findings": [f.to_dict() for f in self.findings],
+            "config_changes": to_jsonable(self.config_changes),
             "comparison": [c.to_dict() for c in self.comparison],
             "differences": list(self.differences),
             "figures": [f"{name}.png" for name in self.figures],

@@ -26,13 +26,52 @@ from adcskit.config import config_to_dict, load_config
 from adcskit.studies._base import StudyResult, to_jsonable
 from adcskit.studies._registry import get_study
 
-__all__ = ["resolve_config", "run_study", "write_result", "write_json_atomic"]
+__all__ = ["config_changes", "resolve_config", "run_study", "write_result", "write_json_atomic"]
 
 
 def resolve_config(name: str, config: Mapping[str, Any] | str | Path | None = None, *, quick: bool = False):
     """The study's config dataclass: defaults <- quick overrides <- ``config``."""
     study = get_study(name)
     return load_config(study.config_cls, config, overrides=study.quick if quick else None)
+
+
+def _flat(prefix: str, value: Any, out: dict[str, Any]) -> None:
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            _flat(f"{prefix}.{k}" if prefix else str(k), v, out)
+    else:
+        out[prefix] = value
+
+
+def config_changes(name: str, config: Any, *, quick: bool = False) -> dict[str, dict[str, Any]]:
+    """Config keys of ``config`` that differ from the paper's settings of study ``name``.
+
+    The reference is the study's defaults (the paper's settings) with the ``--quick``
+    overrides applied when ``quick`` is true (a quick run is reduced, not custom). Returns
+    ``{dotted.key: {"value": ours, "paper": default}}``; empty for the paper's settings.
+    """
+    ref, ours = {}, {}
+    _flat("", config_to_dict(resolve_config(name, None, quick=quick)), ref)
+    _flat("", config_to_dict(config), ours)
+    return {
+        k: {"value": to_jsonable(v), "paper": to_jsonable(ref.get(k))}
+        for k, v in ours.items()
+        if to_jsonable(v) != to_jsonable(ref.get(k))
+    }
+
+
+def _mark_comparable(claims, changes: Mapping[str, Any]):
+    from dataclasses import replace
+
+    changed = set(changes)
+    out = []
+    for c in claims:
+        if c.protocol_keys is None:
+            keys = changed
+        else:
+            keys = {k for k in changed if any(k == p or k.startswith(p + ".") for p in c.protocol_keys)}
+        out.append(replace(c, comparable=not keys))
+    return tuple(out)
 
 
 def write_json_atomic(path: Path, data: Any) -> None:
@@ -145,9 +184,12 @@ def run_study(
             ex.close()
     from dataclasses import replace
 
+    changes = config_changes(name, cfg, quick=quick)
     result = replace(
         result,
         config=config_to_dict(cfg),
+        config_changes=changes,
+        claims=_mark_comparable(result.claims, changes),
         seed=seed,
         quick=quick,
         runtime_s=runtime,

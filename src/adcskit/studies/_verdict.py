@@ -1,0 +1,450 @@
+"""The verdict model: the paper's claims, decided over seeds and readings.
+
+A study reports three kinds of statement (``design.md``, "Studies and results"):
+
+* **claims** — the paper's own statements, in the paper's words, with where they are
+  (section / table / figure) and the quantity that decides them;
+* **checks** — our consistency tests (:class:`adcskit.studies.Check`, pass / fail);
+* **findings** — our own questions (baselines the paper omits, closed-loop answers), decided
+  like claims but counted apart.
+
+A claim or finding has exactly one of four outcomes (:data:`OUTCOMES`):
+
+``"holds"``
+    every independent seed supports it and, where a deciding quantity has a threshold, the
+    confidence interval of its mean lies entirely on the supporting side;
+``"does not hold"``
+    the mirror image: no seed supports it and the interval lies on the other side;
+``"inconclusive"``
+    the evidence does not separate the two: seeds disagree, the interval straddles the
+    threshold, or a stochastic claim was run on a single seed ("a single-seed pass is not
+    holds");
+``"depends on reading"``
+    the outcome differs between documented readings of an ambiguity of the paper; every
+    reading is listed with its own outcome.
+
+A study module declares its claims as :class:`ClaimSpec` objects (statement, location,
+deciding quantity, threshold) and hands per-seed measurements, keyed by reading, to
+:meth:`ClaimSpec.evaluate`; the verdict strings are never written by hand.
+
+Example
+-------
+>>> spec = ClaimSpec(id="faster", statement="A is faster than B", where="Table 1",
+...                  quantity="time ratio B/A", value=lambda m: m["ratio"], threshold=1.0)
+>>> runs = {"default": [{"ratio": r} for r in (3.1, 2.9, 3.4, 3.0, 3.2)]}
+>>> spec.evaluate(runs).outcome
+'holds'
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from adcskit._validation import check_choice
+
+__all__ = [
+    "OUTCOMES",
+    "HOLDS",
+    "DOES_NOT_HOLD",
+    "INCONCLUSIVE",
+    "DEPENDS_ON_READING",
+    "Reading",
+    "Claim",
+    "Finding",
+    "ClaimSpec",
+    "FindingSpec",
+    "decide",
+    "combine_readings",
+    "mean_interval",
+    "wilson_interval",
+    "tally",
+]
+
+HOLDS = "holds"
+DOES_NOT_HOLD = "does not hold"
+INCONCLUSIVE = "inconclusive"
+DEPENDS_ON_READING = "depends on reading"
+OUTCOMES = (HOLDS, DOES_NOT_HOLD, INCONCLUSIVE, DEPENDS_ON_READING)
+
+#: Seeds a stochastic verdict needs at full settings (issue: "at least 5 independent seeds").
+MIN_SEEDS = 5
+
+
+def _finite_or_none(x: float) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def wilson_interval(k: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Wilson score interval of a binomial fraction ``k / n``.
+
+    >>> tuple(round(v, 3) for v in wilson_interval(5, 5))
+    (0.566, 1.0)
+    """
+    from scipy.stats import norm
+
+    if n <= 0:
+        return (0.0, 1.0)
+    z = float(norm.ppf(0.5 + confidence / 2))
+    p = k / n
+    den = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def mean_interval(values: Sequence[float], confidence: float = 0.95) -> tuple[float, float]:
+    """Student-t confidence interval of the mean of ``values`` (independent seeds).
+
+    With one value the interval is that value (a width cannot be estimated); non-finite
+    values are dropped.
+
+    >>> lo, hi = mean_interval([1.0, 2.0, 3.0])
+    >>> round(lo, 3), round(hi, 3)
+    (-0.484, 4.484)
+    """
+    from scipy.stats import t as student_t
+
+    v = np.asarray([x for x in values if x is not None and math.isfinite(float(x))], dtype=float)
+    if v.size == 0:
+        return (math.nan, math.nan)
+    m = float(v.mean())
+    if v.size == 1:
+        return (m, m)
+    se = float(v.std(ddof=1)) / math.sqrt(v.size)
+    h = float(student_t.ppf(0.5 + confidence / 2, v.size - 1)) * se
+    return (m - h, m + h)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Reading:
+    """The outcome of a claim under one reading of the paper (or the only reading).
+
+    Attributes
+    ----------
+    reading : str
+        Name of the reading (e.g. ``"variance ratio"``); ``"default"`` when unambiguous.
+    outcome : str
+        One of :data:`OUTCOMES` (never ``"depends on reading"``).
+    n_seeds : int
+        Independent repetitions behind the outcome.
+    fraction_held : float
+        Fraction of seeds that supported the claim.
+    interval : (float, float)
+        95 % interval: of the deciding quantity's mean when the claim has one, else the
+        Wilson interval of ``fraction_held``.
+    values : tuple of float
+        The deciding quantity per seed (empty for a yes/no claim).
+    detail : str
+        How the outcome was reached.
+    """
+
+    reading: str
+    outcome: str
+    n_seeds: int
+    fraction_held: float
+    interval: tuple[float, float]
+    values: tuple[float, ...] = ()
+    detail: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "reading": self.reading,
+            "outcome": self.outcome,
+            "n_seeds": int(self.n_seeds),
+            "fraction_held": _finite_or_none(self.fraction_held),
+            "interval": [_finite_or_none(self.interval[0]), _finite_or_none(self.interval[1])],
+            "values": [_finite_or_none(v) for v in self.values],
+            "detail": self.detail,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Claim:
+    """A verdict on one of the paper's claims (``result.json`` → ``claims``).
+
+    Attributes
+    ----------
+    id : str
+        Short stable identifier.
+    statement : str
+        The paper's words (translated where needed).
+    where : str
+        Section / table / figure of the paper.
+    quantity : str
+        What decides the claim, with its threshold.
+    outcome : str
+        One of :data:`OUTCOMES`.
+    n_seeds, fraction_held, interval
+        Of the default reading (see :class:`Reading`).
+    readings : tuple of Reading
+        One entry per documented reading; empty when the claim has no ambiguity.
+    detail : str
+        The evidence in words and numbers.
+    paper, measured
+        The paper's value of the deciding quantity and ours (mean over seeds, default
+        reading), where they exist.
+    unit : str
+    comparable : bool
+        False when the run's configuration changed a protocol key of this claim (a user's
+        custom settings): the outcome is then not a verdict on the paper.
+    protocol_keys : tuple of str or None
+        Config keys whose change makes the claim not comparable (None: any key).
+    """
+
+    id: str
+    statement: str
+    where: str = ""
+    quantity: str = ""
+    outcome: str
+    n_seeds: int = 1
+    fraction_held: float = math.nan
+    interval: tuple[float, float] = (math.nan, math.nan)
+    readings: tuple[Reading, ...] = ()
+    detail: str = ""
+    paper: Any = None
+    measured: Any = None
+    unit: str = ""
+    comparable: bool = True
+    protocol_keys: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        check_choice("outcome", self.outcome, OUTCOMES)
+        object.__setattr__(self, "readings", tuple(self.readings))
+        object.__setattr__(self, "interval", (float(self.interval[0]), float(self.interval[1])))
+
+    @property
+    def display_outcome(self) -> str:
+        """The outcome as the report shows it (``"not comparable"`` for custom settings)."""
+        return self.outcome if self.comparable else "not comparable"
+
+    def to_dict(self) -> dict[str, Any]:
+        from adcskit.studies._base import to_jsonable
+
+        return {
+            "id": self.id,
+            "statement": self.statement,
+            "where": self.where,
+            "quantity": self.quantity,
+            "outcome": self.outcome,
+            "n_seeds": int(self.n_seeds),
+            "fraction_held": _finite_or_none(self.fraction_held),
+            "interval": [_finite_or_none(self.interval[0]), _finite_or_none(self.interval[1])],
+            "readings": [r.to_dict() for r in self.readings],
+            "detail": self.detail,
+            "paper": to_jsonable(self.paper),
+            "measured": to_jsonable(self.measured),
+            "unit": self.unit,
+            "comparable": bool(self.comparable),
+            "protocol_keys": None if self.protocol_keys is None else list(self.protocol_keys),
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Finding(Claim):
+    """A verdict on one of *our* questions (``result.json`` → ``findings``).
+
+    Same fields as :class:`Claim`; ``statement`` is our question or hypothesis, ``where``
+    is usually empty and ``paper`` None. Findings are never counted as the paper's claims.
+    """
+
+
+def decide(
+    held: Sequence[bool] | None = None,
+    *,
+    values: Sequence[float] | None = None,
+    threshold: float | None = None,
+    better: str = "above",
+    stochastic: bool = True,
+    reading: str = "default",
+    confidence: float = 0.95,
+) -> Reading:
+    """Outcome of one reading from per-seed results.
+
+    Either give ``held`` (one bool per seed) or ``values`` with ``threshold`` (a seed holds
+    when its value is above, or below for ``better="below"``, the threshold).
+
+    Rules: a stochastic claim on a single seed is ``inconclusive``; seeds that disagree give
+    ``inconclusive``; unanimous seeds give ``holds`` / ``does not hold`` unless, with a
+    threshold and two or more seeds, the ``confidence`` interval of the mean straddles the
+    threshold (then ``inconclusive``).
+
+    >>> decide([True, True, False, True, True]).outcome
+    'inconclusive'
+    >>> decide(values=[0.9, 1.2, 1.1], threshold=1.0).outcome
+    'inconclusive'
+    >>> decide(values=[0.2, 0.3, 0.25], threshold=1.0).outcome
+    'does not hold'
+    """
+    check_choice("better", better, ("above", "below"))
+    vals: tuple[float, ...] = ()
+    if values is not None:
+        if threshold is None:
+            raise ValueError("decide: values need a threshold")
+        vals = tuple(float(v) for v in values)
+        ok = [math.isfinite(v) and (v > threshold if better == "above" else v < threshold) for v in vals]
+        if held is not None:  # both given: a seed holds only if both say so
+            ok = [a and bool(b) for a, b in zip(ok, held, strict=True)]
+    elif held is not None:
+        ok = [bool(h) for h in held]
+    else:
+        raise ValueError("decide: give held or values")
+    n = len(ok)
+    k = sum(ok)
+    frac = k / n if n else math.nan
+    if vals:
+        interval = mean_interval(vals, confidence)
+    else:
+        interval = wilson_interval(k, n, confidence)
+    why = f"{k}/{n} seeds support it"
+    if n == 0:
+        outcome, why = INCONCLUSIVE, "no seeds"
+    elif stochastic and n < 2:
+        outcome = INCONCLUSIVE
+        why += "; a single seed cannot decide a stochastic claim"
+    elif 0 < k < n:
+        outcome = INCONCLUSIVE
+        why += "; seeds disagree"
+    else:
+        outcome = HOLDS if k == n else DOES_NOT_HOLD
+        if vals and n >= 2 and threshold is not None and all(math.isfinite(x) for x in interval):
+            lo, hi = interval
+            straddles = lo <= threshold <= hi
+            if straddles:
+                outcome = INCONCLUSIVE
+                why += f"; the {confidence:.0%} interval of the mean [{lo:.4g}, {hi:.4g}] straddles {threshold:.4g}"
+    if stochastic and 1 < n < MIN_SEEDS:
+        why += f" (fewer than {MIN_SEEDS} seeds: a quick-run verdict)"
+    return Reading(reading=reading, outcome=outcome, n_seeds=n, fraction_held=frac, interval=interval, values=vals, detail=why)
+
+
+def combine_readings(readings: Iterable[Reading]) -> str:
+    """The claim's outcome over its readings: the common outcome, else ``depends on reading``.
+
+    >>> r = lambda o: Reading(reading="x", outcome=o, n_seeds=5, fraction_held=1.0, interval=(0, 1))
+    >>> combine_readings([r("holds"), r("holds")])
+    'holds'
+    >>> combine_readings([r("holds"), r("does not hold")])
+    'depends on reading'
+    """
+    outcomes = {r.outcome for r in readings}
+    if not outcomes:
+        return INCONCLUSIVE
+    if len(outcomes) == 1:
+        return outcomes.pop()
+    return DEPENDS_ON_READING
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClaimSpec:
+    """Declarative definition of a claim; :meth:`evaluate` turns measurements into a :class:`Claim`.
+
+    Parameters
+    ----------
+    id, statement, where, quantity, unit
+        See :class:`Claim`.
+    value : callable, optional
+        ``value(measurement) -> float``: the deciding quantity of one seed's measurement
+        (a mapping the study builds). With ``threshold`` and ``better`` it decides the seed.
+    threshold : float, optional
+    better : {"above", "below"}
+        Which side of ``threshold`` supports the claim.
+    held : callable, optional
+        ``held(measurement) -> bool`` for a yes/no claim (or an extra condition with ``value``).
+    paper : any
+        The paper's value of the deciding quantity.
+    stochastic : bool
+        False for a deterministic computation (one run decides it).
+    readings : tuple of str
+        The readings of an ambiguity that can move this claim; empty: only the default
+        reading is used and ``Claim.readings`` is empty.
+    protocol_keys : tuple of str or None
+        Config keys that define the paper's protocol for this claim (None: every key).
+    """
+
+    id: str
+    statement: str
+    where: str
+    quantity: str
+    value: Callable[[Mapping[str, Any]], float] | None = None
+    threshold: float | None = None
+    better: str = "above"
+    held: Callable[[Mapping[str, Any]], bool] | None = None
+    paper: Any = None
+    unit: str = ""
+    stochastic: bool = True
+    readings: tuple[str, ...] = ()
+    protocol_keys: tuple[str, ...] | None = None
+    describe: Callable[[Reading], str] | None = field(default=None, repr=False)
+
+    _cls = Claim
+
+    def _reading(self, name: str, runs: Sequence[Mapping[str, Any]]) -> Reading:
+        vals = [float(self.value(m)) for m in runs] if self.value is not None else None
+        held = [bool(self.held(m)) for m in runs] if self.held is not None else None
+        if vals is not None and self.threshold is None:
+            raise ValueError(f"claim {self.id!r}: value needs a threshold")
+        r = decide(held, values=vals, threshold=self.threshold, better=self.better, stochastic=self.stochastic, reading=name)
+        if self.describe is not None:
+            from dataclasses import replace
+
+            r = replace(r, detail=f"{self.describe(r)}; {r.detail}")
+        return r
+
+    def evaluate(self, runs: Mapping[str, Sequence[Mapping[str, Any]]], *, default: str = "default", detail: str = "") -> Claim:
+        """Decide the claim from ``runs[reading] = [measurement of seed 0, seed 1, ...]``.
+
+        ``runs`` must hold ``default`` and every name in :attr:`readings`.
+        """
+        names = list(dict.fromkeys([default, *self.readings])) if self.readings else [default]
+        missing = [n for n in names if n not in runs]
+        if missing:
+            raise ValueError(f"claim {self.id!r}: no runs for readings {missing}; have {sorted(runs)}")
+        per = [self._reading(n, runs[n]) for n in names]
+        main = per[0]
+        outcome = combine_readings(per)
+        measured = float(np.mean(main.values)) if main.values else main.fraction_held
+        text = detail or main.detail
+        if len(per) > 1:
+            text += " | readings: " + "; ".join(f"{r.reading}: {r.outcome}" for r in per)
+        return self._cls(
+            id=self.id,
+            statement=self.statement,
+            where=self.where,
+            quantity=self.quantity,
+            outcome=outcome,
+            n_seeds=main.n_seeds,
+            fraction_held=main.fraction_held,
+            interval=main.interval,
+            readings=tuple(per) if len(per) > 1 else (),
+            detail=text,
+            paper=self.paper,
+            measured=measured,
+            unit=self.unit,
+            protocol_keys=self.protocol_keys,
+        )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FindingSpec(ClaimSpec):
+    """Declarative definition of a finding (our question); evaluates to a :class:`Finding`."""
+
+    where: str = ""
+    _cls = Finding
+
+
+def tally(outcomes: Iterable[str]) -> dict[str, int]:
+    """Count outcomes in :data:`OUTCOMES` order (plus ``"not comparable"`` when present).
+
+    >>> tally(["holds", "inconclusive", "holds"])
+    {'holds': 2, 'does not hold': 0, 'inconclusive': 1, 'depends on reading': 0}
+    """
+    counts = {o: 0 for o in OUTCOMES}
+    for o in outcomes:
+        counts[o] = counts.get(o, 0) + 1
+    return counts
