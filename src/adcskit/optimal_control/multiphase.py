@@ -48,6 +48,7 @@ from adcskit.optimal_control.solve import (
     _interp_fun,
     _Piece,
     _resolve_options,
+    _solution_funs,
 )
 from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar
 
@@ -801,7 +802,7 @@ def solve_multiphase(
         One mesh per phase; default ``(10, 4)`` each.
     guess : MultiPhaseGuess or MultiPhaseSolution, optional
         Default :func:`default_multiphase_guess`; a previous solution on any meshes
-        warm-starts (primal values).
+        warm-starts (primal values, from its collocation polynomials).
     ipopt_options : dict, optional
 
     Returns
@@ -842,13 +843,16 @@ def solve_multiphase(
     meshes = tuple(_as_mesh(m) for m in meshes)
     opts = _resolve_options(ipopt_options)
     g = _as_multiguess(problem, guess)
+    prev = guess if isinstance(guess, MultiPhaseSolution) and guess.problem is problem else None
     t_build = time.perf_counter()
     tr = _get(problem, method, meshes, opts)
     build_s = time.perf_counter() - t_build
-    return _solve(problem, tr, g, build_s)
+    return _solve(problem, tr, g, build_s, prev)
 
 
-def _solve(problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGuess, build_s: float) -> MultiPhaseSolution:
+def _solve(
+    problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGuess, build_s: float, prev=None
+) -> MultiPhaseSolution:
     t_guess = []
     for ph, gp in zip(problem.phases, g.phases, strict=True):
         t0 = float(np.clip(gp.t[0], *ph.t0_bounds))
@@ -858,9 +862,15 @@ def _solve(problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGue
         t_guess.append((t0, tf))
     scales, par = tr.scales(problem, t_guess)
     z0 = np.zeros(tr.nz)
-    for ph, lay, gp, (t0, tf), (sx, su, st) in zip(problem.phases, tr.layouts, g.phases, t_guess, scales, strict=True):
-        xfun = _interp_fun(gp.t, gp.x, t0, tf)
-        ufun = _interp_fun(gp.t if gp.t_u is None else gp.t_u, gp.u, t0, tf)
+    for k, (ph, lay, gp, (t0, tf), (sx, su, st)) in enumerate(
+        zip(problem.phases, tr.layouts, g.phases, t_guess, scales, strict=True)
+    ):
+        if prev is not None:  # a previous solution: its own polynomials, time-rescaled
+            xfun, ufun = _solution_funs(prev.phases[k], t0, tf)
+        else:
+            g0, gf = float(gp.t[0]), float(gp.tf)
+            xfun = _interp_fun(gp.t, gp.x, g0, gf, t0, tf)
+            ufun = _interp_fun(gp.t if gp.t_u is None else gp.t_u, gp.u, g0, gf, t0, tf)
         for iv, (ts, tc, tend) in zip(lay.intervals, tr.times(lay, t0, tf), strict=True):
             z0[iv.xs] = (xfun(ts) / sx).ravel()
             if ph.n_controls:
