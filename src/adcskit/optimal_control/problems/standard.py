@@ -168,8 +168,11 @@ def brachistochrone_time(x_final: float, drop: float, g: float = _G0) -> float:
 
     Examples
     --------
-    >>> round(brachistochrone_time(1.0, 1.0, g=1.0), 6)  # φ_f from (φ - sinφ)/(1 - cosφ) = 1
-    1.809205
+    End at the cycloid's lowest point (x = πR, y = 2R): φ_f = π, T = π √(R/g) = π for R = g = 1.
+
+    >>> import numpy as np
+    >>> round(brachistochrone_time(np.pi, 2.0, g=1.0), 9)
+    3.141592654
     """
     xf = check_positive("x_final", x_final, unit="m")
     dy = check_positive("drop", drop, unit="m")
