@@ -123,3 +123,15 @@ def test_validation():
         solve_multiphase(prob, method="euler")
     with pytest.raises(InputTypeError):
         solve_multiphase(prob, guess=3)
+
+
+def test_nonfinite_dynamics_give_success_false_not_nan():
+    import casadi as ca
+
+    # sqrt of a negative number at the guess: IPOPT stops (invalid number); the result must
+    # be a clean failure with finite arrays
+    ph = Phase(dynamics=lambda x, u, t, p: [ca.sqrt(x[0] - 10.0) + u[0]], n_states=1, n_controls=1,
+               initial_state=[0.0], final_state=[1.0], tf_bounds=(1.0, 1.0))
+    sol = solve_multiphase(MultiPhaseProblem(phases=[ph], objective=lambda e, p: e[0].tf), meshes=[(2, 3)])
+    assert not sol.success
+    assert np.all(np.isfinite(sol.phases[0].x)) and np.isfinite(sol.max_violation)

@@ -1,6 +1,8 @@
 """Pseudospectral optimal control: Gauss (LG) and Radau (LGR) multi-interval transcriptions
-solved by CasADi + IPOPT, costate estimation from the KKT multipliers, Hamiltonian, bang-bang
-detection and open-loop re-simulation.
+solved by CasADi + IPOPT, error-controlled hp mesh refinement (:func:`solve_adaptive`),
+multi-phase problems with links, events, static parameters and integral constraints
+(:func:`solve_multiphase`), costate estimation from the KKT multipliers, Hamiltonian,
+bang-bang detection and open-loop re-simulation. See docs/optimal-control.md.
 
 Typical use::
 

@@ -63,7 +63,7 @@ __all__ = [
 ]
 
 
-def _pair(name: str, value, allow_inf_hi: bool = True) -> tuple[float, float]:
+def _pair(name: str, value) -> tuple[float, float]:
     try:
         lo, hi = (float(v) for v in value)
     except (TypeError, ValueError):
@@ -586,6 +586,7 @@ class _MultiTranscription:
         if g.numel() != self.ng:
             raise RuntimeError(f"internal layout error: {g.numel()} rows, expected {self.ng}")
         self.J_fun = ca.Function("J", [z, par], [J])
+        self.g_fun = ca.Function("g", [z, par], [g])
         self.ends_fun = ca.Function(
             "E", [z, par], [ca.vertcat(*[ca.vertcat(e.t0, e.tf, e.q) for e in ends])]
         )
@@ -734,10 +735,6 @@ class MultiPhaseSolution:
     interval_errors: tuple = ()
     mesh_history: tuple = ()
     certificate: Any = None
-
-    @property
-    def nit_total(self) -> int:
-        return self.nit
 
     def with_adaptive(self, **changes) -> MultiPhaseSolution:
         """A copy with the adaptive-refinement fields (used by :func:`solve_adaptive`)."""
@@ -892,9 +889,16 @@ def _solve(
     z = np.asarray(res["x"]).ravel()
     lam_g = np.asarray(res["lam_g"]).ravel()
     gv = np.asarray(res["g"]).ravel()
-    viol = float(np.max(np.concatenate([[0.0], lbg - gv, gv - ubg, lbz - z, z - ubz])))
     status = str(stats.get("return_status", "unknown"))
     success = bool(stats.get("success", False))
+    if not (np.all(np.isfinite(z)) and np.all(np.isfinite(lam_g))):
+        # IPOPT stopped on a non-finite iterate: report the starting point, never NaN
+        z, lam_g = z0.copy(), np.zeros_like(lam_g)
+        gv = np.asarray(tr.g_fun(z, par)).ravel()
+        success = False
+        status = f"{status} (non-finite iterate; the initial guess is reported)"
+    gfin = np.where(np.isfinite(gv), gv, 0.0)
+    viol = float(np.max(np.concatenate([[0.0], lbg - gfin, gfin - ubg, lbz - z, z - ubz])))
     nit = int(stats.get("iter_count", 0))
     pval = z[tr.i_p] * problem.parameter_scale if problem.n_parameters else np.zeros(0)
     endv = np.asarray(tr.ends_fun(z, par)).ravel()
