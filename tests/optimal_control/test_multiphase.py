@@ -135,3 +135,14 @@ def test_nonfinite_dynamics_give_success_false_not_nan():
     sol = solve_multiphase(MultiPhaseProblem(phases=[ph], objective=lambda e, p: e[0].tf), meshes=[(2, 3)])
     assert not sol.success
     assert np.all(np.isfinite(sol.phases[0].x)) and np.isfinite(sol.max_violation)
+
+
+def test_wrong_user_function_signature_is_an_input_error():
+    ph = Phase(dynamics=lambda x, u, t: [x[1], u[0]], n_states=2, n_controls=1, tf_bounds=(1.0, 1.0),
+               lagrange=lambda x, u, t, p: u[0] ** 2)
+    with pytest.raises(InputTypeError, match="building the NLP failed"):
+        solve_multiphase(MultiPhaseProblem(phases=[ph]), meshes=[(2, 3)])
+    ph = Phase(dynamics=lambda x, u, t, p: [x[1]], n_states=2, n_controls=1, tf_bounds=(1.0, 1.0),
+               lagrange=lambda x, u, t, p: u[0] ** 2)
+    with pytest.raises(InputTypeError, match="2 values"):
+        solve_multiphase(MultiPhaseProblem(phases=[ph]), meshes=[(2, 3)])

@@ -842,7 +842,15 @@ def solve_multiphase(
     g = _as_multiguess(problem, guess)
     prev = guess if isinstance(guess, MultiPhaseSolution) and guess.problem is problem else None
     t_build = time.perf_counter()
-    tr = _get(problem, method, meshes, opts)
+    try:
+        tr = _get(problem, method, meshes, opts)
+    except (TypeError, ValueError, RuntimeError, NotImplementedError) as exc:
+        # a user function with the wrong signature, output size or a non-CasADi operation
+        raise InputTypeError(
+            f"problem functions must be f(x, u, t, p) / g / path / integrand (x, u, t, p) and "
+            f"objective / events (ends, p) returning the declared sizes with CasADi operations; "
+            f"building the NLP failed: {exc}"
+        ) from None
     build_s = time.perf_counter() - t_build
     return _solve(problem, tr, g, build_s, prev)
 
