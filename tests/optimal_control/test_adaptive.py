@@ -146,3 +146,11 @@ def test_input_validation():
         solve_adaptive(prob, n_min=5, n_max=3)
     with pytest.raises(InputTypeError):
         estimate_error(prob)
+
+
+def test_refinements_are_warm_started():
+    sol = solve_adaptive(hypersensitive(10.0), tol=1e-5)
+    modes = [m.warm_start for m in sol.mesh_history]
+    assert modes[0] == "cold" and all(m in ("primal", "primal-dual") for m in modes[1:])
+    # warm-started refinements need few IPOPT iterations (the first, cold solve needs more)
+    assert max(m.nit for m in sol.mesh_history[1:]) < sol.mesh_history[0].nit

@@ -364,6 +364,9 @@ class MeshIteration:
         IPOPT iterations.
     solve_s : float
         Wall time of the NLP build and solve (s).
+    warm_start : str
+        How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
+        the new mesh) or ``"primal-dual"`` (see :func:`solve`).
     """
 
     meshes: tuple[Mesh, ...]
@@ -373,6 +376,7 @@ class MeshIteration:
     success: bool
     nit: int
     solve_s: float
+    warm_start: str = "cold"
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -384,6 +388,7 @@ class MeshIteration:
             "success": self.success,
             "nit": self.nit,
             "solve_s": self.solve_s,
+            "warm_start": self.warm_start,
         }
 
 
@@ -578,6 +583,7 @@ def solve_adaptive(
     errs: list[np.ndarray] = []
     for it in range(max_iterations):
         t_start = time.perf_counter()
+        mode = "primal" if multi and hasattr(guess, "phases") and hasattr(guess, "meshes") else "cold"
         if multi:
             sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options)
             phase_sols = list(sol.phases)
@@ -596,6 +602,7 @@ def solve_adaptive(
                 success=bool(sol.success),
                 nit=int(sol.nit),
                 solve_s=wall,
+                warm_start=str(getattr(sol, "warm_start", mode)),
             )
         )
         if sol.success:
@@ -635,7 +642,7 @@ def solve_adaptive(
     emax = cert.max_error
     extras = dict(
         max_error=emax,
-        interval_errors=errs if multi else errs[0],
+        interval_errors=tuple(errs) if multi else errs[0],
         mesh_history=tuple(history),
         certificate=cert,
     )
