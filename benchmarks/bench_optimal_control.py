@@ -4,10 +4,11 @@ beside uniform refinement and dymos.
 For every problem, in one run:
 
 * **hp**: ``solve_adaptive(problem, tol)`` (Radau) from the default naive guess (Goddard: a
-  piecewise-linear guess) — objective vs the published value, collocation points, mesh
+  piecewise-linear guess, 4×4 meshes; launch ascent: :func:`launch_ascent_guess`, 8×4
+  meshes) — objective vs the published value, collocation points, mesh
   iterations, total IPOPT iterations and wall time (NLP builds included);
-* **uniform**: ``solve`` on equal 4-point intervals, the count doubling from 10, each warm
-  started from the previous one, until the same error estimate meets ``tol`` (or 640
+* **uniform**: ``solve`` on equal 4-point intervals, the count doubling from 10, the first
+  from :func:`symmetry_breaking_guess` (as hp), each next one warm started from the previous, until the same error estimate meets ``tol`` (or 640
   intervals): the collocation points uniform refinement needs for the same tolerance;
 * **dymos** (where it runs: brachistochrone, hypersensitive, Bryson–Denham): the same
   problem in dymos' Radau transcription on a fixed grid with at least as many collocation
@@ -57,35 +58,39 @@ def _goddard_guess():
 
 
 def problems(rigid_body: bool):
+    """(name, problem, guess, initial mesh) of every benchmarked problem."""
+    from adcskit.optimal_control.problems import launch_ascent, launch_ascent_guess
     from adcskit.optimal_control.problems import standard as S
 
+    launch = launch_ascent()
     out = [
-        ("hypersensitive", S.hypersensitive(10.0), None),
-        ("bryson-denham", S.bryson_denham(1.0 / 9.0), None),
-        ("brachistochrone", S.brachistochrone(10.0, 5.0), None),
-        ("goddard-rocket", S.goddard_rocket(), _goddard_guess()),
+        ("hypersensitive", S.hypersensitive(10.0), None, None),
+        ("bryson-denham", S.bryson_denham(1.0 / 9.0), None, None),
+        ("brachistochrone", S.brachistochrone(10.0, 5.0), None, None),
+        ("goddard-rocket", S.goddard_rocket(), _goddard_guess(), [(4, 4)] * 3),
+        ("launch-ascent", launch, launch_ascent_guess(launch), [(8, 4)] * 4),
     ]
     if rigid_body:
-        out.append(("rigid-body-reorientation", S.rigid_body_reorientation(180.0), None))
+        out.append(("rigid-body-reorientation", S.rigid_body_reorientation(180.0), None, None))
     return out
 
 
-def run_hp(prob, guess, tol):
+def run_hp(prob, guess, tol, mesh=None):
     from adcskit.optimal_control import clear_cache, solve_adaptive
 
     clear_cache()
-    mesh = [(4, 4)] * 3 if guess is not None else None
     t = time.perf_counter()
-    sol = solve_adaptive(prob, tol=tol, guess=guess, mesh=mesh, max_iterations=15)
+    sol = solve_adaptive(prob, tol=tol, guess=guess, mesh=mesh, max_iterations=15,
+                         ipopt_options={"max_iter": 1500})
     wall = time.perf_counter() - t
     return sol, wall
 
 
 def run_uniform(prob, tol, max_intervals=640):
-    from adcskit.optimal_control import estimate_error, solve
+    from adcskit.optimal_control import estimate_error, solve, symmetry_breaking_guess
 
     hist = []
-    guess = None
+    guess = symmetry_breaking_guess(prob)  # the same start as solve_adaptive's default
     k = 10
     t = time.perf_counter()
     while k <= max_intervals:
@@ -296,11 +301,11 @@ def main(argv=None) -> int:
     tol = args.tol if args.tol is not None else (1e-4 if args.quick else 1e-6)
     use_dymos = not (args.quick or args.no_dymos)
     results, sols = [], {}
-    for name, prob, guess in problems(args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)):
+    for name, prob, guess, mesh in problems(args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)):
         if args.only and name not in args.only:
             continue
         ref, src = reference_objective(name)
-        sol, wall = run_hp(prob, guess, tol)
+        sol, wall = run_hp(prob, guess, tol, mesh)
         print(f"{name}: hp J={sol.objective:.10g} ok={sol.success} N={sol.certificate.n_collocation} "
               f"it={len(sol.mesh_history)} t={wall:.2f}s", file=sys.stderr, flush=True)
         sols[name] = sol

@@ -91,3 +91,39 @@ def test_reference_objective_names():
     assert reference_objective("brachistochrone")[0] == pytest.approx(1.8016, abs=1e-4)
     with pytest.raises(InputError):
         reference_objective("nope")
+
+
+def test_launch_ascent_events_vanish_on_the_target_orbit():
+    # quick check of the four-phase launch problem's data and orbital-element events: the
+    # guess ends on the target orbit's perigee (from an independent elements -> r, v
+    # conversion), where all five event residuals must vanish
+    import casadi as ca
+
+    from adcskit.optimal_control import Endpoint
+    from adcskit.optimal_control.problems import launch_ascent, launch_ascent_guess
+
+    prob = launch_ascent()
+    g = launch_ascent_guess(prob)
+    assert len(prob.phases) == 4 and len(prob.links) == 6
+    xf = ca.DM(g.phases[3].x[-1])
+    ends = [Endpoint(x0=xf, t0=0.0, xf=xf, tf=0.0, q=ca.DM.zeros(0))] * 4
+    assert np.allclose(np.array(prob.events(ends, ca.DM.zeros(0)), float).ravel(), 0.0, atol=1e-12)
+    # mass bookkeeping: the guess drops 6 and 3 booster casings and the first stage's dry mass
+    jumps = [lk.jump for lk in prob.links if lk.time is False]
+    assert jumps == [-6 * 2280.0, -3 * 2280.0, -8830.0]
+
+
+@pytest.mark.slow
+def test_launch_ascent_final_mass():
+    # Patterson & Rao 2014 (GPOPS-II) §7.5: maximum final mass 7529.712680 kg
+    from adcskit.optimal_control import solve_multiphase
+    from adcskit.optimal_control.problems import launch_ascent, launch_ascent_guess
+
+    prob = launch_ascent()
+    first = solve_multiphase(prob, meshes=[(8, 4)] * 4, guess=launch_ascent_guess(prob),
+                             ipopt_options={"max_iter": 1500})
+    assert first.success
+    sol = solve_adaptive(prob, tol=1e-6, guess=first, mesh=[(4, 4)] * 4)
+    assert sol.success
+    ref = -reference_objective("launch-ascent")[0]
+    assert abs(-sol.objective - ref) / ref < 1e-6

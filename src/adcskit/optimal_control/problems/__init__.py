@@ -4,6 +4,7 @@ from adcskit.optimal_control.problems.double_integrator import (
     double_integrator_min_energy,
     double_integrator_min_time,
 )
+from adcskit.optimal_control.problems.launch import launch_ascent, launch_ascent_guess
 from adcskit.optimal_control.problems.rendezvous import RendezvousParams, rendezvous_problem
 from adcskit.optimal_control.problems.standard import (
     brachistochrone,
@@ -24,6 +25,8 @@ __all__ = [
     "double_integrator_min_time",
     "goddard_rocket",
     "hypersensitive",
+    "launch_ascent",
+    "launch_ascent_guess",
     "reference_objective",
     "rendezvous_problem",
     "rigid_body_reorientation",

@@ -368,6 +368,7 @@ def reference_objective(name: str) -> tuple[float, str]:
         "brachistochrone": (brachistochrone_time(10.0, 5.0), "closed-form cycloid, (0,10) → (10,5) m"),
         "rigid-body-reorientation": (3.243, "Bilimoria & Wie 1993: 180° rest-to-rest, unit inertia and torque, tf = 3.243 (eigenaxis 2√π = 3.545)"),
         "goddard-rocket": (-18550.872, "GPOPS-II example / Bryson 1999 §9.3: h(tf) = 18550.872 ft"),
+        "launch-ascent": (-7529.712680, "Patterson & Rao 2014 (GPOPS-II) §7.5: final mass 7529.712680 kg"),
     }
     if name not in refs:
         raise InputError(f"name must be one of {sorted(refs)}; got {name!r}")
