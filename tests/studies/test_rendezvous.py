@@ -106,25 +106,55 @@ def test_full_and_paper_dynamics_differ_only_by_dropped_terms():
     np.testing.assert_allclose(ff[:3] - fa[:3], dropped, atol=1e-15)
 
 
-def test_quick_study(tmp_path):
-    run_study("rendezvous", quick=True, out=tmp_path)
-    doc = json.loads((tmp_path / "rendezvous" / "result.json").read_text())
-    rows = doc["measured"]["rows"]
-    keys = {
-        "s0_m", "tf_paper_mesh_s", "tf_converged_s", "tf_best_multistart_s",
-        "distinct_local_optima_s", "solve_s", "hamiltonian_mean", "hamiltonian_std", "bang_bang",
-    }
-    assert all(set(r) == keys for r in rows)
-    assert {"s0_m", "tf_gpm_s", "tf_gpops_s"} <= set(doc["paper"]["rows"][0])
-    main = rows[0]
-    assert main["s0_m"] == [20.0, 0.0, 0.0]
-    # physics: H ≡ −1 (S2 eq. 39) within the collocation error of the 20×3 mesh
-    assert main["hamiltonian_mean"] == pytest.approx(-1.0, abs=1e-2)
-    # tf on the paper mesh: S2 §6 reports 25.8727 s; a converged optimum is a lower bound on
-    # neither, but it must lie between the pure-translation bound 2·sqrt(20/(sqrt2·0.1)) and
-    # the single-axis bound 2·sqrt(20/0.1) = 28.28 s
-    assert 2 * math.sqrt(20 / (math.sqrt(2) * 0.1)) < main["tf_best_multistart_s"] < 28.29
-    assert main["tf_converged_s"] <= main["tf_best_multistart_s"] + 1e-2
+@pytest.fixture(scope="module")
+def quick_runs(tmp_path_factory):
+    # two root seeds = two independent multistart draws (the claims are deterministic given
+    # the starts; the seeds test that their outcomes do not hinge on which starts were drawn)
+    out = tmp_path_factory.mktemp("rv")
+    docs = []
+    for seed in (0, 1):
+        run_study("rendezvous", quick=True, seed=seed, out=out / str(seed))
+        docs.append(json.loads((out / str(seed) / "rendezvous" / "result.json").read_text()))
+    return docs
+
+
+def test_quick_study_structure(quick_runs):
+    doc = quick_runs[0]
+    assert {"claims", "checks", "findings"} <= set(doc)
+    ids = {c["id"] for c in doc["claims"]}
+    # quick rows: the main scenario and Table 4 row 3
+    assert ids == {"tf_main", "bang_bang", "hamiltonian", "table4_gpm_row3"}
+    for c in doc["claims"]:
+        assert c["outcome"] in ("holds", "does not hold", "inconclusive", "depends on reading")
+        dyn = ["eq. 2 as printed", "full relative dynamics"]
+        names = [r["reading"] for r in c["readings"]]
+        if c["id"] in ("bang_bang", "hamiltonian"):
+            assert names == dyn
+        else:  # tf values: dynamics x precision (printed digits / same optimum)
+            assert names == [f"{d} / {p}" for d in dyn for p in ("printed digits", "same optimum")]
+        assert c["where"] and c["statement"]
+    assert all(c["passed"] for c in doc["checks"]), [c for c in doc["checks"] if not c["passed"]]
     assert len(doc["figures"]) == 14  # Figs 3-15 (13) + Table 4 summary
-    names = {c["name"] for c in doc["checks"]}
-    assert any("bang-bang" in n for n in names) and any("Hamiltonian" in n for n in names)
+    m = doc["measured"]["readings"]["eq. 2 as printed"]["rows"]["[20.0, 0.0, 0.0]"]
+    # tf between the pure-translation bound 2*sqrt(20/(sqrt2*0.1)) and the single-axis bound
+    # 2*sqrt(20/0.1) = 28.28 s (S2 Table 2 limits: 320 N / 3200 kg = 0.1 m/s^2)
+    assert 2 * math.sqrt(20 / (math.sqrt(2) * 0.1)) < m["best_paper_mesh_s"] < 28.29
+
+
+def test_quick_claims_stable_over_seeds(quick_runs):
+    # outcomes of the full run (docs/studies/rendezvous.md) that the quick settings reach too:
+    # 25.8727 s and 25.9360 s are the 20x3 optima of eq. 2 as printed to every printed digit
+    # (S2 Sec. 6, Table 4) and miss the full relative dynamics by 3.6e-4 / 5.9e-4 s
+    expected = {
+        "tf_main": ("holds", "holds", "does not hold", "holds"),
+        "table4_gpm_row3": ("holds", "holds", "does not hold", "holds"),
+        "bang_bang": ("holds", "holds"),
+        "hamiltonian": ("holds", "holds"),
+    }
+    for doc in quick_runs:
+        got = {c["id"]: tuple(r["outcome"] for r in c["readings"]) for c in doc["claims"]}
+        assert got == expected
+        main = next(c for c in doc["claims"] if c["id"] == "tf_main")
+        assert main["outcome"] == "depends on reading"
+        # |25.8727 - ours| under eq. 2 as printed, in units of the 6e-5 s printed-digit tolerance
+        assert main["measured"] < 0.5

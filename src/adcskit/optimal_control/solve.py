@@ -233,7 +233,11 @@ class OptimalControlSolution:
         return out if np.ndim(t) else out[0]
 
     def as_guess(self) -> Guess:
-        """This solution as an initial guess for another mesh (warm start)."""
+        """This solution's samples as a :class:`Guess` (linearly interpolated onto a new mesh).
+
+        For a warm start pass the solution itself as ``guess`` to :func:`solve`: it uses the
+        Lagrange polynomials, the raw NLP point and its multipliers.
+        """
         return Guess(t=self.t, x=self.x, u=self.u, tf=self.tf, t_u=self.t_control)
 
     def to_dict(self) -> dict[str, Any]:
