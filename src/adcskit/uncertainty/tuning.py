@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_rng, check_int, check_positive
+from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
 from adcskit.errors import InputError
 from adcskit.uncertainty.robust import mean_change_converged, robust_objective
@@ -310,6 +310,7 @@ def tune_robust(
     overshoot_max_pct: float = 10.0,
     penalty_weight: float = 1.0,
     rng: Any = None,
+    penalty_on: str = "sample",
 ) -> RobustTuningResult:
     """Robust GA tuning on LHS samples (S4 eq. 10, Fig. 8).
 
@@ -337,6 +338,9 @@ def tune_robust(
         Overshoot constraint [%] and its penalty [deg per % of mean excess].
     rng : Generator or int, optional
         Draws the LHS samples and seeds pymoo.
+    penalty_on : {"sample", "mean"}
+        Penalise each sample's overshoot excess (averaged) or the excess of the mean
+        overshoot (:func:`adcskit.uncertainty.robust.robust_objective`).
 
     Returns
     -------
@@ -364,6 +368,7 @@ def tune_robust(
     tol = check_positive("tol", tol)
     lo, hi = _bounds(bounds)
     osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
+    check_choice("penalty_on", penalty_on, ("sample", "mean"))
     base = LoopParams() if base is None else base
     gen = as_rng(rng)
     samples = latin_hypercube(dists, n_samples, gen)
@@ -376,7 +381,8 @@ def tune_robust(
         err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
         os = m.overshoot_pct.reshape(x.shape[0], n_samples)
         f = robust_objective(
-            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight
+            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight,
+            penalty_on=penalty_on,
         )
         return f, m
 
