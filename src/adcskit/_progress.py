@@ -9,14 +9,14 @@ code otherwise.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import TypeVar
 
 T = TypeVar("T")
 
 _SESSION = None  # the active rich.progress.Progress, if any
 
-__all__ = ["progress_session", "track", "status"]
+__all__ = ["progress_session", "track", "status", "bar"]
 
 
 @contextlib.contextmanager
@@ -77,3 +77,21 @@ def status(message: str) -> None:
     """Print a one-line status message above the bars (no-op without a session)."""
     if _SESSION is not None:
         _SESSION.console.print(message)
+
+
+@contextlib.contextmanager
+def bar(description: str, total: int | None) -> Iterator[Callable[[int], None]]:
+    """A progress bar advanced by hand: ``with bar("GA", 1000) as advance: ... advance(1)``.
+
+    For loops driven by someone else's code (an optimiser's callback), where :func:`track`
+    cannot wrap the iterable. A no-op without an active session.
+    """
+    progress = _SESSION
+    if progress is None:
+        yield lambda n=1: None
+        return
+    task = progress.add_task(description, total=total)
+    try:
+        yield lambda n=1: progress.advance(task, n)
+    finally:
+        progress.remove_task(task)

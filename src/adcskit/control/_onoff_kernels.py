@@ -1,10 +1,23 @@
-"""Private kernels of the on-off loop: numba batch kernel and the NumPy reference path.
+"""Private kernels of the on-off loop: one per-sample source for the CPU and the GPU, plus
+the NumPy reference path.
 
-Both kernels take plain float arrays prepared by :mod:`adcskit.control.onoff` and perform
-*the same floating-point operations in the same order*, so that their results agree bit for
-bit (no fused multiply-add: numba runs without ``fastmath``; NumPy ufuncs never fuse).
-The only exception is ``sin`` of a time-varying disturbance, where libm and NumPy may differ
-in the last ulp.
+:func:`_sample` simulates one sample; it is compiled twice from this one source
+(:mod:`adcskit._targets`): by ``numba.njit`` for the CPU driver :func:`simulate_parallel`
+(``prange`` over samples) and by ``numba.cuda.jit(device=True)`` for the GPU driver
+:func:`simulate_cuda` (one thread per sample). :func:`simulate_numpy` is an independent
+reference vectorised over samples.
+
+The CPU kernels perform *the same floating-point operations in the same order* as the NumPy
+path, so their results agree bit for bit (no fused multiply-add: numba runs without
+``fastmath`` and LLVM does not contract on the CPU; NumPy ufuncs never fuse). The only
+exception is ``sin`` of a time-varying disturbance, where libm and NumPy may differ in the
+last ulp. On a real GPU, NVVM contracts ``a * b + c`` into fused multiply-adds (one rounding
+instead of two), so the continuous metrics differ from the CPU's by rounding-level amounts
+(a relative 1e-9 on a 30 s run is the budget the tests allow: the loop is a marginally
+stable limit cycle that amplifies 1e-16 differences slowly), while the discrete events
+(firings) are identical unless a controller output falls within rounding of a Schmitt
+threshold. numba's CUDA simulator executes the device function as Python (no FMA), so
+there the GPU driver reproduces the CPU kernel bit for bit.
 
 Per-sample parameter columns (``P[i, col]``) and shared coefficients (``C[col]``) are
 listed below; :mod:`adcskit.control.onoff` builds both.
@@ -16,6 +29,8 @@ import math
 
 import numba
 import numpy as np
+
+from adcskit._targets import LazyKernels, PerSample, import_cuda
 
 # --- per-sample parameter columns ---------------------------------------------------------
 KP, KI, KD, UON, UOFF, INERTIA, TORQUE, DELAY, D0, DAMP, DOMEGA, THREF, TH0, OM0 = range(14)
@@ -48,14 +63,21 @@ TR_THETA, TR_OMEGA, TR_U, TR_CMD, TR_THRUST = range(5)
 N_TRACE = 5
 
 
-def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
-    """Simulate every row of ``P``; return the (N, N_METRICS) metrics.
+def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
+    """Simulate sample ``i`` (row ``P[i]``) and write its metrics to ``out[i, :]``.
 
-    ``rec`` is either ``(N, n_steps + 1, N_TRACE)`` (record traces) or ``(0, 0, N_TRACE)``.
-    ``buf_len`` is a power of two larger than the longest delay in steps + 2.
+    The per-sample function of the one-source/two-targets pattern (:mod:`adcskit._targets`):
+    compiled by ``numba.njit`` (called from :func:`simulate_parallel` under ``prange``) and
+    by ``numba.cuda.jit(device=True)`` (called by one GPU thread per sample).
+
+    ``buf`` is the sample's delay line, ``int8[>= buf_len]`` scratch supplied by the driver
+    (a fresh ``np.empty`` on the CPU, ``cuda.local.array`` on the GPU); ``buf_len`` is a
+    power of two larger than the longest delay in steps + 2. It holds Schmitt outputs
+    {-1, 0, +1}, exact in int8: 1 byte per entry instead of 8 keeps a thread's line small
+    (32 B at S4's delays), which on the GPU lets the resident threads' local memory stay in
+    L1 instead of spilling to L2. ``rec`` is ``(N, n_steps + 1, N_TRACE)`` (record traces)
+    or has a zero first axis.
     """
-    n = P.shape[0]
-    out = np.empty((n, N_METRICS))
     record = rec.shape[0] > 0
     mask = buf_len - 1
     a11 = C[A11]
@@ -75,142 +97,234 @@ def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
     half_dt2 = C[HALF_DT2]
     band_frac = C[BAND_FRAC]
     k_win0 = n_steps - n_win + 1  # first sample index inside the final window
-    for i in numba.prange(n):
-        kp = P[i, KP]
-        ki = P[i, KI]
-        kd = P[i, KD]
-        u_on = P[i, UON]
-        u_off = P[i, UOFF]
-        inv_j = 1.0 / P[i, INERTIA]
-        torque = P[i, TORQUE]
-        g = torque * inv_j
-        abs_torque = abs(torque)
-        delay_steps = P[i, DELAY] / dt
-        nd = int(math.floor(delay_steps))
-        frac = delay_steps - nd
-        d0 = P[i, D0]
-        d_amp = P[i, DAMP]
-        d_omega = P[i, DOMEGA]
-        theta_ref = P[i, THREF]
-        theta = P[i, TH0]
-        omega = P[i, OM0]
-        step = theta_ref - theta
-        sgn = 1.0 if step >= 0.0 else -1.0
-        abs_step = abs(step)
-        band = band_frac * abs_step
-        buf = np.zeros(buf_len)
+    kp = P[i, KP]
+    ki = P[i, KI]
+    kd = P[i, KD]
+    u_on = P[i, UON]
+    u_off = P[i, UOFF]
+    inv_j = 1.0 / P[i, INERTIA]
+    torque = P[i, TORQUE]
+    g = torque * inv_j
+    abs_torque = abs(torque)
+    delay_steps = P[i, DELAY] / dt
+    nd = int(math.floor(delay_steps))
+    frac = delay_steps - nd
+    d0 = P[i, D0]
+    d_amp = P[i, DAMP]
+    d_omega = P[i, DOMEGA]
+    theta_ref = P[i, THREF]
+    theta = P[i, TH0]
+    omega = P[i, OM0]
+    step = theta_ref - theta
+    sgn = 1.0 if step >= 0.0 else -1.0
+    abs_step = abs(step)
+    band = band_frac * abs_step
+    for j in range(buf_len):
+        buf[j] = 0
+    e = theta_ref - theta
+    integ = 0.0
+    xf = e  # derivative filter starts at rest on the initial error (no derivative kick)
+    x1 = 0.0
+    x2 = 0.0
+    s = 0.0  # Schmitt output (held command)
+    u = 0.0
+    cnt = 0
+    firings = 0.0
+    fuel = 0.0
+    max_over = -math.inf
+    acc = 0.0
+    max_win = 0.0
+    last_out = -1
+    if abs(e) > band:
+        last_out = 0
+    if record:
+        rec[i, 0, TR_THETA] = theta
+        rec[i, 0, TR_OMEGA] = omega
+        rec[i, 0, TR_U] = 0.0
+        rec[i, 0, TR_CMD] = 0.0
+        rec[i, 0, TR_THRUST] = 0.0
+    for k in range(n_steps):
+        # controller at the command instants (sample and hold)
+        if cnt == 0:
+            cnt = hold
+            u = kp * e + ki * integ + kd * ((e - xf) * inv_td)
+            prev = s
+            if s == 0.0:
+                if u >= u_on:
+                    s = 1.0
+                elif u <= -u_on:
+                    s = -1.0
+            elif s == 1.0:
+                if u <= -u_on:
+                    s = -1.0
+                elif u < u_off:
+                    s = 0.0
+            else:
+                if u >= u_on:
+                    s = 1.0
+                elif u > -u_off:
+                    s = 0.0
+            if s != 0.0 and s != prev:
+                firings += 1.0
+        cnt -= 1
+        # pure delay (linear interpolation between the two neighbouring command samples)
+        buf[k & mask] = int(s)
+        if k - nd >= 0:
+            ua = float(buf[(k - nd) & mask])
+        else:
+            ua = 0.0
+        if k - nd - 1 >= 0:
+            ub = float(buf[(k - nd - 1) & mask])
+        else:
+            ub = 0.0
+        ud = (1.0 - frac) * ua + frac * ub
+        # disturbance (held over the step, evaluated at its midpoint)
+        if d_amp != 0.0:
+            td = d0 + d_amp * math.sin(d_omega * ((k + 0.5) * dt))
+        else:
+            td = d0
+        # thruster lag and rigid body, exact for a command held over the step
+        v = v1 * x1 + v2 * x2 + vu * ud
+        p = p1 * x1 + p2 * x2 + pu * ud
+        x2 = a21 * x1 + a22 * x2 + b2 * ud
+        x1 = a11 * x1 + b1 * ud
+        theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
+        omega = omega + g * v + (td * inv_j) * dt
+        fuel += abs_torque * abs(v)
+        # PID states
+        integ = integ + e * dt
+        xf = xf + alpha * (e - xf)
+        # metrics at t_{k+1}
         e = theta_ref - theta
-        integ = 0.0
-        xf = e  # derivative filter starts at rest on the initial error (no derivative kick)
-        x1 = 0.0
-        x2 = 0.0
-        s = 0.0  # Schmitt output (held command)
-        u = 0.0
-        cnt = 0
-        firings = 0.0
-        fuel = 0.0
-        max_over = -np.inf
-        acc = 0.0
-        max_win = 0.0
-        last_out = -1
-        if abs(e) > band:
-            last_out = 0
+        over = sgn * (theta - theta_ref)
+        if over > max_over:
+            max_over = over
+        ae = abs(e)
+        if ae > band:
+            last_out = k + 1
+        if k + 1 >= k_win0:
+            acc += ae
+            if ae > max_win:
+                max_win = ae
         if record:
-            rec[i, 0, TR_THETA] = theta
-            rec[i, 0, TR_OMEGA] = omega
-            rec[i, 0, TR_U] = 0.0
-            rec[i, 0, TR_CMD] = 0.0
-            rec[i, 0, TR_THRUST] = 0.0
-        for k in range(n_steps):
-            # controller at the command instants (sample and hold)
-            if cnt == 0:
-                cnt = hold
-                u = kp * e + ki * integ + kd * ((e - xf) * inv_td)
-                prev = s
-                if s == 0.0:
-                    if u >= u_on:
-                        s = 1.0
-                    elif u <= -u_on:
-                        s = -1.0
-                elif s == 1.0:
-                    if u <= -u_on:
-                        s = -1.0
-                    elif u < u_off:
-                        s = 0.0
-                else:
-                    if u >= u_on:
-                        s = 1.0
-                    elif u > -u_off:
-                        s = 0.0
-                if s != 0.0 and s != prev:
-                    firings += 1.0
-            cnt -= 1
-            # pure delay (linear interpolation between the two neighbouring command samples)
-            buf[k & mask] = s
-            if k - nd >= 0:
-                ua = buf[(k - nd) & mask]
-            else:
-                ua = 0.0
-            if k - nd - 1 >= 0:
-                ub = buf[(k - nd - 1) & mask]
-            else:
-                ub = 0.0
-            ud = (1.0 - frac) * ua + frac * ub
-            # disturbance (held over the step, evaluated at its midpoint)
-            if d_amp != 0.0:
-                td = d0 + d_amp * math.sin(d_omega * ((k + 0.5) * dt))
-            else:
-                td = d0
-            # thruster lag and rigid body, exact for a command held over the step
-            v = v1 * x1 + v2 * x2 + vu * ud
-            p = p1 * x1 + p2 * x2 + pu * ud
-            x2 = a21 * x1 + a22 * x2 + b2 * ud
-            x1 = a11 * x1 + b1 * ud
-            theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
-            omega = omega + g * v + (td * inv_j) * dt
-            fuel += abs_torque * abs(v)
-            # PID states
-            integ = integ + e * dt
-            xf = xf + alpha * (e - xf)
-            # metrics at t_{k+1}
-            e = theta_ref - theta
-            over = sgn * (theta - theta_ref)
-            if over > max_over:
-                max_over = over
-            ae = abs(e)
-            if ae > band:
-                last_out = k + 1
-            if k + 1 >= k_win0:
-                acc += ae
-                if ae > max_win:
-                    max_win = ae
-            if record:
-                rec[i, k + 1, TR_THETA] = theta
-                rec[i, k + 1, TR_OMEGA] = omega
-                rec[i, k + 1, TR_U] = u
-                rec[i, k + 1, TR_CMD] = s
-                rec[i, k + 1, TR_THRUST] = torque * x2
-        if abs_step > 0.0:
-            out[i, OVERSHOOT_PCT] = max(max_over, 0.0) / abs_step * 100.0
-        else:
-            out[i, OVERSHOOT_PCT] = np.nan
-        out[i, MEAN_ABS_ERR] = acc / n_win
-        out[i, MAX_ABS_ERR] = max_win
-        out[i, FUEL] = fuel
-        out[i, FIRINGS] = firings
-        if last_out < 0:
-            out[i, SETTLING_TIME] = 0.0
-        elif last_out >= n_steps:
-            out[i, SETTLING_TIME] = np.nan
-        else:
-            out[i, SETTLING_TIME] = (last_out + 1) * dt
-        out[i, FINAL_ERR] = e
+            rec[i, k + 1, TR_THETA] = theta
+            rec[i, k + 1, TR_OMEGA] = omega
+            rec[i, k + 1, TR_U] = u
+            rec[i, k + 1, TR_CMD] = s
+            rec[i, k + 1, TR_THRUST] = torque * x2
+    if abs_step > 0.0:
+        out[i, OVERSHOOT_PCT] = max(max_over, 0.0) / abs_step * 100.0
+    else:
+        out[i, OVERSHOOT_PCT] = math.nan
+    out[i, MEAN_ABS_ERR] = acc / n_win
+    out[i, MAX_ABS_ERR] = max_win
+    out[i, FUEL] = fuel
+    out[i, FIRINGS] = firings
+    if last_out < 0:
+        out[i, SETTLING_TIME] = 0.0
+    elif last_out >= n_steps:
+        out[i, SETTLING_TIME] = math.nan
+    else:
+        out[i, SETTLING_TIME] = (last_out + 1) * dt
+    out[i, FINAL_ERR] = e
+
+
+SAMPLE = PerSample(_sample)
+_sample_cpu = SAMPLE.cpu
+
+
+def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
+    """CPU driver: simulate every row of ``P``; return the (N, N_METRICS) metrics."""
+    n = P.shape[0]
+    out = np.empty((n, N_METRICS))
+    for i in numba.prange(n):
+        buf = np.empty(buf_len, dtype=np.int8)
+        _sample_cpu(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
+    return out
+
+
+def _simulate_python(P, C, n_steps, hold, n_win, buf_len, rec):
+    """The plain-Python driver around the plain per-sample function (benchmarks only)."""
+    n = P.shape[0]
+    out = np.empty((n, N_METRICS))
+    for i in range(n):
+        _sample(i, P, C, n_steps, hold, n_win, buf_len, np.empty(buf_len, np.int8), rec, out)
     return out
 
 
 simulate_parallel = numba.njit(parallel=True, cache=True, nogil=True)(_simulate)
 simulate_serial = numba.njit(parallel=False, cache=True, nogil=True)(_simulate)
-simulate_python = _simulate  # the plain-Python loop (benchmarks only)
+simulate_python = _simulate_python
+
+
+# --- CUDA driver ---------------------------------------------------------------------------
+# One thread per sample, THREADS_PER_BLOCK threads per block, the delay line in per-thread
+# local memory (``cuda.local.array``: its index ``k & mask`` is dynamic, so it cannot live in
+# registers; the compiler interleaves local memory by thread, so the write ``buf[k & mask]``,
+# the same index in every lane, is one coalesced transaction, and the reads at
+# ``(k - nd) & mask`` touch at most a few lines because the delays of a warp are close).
+# The kernel is specialised on the line length L = buf_len (a compile-time constant), so a
+# thread reserves exactly L bytes: 32 B for S4's delays (<= 30 ms at dt = 1 ms).
+#
+# Registers/occupancy (reasoning, to be checked with kernel.get_regs_per_thread() on a GPU by
+# benchmarks/gpu_session.sh): the time loop keeps ~16 shared coefficients, ~12 per-sample
+# constants and ~12 states/accumulators live, all FP64 (2 registers each) plus a few 64-bit
+# counters -> roughly 80-100 of 32-bit registers. At <= 128 registers an H100 SM (64 K
+# registers) holds >= 512 threads (4 blocks of 128), i.e. 16 warps for 4 FP64 pipes: enough to
+# hide the latency of the dependent FP64 chain, and the loop has no memory traffic apart from
+# the 1-byte delay line. If the compiler allocates more, max_registers in the factory is the
+# knob (it trades spills for occupancy).
+THREADS_PER_BLOCK = 128
+MAX_CUDA_BUFFER = 1 << 16  # longest delay line on the GPU [steps] (64 KiB of local memory)
+CUDA_CHUNK = 1 << 21  # samples per device round trip (2M x (14 + 7) x 8 B = 352 MB on the GPU)
+
+
+cuda = None  # numba.cuda, bound on first GPU use (a module global: see adcskit._targets)
+
+
+def _make_cuda_kernel(buf_len):
+    global cuda
+    cuda = import_cuda()
+    sample = SAMPLE.cuda()
+    int8 = numba.int8
+
+    @cuda.jit
+    def kernel(P, C, n_steps, hold, n_win, rec, out):
+        i = cuda.grid(1)
+        if i < P.shape[0]:
+            buf = cuda.local.array(buf_len, int8)
+            sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
+
+    return kernel
+
+
+CUDA_KERNELS = LazyKernels(_make_cuda_kernel)
+
+
+def simulate_cuda(P, C, n_steps, hold, n_win, buf_len, rec, chunk=CUDA_CHUNK):
+    """GPU driver: the same per-sample function, one CUDA thread per sample.
+
+    Samples go to the device in chunks of ``chunk`` rows, so the batch size is bounded by
+    host memory only. ``rec`` (traces) is copied along when its first axis is non-zero.
+    """
+    kernel = CUDA_KERNELS.get(int(buf_len))  # binds the module global ``cuda``
+    n = P.shape[0]
+    out = np.empty((n, N_METRICS))
+    record = rec.shape[0] > 0
+    C_d = cuda.to_device(np.ascontiguousarray(C))
+    no_rec = cuda.to_device(np.zeros((0, 1, N_TRACE)))
+    for start in range(0, n, chunk):
+        stop = min(n, start + chunk)
+        m = stop - start
+        P_d = cuda.to_device(np.ascontiguousarray(P[start:stop]))
+        out_d = cuda.device_array((m, N_METRICS))
+        rec_d = cuda.to_device(np.ascontiguousarray(rec[start:stop])) if record else no_rec
+        blocks = (m + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+        kernel[blocks, THREADS_PER_BLOCK](P_d, C_d, n_steps, hold, n_win, rec_d, out_d)
+        out[start:stop] = out_d.copy_to_host()
+        if record:
+            rec[start:stop] = rec_d.copy_to_host()
+    return out
 
 
 def simulate_numpy(P, C, n_steps, hold, n_win, buf_len, rec):

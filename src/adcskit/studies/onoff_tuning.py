@@ -35,7 +35,15 @@ from adcskit.control.onoff import LoopParams, LoopSettings, simulate_batch, simu
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
 from adcskit.studies._verdict import ClaimSpec, FindingSpec
 from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian, latin_hypercube
-from adcskit.uncertainty.tuning import evaluate_gains, monte_carlo, tune_deterministic, tune_robust
+from adcskit.uncertainty.tuning import (
+    PAPER_SCALE,
+    RobustTuningScale,
+    estimate_tuning_time,
+    evaluate_gains,
+    monte_carlo,
+    tune_deterministic,
+    tune_robust,
+)
 
 __all__ = ["Config", "run", "STUDY", "PAPER_TABLE4", "PAPER_TABLE6"]
 
@@ -81,8 +89,10 @@ class Config:
     excess, ``"mean"`` the excess of E[overshoot]; the first is the default reading, the
     others are run for the all-four case. ``paper_scale=True`` runs the claim GAs at S4's
     protocol (population 70, the S4 stopping rule with the 1000-generation cap, 1000 LHS
-    samples per candidate, 10 000-run evaluations) after printing a time estimate; days on
-    two CPU cores.
+    samples per candidate, 10 000-run evaluations: ``PAPER_SCALE`` of
+    :mod:`adcskit.uncertainty.tuning`) after printing a time estimate (issue 14's timed
+    probe, :func:`~adcskit.uncertainty.tuning.estimate_tuning_time`); days on two CPU cores,
+    meant for ``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
     """
 
     # loop (S4 Table 3)
@@ -141,6 +151,7 @@ class Config:
     n_seeds: int = 5
     penalty_readings: tuple[str, ...] = ("sample", "mean")
     paper_scale: bool = False
+    backend: str = "cpu"
 
     def __post_init__(self) -> None:
         pos = ("u_on", "inertia", "torque", "tau_thruster", "tau_deriv", "step_deg", "command_rate_hz",
@@ -172,6 +183,8 @@ class Config:
         if (not self.penalty_readings or len(set(self.penalty_readings)) != len(self.penalty_readings)
                 or any(p not in ("sample", "mean") for p in self.penalty_readings)):
             raise ValueError(f"penalty_readings must be distinct values of ('sample', 'mean'); got {self.penalty_readings!r}")
+        if self.backend not in ("cpu", "cuda", "auto"):
+            raise ValueError(f"backend must be 'cpu', 'cuda' or 'auto'; got {self.backend!r}")
         if not isinstance(self.paper_scale, bool):
             raise ValueError(f"paper_scale must be true or false; got {self.paper_scale!r}")
 
@@ -243,7 +256,8 @@ def _deterministic(config: Config, base, settings, bounds, seed):
 def _ga_settings(config: Config) -> dict[str, Any]:
     """GA population, generation cap, LHS training samples and evaluation runs (paper-scale aware)."""
     if config.paper_scale:
-        return {"pop": 70, "max_gen": 1000, "n_lhs": max(1000, config.n_lhs), "n_mc": max(10000, config.n_mc)}
+        ps = PAPER_SCALE  # S4's protocol (issue 14): 70, 1000 generations, 1000 LHS, 10 000 runs
+        return {"pop": ps.pop_size, "max_gen": ps.max_gen, "n_lhs": ps.n_samples, "n_mc": ps.n_eval}
     return {"pop": config.ga_pop, "max_gen": config.ga_max_gen, "n_lhs": config.n_lhs, "n_mc": config.n_mc}
 
 
@@ -265,19 +279,19 @@ def _mc_stats(r) -> dict[str, float]:
     return {"mean": float(np.mean(err)), "std": float(np.std(err))}
 
 
-def _estimate_seconds(config: Config, ga: dict[str, Any], settings, base) -> tuple[float, float]:
-    """(simulations, seconds) upper estimate of the claim runs, from a timed batch on this machine."""
-    import time
-
-    n_pen = 1 if "mean" in config.penalty_readings[1:] else 0
+def _estimate(config: Config, ga: dict[str, Any], settings) -> tuple[int, float, str]:
+    """(GA runs, worst-case seconds, message) of the claim runs, from issue 14's timed probe."""
+    n_pen = len(config.penalty_readings) - 1
     n_ga = config.n_seeds * (len(CASES) + n_pen)
-    sims = n_ga * ga["pop"] * (ga["max_gen"] + 1) * ga["n_lhs"] + config.n_seeds * (
-        len(CASES) * 3 + 2 + n_pen) * ga["n_mc"]
-    probe = latin_hypercube(config.dists("all"), 400, 0)
-    t0 = time.perf_counter()
-    evaluate_gains(np.array([[50.0, 0.01, 50.0]]), probe, base=base, settings=settings)
-    rate = 400 / max(time.perf_counter() - t0, 1e-9)
-    return float(sims), float(sims / rate)
+    n_eval = config.n_seeds * (len(CASES) * 3 + 1 + n_pen) * ga["n_mc"]
+    est = estimate_tuning_time(
+        RobustTuningScale(pop_size=ga["pop"], max_gen=ga["max_gen"], n_samples=ga["n_lhs"], n_eval=n_eval,
+                          tol=config.ga_tol, window=config.ga_window),
+        settings=settings, backend=config.backend,
+    )
+    total = n_ga * est.max_tuning_s + est.evaluation_s
+    return n_ga, total, (f"{n_ga} robust GA runs and {n_eval} evaluation runs; per GA run: {est.message}; "
+                         f"claim runs in all at most {total / 3600:.1f} h on {est.backend}")
 
 
 def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], settings, base, bounds, mc_kw,
@@ -306,6 +320,7 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
             pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol, window=config.ga_window, bounds=bounds,
             overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight,
             rng=kids[1 + ci] if pen == config.penalty_readings[0] else kids[11], penalty_on=pen,
+            backend=config.backend,
         )
         mc_seed = kids[6 + ci]  # the same evaluation samples for every gain set of this seed and case
         gains = {"robust": res.x}
@@ -364,14 +379,13 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     base = config.base()
     bounds = (1e-3, config.gain_max)
     step = math.radians(config.step_deg)
-    mc_kw = dict(base=base, executor=executor, task_size=config.task_size)
+    mc_kw = dict(base=base, executor=executor, task_size=config.task_size, backend=config.backend)
     ga = _ga_settings(config)
     seed_seqs = np.random.SeedSequence(int(rng.integers(2**63))).spawn(config.n_seeds)
     if config.paper_scale:
-        sims, secs = _estimate_seconds(config, ga, settings, base)
+        _, _, est = _estimate(config, ga, settings)
         msg = (f"onoff-tuning paper-scale: population {ga['pop']}, cap {ga['max_gen']} generations, {ga['n_lhs']} "
-               f"LHS samples per candidate, {ga['n_mc']}-run evaluations, {config.n_seeds} seeds: up to "
-               f"{sims:.3g} simulations, estimated at most {secs / 3600:.1f} h on this machine (CPU backend)")
+               f"LHS samples per candidate, {ga['n_mc']}-run evaluations, {config.n_seeds} seeds: {est}")
         status(msg)
         import sys
 
@@ -441,7 +455,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                 config.dists("all"), ratio=r, n_samples=config.n_lhs, base=base, settings=settings,
                 pop_size=config.ga_pop, max_gen=config.sweep_max_gen, tol=config.ga_tol, window=config.ga_window,
                 bounds=bounds, overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight,
-                rng=_seeds(rng, 1)[0],
+                rng=_seeds(rng, 1)[0], backend=config.backend,
             )
         ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=_seeds(rng, 1)[0],
                          directory=_campaign_dir(config, f"sweep_{r:g}"), **mc_kw)
@@ -486,7 +500,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                 config.dists(case), ratio=r, n_samples=config.sweep_cases_n_lhs, base=base, settings=settings,
                 pop_size=config.ga_pop, max_gen=config.sweep_cases_max_gen, tol=config.ga_tol,
                 window=config.ga_window, bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
-                penalty_weight=config.penalty_weight, rng=_seeds(rng, 1)[0],
+                penalty_weight=config.penalty_weight, rng=_seeds(rng, 1)[0], backend=config.backend,
             )
             ev = monte_carlo(res.x, config.dists(case), config.n_mc_ratio_cases, settings=settings,
                              rng=_seeds(rng, 1)[0], directory=_campaign_dir(config, f"sweep_{case}_{r:g}"), **mc_kw)

@@ -11,6 +11,11 @@ not depend on the executor (the randomness lives in the tasks, never in the exec
 With ``dask://`` on several machines the directory must be on a shared file system for the
 workers' writes to be visible; the parent writes every result it receives as well.
 
+Large inputs common to every task (sample arrays) go in ``shared``: they are sent to the
+workers once (scattered on Dask, one temporary file for a process pool) and each task
+receives them as a second argument, so a task carries only its own small description (a
+seed, an index range). The chunk file names then hash ``shared`` as well.
+
 Hand-written here: only the chunk/checkpoint bookkeeping; the pools are
 :mod:`adcskit.uncertainty.executor`'s.
 """
@@ -26,9 +31,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from adcskit._validation import check_int
 from adcskit.errors import InputError, InputTypeError
-from adcskit.uncertainty.executor import Executor, make_executor
+from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
 
 __all__ = ["CampaignResult", "run_campaign"]
 
@@ -67,11 +74,39 @@ class CampaignResult:
         }
 
 
-def _digest(fn: Callable[[Any], Any], tasks: Sequence[Any]) -> str:
+def _digest(fn: Callable[[Any], Any], tasks: Sequence[Any], shared_digest: str = "") -> str:
     h = hashlib.sha256()
     h.update(f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}".encode())
     h.update(pickle.dumps(list(tasks), protocol=4))
+    h.update(shared_digest.encode())
     return h.hexdigest()[:16]
+
+
+def _shared_digest(shared: Any) -> str:
+    """Hash of the shared data (arrays hashed from their buffers, without a pickled copy)."""
+    if shared is NO_SHARED:
+        return ""
+    h = hashlib.sha256()
+
+    def feed(obj: Any) -> None:
+        if isinstance(obj, np.ndarray):
+            a = np.ascontiguousarray(obj)
+            h.update(f"ndarray{a.dtype.str}{a.shape}".encode())
+            h.update(memoryview(a).cast("B"))
+        elif isinstance(obj, dict):
+            h.update(b"dict")
+            for k in sorted(obj, key=repr):
+                h.update(repr(k).encode())
+                feed(obj[k])
+        elif isinstance(obj, (list, tuple)):
+            h.update(type(obj).__name__.encode())
+            for v in obj:
+                feed(v)
+        else:
+            h.update(pickle.dumps(obj, protocol=4))
+
+    feed(shared)
+    return h.hexdigest()
 
 
 def _write_atomic(path: Path, value: Any) -> None:
@@ -91,9 +126,9 @@ def _write_atomic(path: Path, value: Any) -> None:
         raise
 
 
-def _run_chunk(payload: tuple[Callable[[Any], Any], list, str | None]) -> list:
+def _run_chunk(payload: tuple[Callable[[Any], Any], list, str | None], *shared: Any) -> list:
     fn, chunk, path = payload
-    values = [fn(t) for t in chunk]
+    values = [fn(t, *shared) for t in chunk]
     if path is not None:
         _write_atomic(Path(path), values)
     return values
@@ -107,16 +142,18 @@ def run_campaign(
     directory: str | os.PathLike[str] | None = None,
     chunk_size: int | None = None,
     description: str = "campaign",
+    shared: Any = NO_SHARED,
 ) -> CampaignResult:
     """Run ``fn`` over ``tasks`` in chunks on ``executor``, keeping finished chunks on disk.
 
     Parameters
     ----------
     fn : callable
-        A picklable (module-level) function of one task.
+        A picklable (module-level) function of one task, ``fn(task)``, or of a task and the
+        shared data, ``fn(task, shared)`` when ``shared`` is given.
     tasks : sequence
-        Picklable tasks; each carries its own seed or samples, so results are the same on
-        every executor.
+        Picklable tasks; each carries its own seed (or its slice of ``shared``), so results
+        are the same on every executor.
     executor : spec or Executor, optional
         ``serial`` (default), ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``.
     directory : path, optional
@@ -125,6 +162,9 @@ def run_campaign(
         Tasks per chunk (default: spread over ``4 × n_workers`` chunks).
     description : str
         Progress-bar label.
+    shared : object, optional
+        Picklable data common to every task (e.g. a dict of sample arrays), sent to the
+        workers once instead of inside every task.
 
     Returns
     -------
@@ -145,9 +185,10 @@ def run_campaign(
         chunk_size = check_int("chunk_size", chunk_size, minimum=1)
         chunks = [tasks[i : i + chunk_size] for i in range(0, len(tasks), chunk_size)]
         root = Path(directory) if directory is not None else None
+        sdig = _shared_digest(shared) if root is not None else ""
         paths: list[Path | None] = []
         for j, chunk in enumerate(chunks):
-            paths.append(None if root is None else root / f"chunk_{j:05d}_{_digest(fn, chunk)}.pkl")
+            paths.append(None if root is None else root / f"chunk_{j:05d}_{_digest(fn, chunk, sdig)}.pkl")
         results: list[list | None] = [None] * len(chunks)
         n_resumed = 0
         for j, path in enumerate(paths):
@@ -161,7 +202,7 @@ def run_campaign(
         todo = [j for j in range(len(chunks)) if results[j] is None]
         if todo:
             payloads = [(fn, chunks[j], None if paths[j] is None else str(paths[j])) for j in todo]
-            computed = ex.map(_run_chunk, payloads, description=description)
+            computed = ex.map(_run_chunk, payloads, description=description, shared=shared)
             for j, values in zip(todo, computed):
                 results[j] = values
                 path = paths[j]

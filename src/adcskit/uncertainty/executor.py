@@ -16,7 +16,15 @@ Specs (the CLI's ``--executor``):
     A :class:`dask.distributed.LocalCluster` with ``N`` single-threaded worker processes
     (default: CPU count); its dashboard is bound to 127.0.0.1 on a free port.
 ``dask://HOST:PORT``
-    An existing ``dask.distributed`` scheduler (``tcp://HOST:PORT``).
+    An existing ``dask.distributed`` scheduler (``tcp://HOST:PORT``); see
+    ``docs/user-guide.md`` ("Running a campaign on a Dask cluster").
+
+Data shared by every task (e.g. the Monte-Carlo sample arrays) is passed once, as
+``map(fn, tasks, shared=data)``, and every task then runs ``fn(task, data)``: the serial
+executor passes the object, the process pool writes it once to a temporary file that each
+worker loads once, and Dask scatters it once to the workers (:meth:`Client.scatter`,
+broadcast), so the task graph holds only the small tasks and a reference to the data —
+never a copy of the data per task.
 
 Hand-written here: only the thin adapter; the pools are the standard library's and Dask's.
 """
@@ -27,7 +35,11 @@ import abc
 import concurrent.futures as cf
 import multiprocessing
 import os
+import pickle
+import tempfile
+import uuid
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 from adcskit._progress import track
@@ -44,6 +56,28 @@ __all__ = [
 
 EXECUTOR_SPECS = ("serial", "processes[:N]", "dask-local[:N]", "dask://HOST:PORT")
 
+NO_SHARED: Any = type("NoShared", (), {"__repr__": lambda self: "NO_SHARED"})()
+"""Sentinel: ``map`` called without shared data (``fn(task)`` instead of ``fn(task, shared)``)."""
+
+# --- shared data for process-pool workers: one file, loaded once per worker -------------
+_WORKER_SHARED: dict[str, Any] = {}
+
+
+def _load_shared(path: str, token: str) -> Any:
+    if token not in _WORKER_SHARED:
+        _WORKER_SHARED.clear()  # one campaign at a time per worker
+        with open(path, "rb") as fh:
+            _WORKER_SHARED[token] = pickle.load(fh)
+    return _WORKER_SHARED[token]
+
+
+def _apply_file_shared(fn: Callable[[Any, Any], Any], task: Any, path: str, token: str) -> Any:
+    return fn(task, _load_shared(path, token))
+
+
+def _apply_shared(task: Any, fn: Callable[[Any, Any], Any], shared: Any) -> Any:
+    return fn(task, shared)
+
 
 class Executor(abc.ABC):
     """Maps a function over tasks; results come back in task order."""
@@ -56,8 +90,18 @@ class Executor(abc.ABC):
         """Number of tasks that run at once."""
 
     @abc.abstractmethod
-    def map(self, fn: Callable[[Any], Any], tasks: Sequence[Any], *, description: str = "tasks") -> list[Any]:
-        """Return ``[fn(t) for t in tasks]``, computed by this executor."""
+    def map(
+        self,
+        fn: Callable[..., Any],
+        tasks: Sequence[Any],
+        *,
+        description: str = "tasks",
+        shared: Any = NO_SHARED,
+    ) -> list[Any]:
+        """Return ``[fn(t) for t in tasks]`` (or ``[fn(t, shared) ...]``), computed here.
+
+        ``shared`` is sent to the workers once, not once per task.
+        """
 
     def close(self) -> None:  # noqa: B027 - optional hook
         """Release workers (no-op for the serial executor)."""
@@ -81,8 +125,9 @@ class SerialExecutor(Executor):
     def n_workers(self) -> int:
         return 1
 
-    def map(self, fn, tasks, *, description="tasks"):
-        return [fn(t) for t in track(tasks, description, total=len(tasks))]
+    def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
+        args = () if shared is NO_SHARED else (shared,)
+        return [fn(t, *args) for t in track(tasks, description, total=len(tasks))]
 
 
 class ProcessExecutor(Executor):
@@ -100,8 +145,20 @@ class ProcessExecutor(Executor):
     def n_workers(self) -> int:
         return self._n
 
-    def map(self, fn, tasks, *, description="tasks"):
-        futures = {self._pool.submit(fn, t): i for i, t in enumerate(tasks)}
+    def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
+        tmpdir = None
+        if shared is NO_SHARED:
+            futures = {self._pool.submit(fn, t): i for i, t in enumerate(tasks)}
+        else:
+            tmpdir = tempfile.TemporaryDirectory(prefix="adcskit-shared-")
+            path = str(Path(tmpdir.name) / "shared.pkl")
+            with open(path, "wb") as fh:
+                pickle.dump(shared, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            token = uuid.uuid4().hex
+            futures = {
+                self._pool.submit(_apply_file_shared, fn, t, path, token): i
+                for i, t in enumerate(tasks)
+            }
         results: list[Any] = [None] * len(futures)
         try:
             for fut in track(cf.as_completed(futures), description, total=len(futures)):
@@ -110,6 +167,10 @@ class ProcessExecutor(Executor):
             for fut in futures:
                 fut.cancel()
             raise
+        finally:
+            if tmpdir is not None:
+                cf.wait(futures)  # no worker may still be reading the file
+                tmpdir.cleanup()
         return results
 
     def close(self) -> None:
@@ -149,10 +210,15 @@ class DaskExecutor(Executor):
         info = self._client.scheduler_info()
         return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
 
-    def map(self, fn, tasks, *, description="tasks"):
+    def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
         from dask.distributed import as_completed
 
-        futures = self._client.map(fn, list(tasks), pure=False)
+        if shared is NO_SHARED:
+            futures = self._client.map(fn, list(tasks), pure=False)
+        else:
+            # one copy of the data per worker; the tasks carry a reference (a future)
+            ref = self._client.scatter(shared, broadcast=True, hash=False)
+            futures = self._client.map(_apply_shared, list(tasks), fn=fn, shared=ref, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
         results: list[Any] = [None] * len(futures)
         try:

@@ -10,7 +10,14 @@
 
 The same LHS samples are used for every candidate and generation (common random numbers),
 so the robust objective is a deterministic function of the gains and the GA can converge.
-Each generation is evaluated as one batch of ``pop × n_samples`` loops by the numba kernel.
+Each generation is evaluated as one batch of ``pop × n_samples`` loops by the batch kernel,
+on the CPU or an NVIDIA GPU (``backend="cpu" | "cuda" | "auto"``, see
+:mod:`adcskit._targets`).
+
+S4's own protocol at full size (:data:`PAPER_SCALE`: population 70, the S4 stopping rule
+with the 1000-generation cap, 1000 LHS samples per candidate, a 10 000-run evaluation) is
+``tune_robust(dists, ratio=r, **PAPER_SCALE.tune_kwargs(), backend=...)``;
+:func:`estimate_tuning_time` predicts its duration from a short calibration run first.
 
 Gains are always in the order ``(K_p, K_i, K_d)`` here; the objective's error is in degrees.
 
@@ -22,12 +29,15 @@ S4, eqs. (9)-(10), Tables 4-6, Fig. 8.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from adcskit._progress import bar, status
+from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
 from adcskit.errors import InputError
@@ -36,9 +46,13 @@ from adcskit.uncertainty.sampling import Fixed, Gaussian, TruncatedGaussian, lat
 
 __all__ = [
     "GAIN_NAMES",
+    "PAPER_SCALE",
     "MonteCarloResult",
     "ParetoResult",
     "RobustTuningResult",
+    "RobustTuningScale",
+    "TuningTimeEstimate",
+    "estimate_tuning_time",
     "evaluate_gains",
     "monte_carlo",
     "tune_deterministic",
@@ -56,6 +70,7 @@ def evaluate_gains(
     base: LoopParams | None = None,
     settings: LoopSettings | None = None,
     parallel: bool = True,
+    backend: str = "cpu",
 ) -> OnOffMetrics:
     """Simulate every gain triple on every parameter sample (one batch).
 
@@ -70,7 +85,9 @@ def evaluate_gains(
     settings : LoopSettings, optional
         Simulation settings.
     parallel : bool
-        Use numba's threads.
+        Use numba's threads (CPU kernel).
+    backend : {"cpu", "cuda", "auto"}
+        Where the batch runs (``auto``: the GPU when one is usable).
 
     Returns
     -------
@@ -91,7 +108,9 @@ def evaluate_gains(
     changes: dict[str, Any] = {name: np.repeat(g[:, j], n) for j, name in enumerate(GAIN_NAMES)}
     for name, v in samples.items():
         changes[name] = np.tile(np.broadcast_to(v, (n,)), m)
-    return simulate_batch(base.replace(**changes), settings, parallel=parallel)
+    if backend not in TARGET_BACKENDS:
+        raise InputError(f"backend must be one of {', '.join(map(repr, TARGET_BACKENDS))}; got {backend!r}")
+    return simulate_batch(base.replace(**changes), settings, parallel=parallel, backend=backend)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -161,6 +180,8 @@ class RobustTuningResult:
         Best objective after each generation.
     w1, w2 : float
         Weights used.
+    backend : str
+        Where the loops ran (``cpu`` or ``cuda``).
     """
 
     x: np.ndarray
@@ -176,6 +197,7 @@ class RobustTuningResult:
     history: np.ndarray = field(repr=False)
     w1: float = 1.0
     w2: float = 1.0
+    backend: str = "cpu"
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -192,6 +214,7 @@ class RobustTuningResult:
             "history": self.history,
             "w1": self.w1,
             "w2": self.w2,
+            "backend": self.backend,
         }
 
 
@@ -215,6 +238,7 @@ def tune_deterministic(
     bounds: tuple[float, float] = (1e-3, 100.0),
     overshoot_max_pct: float = 10.0,
     rng: Any = None,
+    backend: str = "cpu",
 ) -> ParetoResult:
     """Two-objective deterministic tuning with NSGA-II (S4 eq. 9).
 
@@ -232,6 +256,8 @@ def tune_deterministic(
         Overshoot constraint [%] (S4: 10).
     rng : Generator or int, optional
         Seeds pymoo.
+    backend : {"cpu", "cuda", "auto"}
+        Where each generation's batch runs.
 
     Returns
     -------
@@ -251,6 +277,7 @@ def tune_deterministic(
     lo, hi = _bounds(bounds)
     osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
     base = LoopParams() if base is None else base
+    target = resolve_backend(backend)
     counter = {"nfev": 0}
 
     class _Problem(Problem):
@@ -258,7 +285,7 @@ def tune_deterministic(
             super().__init__(n_var=3, n_obj=2, n_ieq_constr=1, xl=lo, xu=hi)
 
         def _evaluate(self, x, out, *args, **kwargs):
-            m = evaluate_gains(x, base=base, settings=settings)
+            m = evaluate_gains(x, base=base, settings=settings, backend=target)
             counter["nfev"] += x.shape[0]
             err = np.degrees(m.mean_abs_err_last)
             fuel = m.fuel
@@ -283,7 +310,7 @@ def tune_deterministic(
     F = np.atleast_2d(res.F)
     order = np.argsort(F[:, 0], kind="stable")
     X, F = X[order], F[order]
-    m = evaluate_gains(X, base=base, settings=settings)
+    m = evaluate_gains(X, base=base, settings=settings, backend=target)
     return ParetoResult(
         x=X,
         F=F,
@@ -310,6 +337,8 @@ def tune_robust(
     overshoot_max_pct: float = 10.0,
     penalty_weight: float = 1.0,
     rng: Any = None,
+    backend: str = "cpu",
+    time_estimate: bool = False,
     penalty_on: str = "sample",
 ) -> RobustTuningResult:
     """Robust GA tuning on LHS samples (S4 eq. 10, Fig. 8).
@@ -338,6 +367,13 @@ def tune_robust(
         Overshoot constraint [%] and its penalty [deg per % of mean excess].
     rng : Generator or int, optional
         Draws the LHS samples and seeds pymoo.
+    backend : {"cpu", "cuda", "auto"}
+        Where each generation's ``pop × n_samples`` batch runs.
+    time_estimate : bool
+        Before starting, time a short calibration run (:func:`estimate_tuning_time`) and
+        print the predicted duration above the progress bars (shown when a progress session
+        is active, e.g. under the CLI). A progress bar over the generations is always
+        offered to the active session.
     penalty_on : {"sample", "mean"}
         Penalise each sample's overshoot excess (averaged) or the excess of the mean
         overshoot (:func:`adcskit.uncertainty.robust.robust_objective`).
@@ -370,13 +406,21 @@ def tune_robust(
     osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
     check_choice("penalty_on", penalty_on, ("sample", "mean"))
     base = LoopParams() if base is None else base
+    target = resolve_backend(backend)
     gen = as_rng(rng)
     samples = latin_hypercube(dists, n_samples, gen)
     seed = _seed(gen)
     counter = {"nfev": 0}
+    if time_estimate:
+        est = estimate_tuning_time(
+            RobustTuningScale(pop_size=pop_size, max_gen=max_gen, n_samples=n_samples, n_eval=0,
+                              tol=tol, window=window),
+            settings=settings, backend=target,
+        )
+        status(est.message)
 
     def objective(x: np.ndarray) -> tuple[np.ndarray, OnOffMetrics]:
-        m = evaluate_gains(x, samples, base=base, settings=settings)
+        m = evaluate_gains(x, samples, base=base, settings=settings, backend=target)
         counter["nfev"] += x.shape[0] * n_samples
         err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
         os = m.overshoot_pct.reshape(x.shape[0], n_samples)
@@ -402,15 +446,17 @@ def tune_robust(
 
         def _update(self, algorithm) -> float:
             self.history.append(float(algorithm.opt[0].F[0]))
+            advance(1)
             if mean_change_converged(self.history, tol=tol, window=window):
                 self.converged = True
                 return 1.0
             return min(1.0, len(self.history) / max_gen)
 
     term = _S4Termination()
-    res = minimize(
-        _Problem(), GA(pop_size=pop_size, eliminate_duplicates=True), term, seed=seed, verbose=False
-    )
+    with bar(f"robust GA ({target})", max_gen) as advance:
+        res = minimize(
+            _Problem(), GA(pop_size=pop_size, eliminate_duplicates=True), term, seed=seed, verbose=False
+        )
     term = res.algorithm.termination  # pymoo works on its own copy of the termination
     x = np.asarray(res.X, dtype=float).ravel()
     f, m = objective(x[None, :])
@@ -434,6 +480,7 @@ def tune_robust(
         history=np.asarray(term.history),
         w1=w1,
         w2=w2,
+        backend=target,
     )
 
 
@@ -476,10 +523,17 @@ class MonteCarloResult:
         }
 
 
-def _mc_task(task: tuple) -> np.ndarray:
-    """One campaign task: simulate ``gains`` on a chunk of samples; (n, 7) metrics."""
-    gains, samples, base, settings, parallel = task
-    return evaluate_gains(gains, samples, base=base, settings=settings, parallel=parallel).as_array()
+def _mc_task(task: tuple, samples: Mapping[str, np.ndarray]) -> np.ndarray:
+    """One campaign task: simulate ``gains`` on rows ``start:stop`` of the shared samples.
+
+    The task carries only the index range; the sample arrays reach the workers once, as the
+    campaign's shared data (scattered on Dask), not inside every task.
+    """
+    gains, (start, stop), base, settings, parallel, backend = task
+    chunk = {k: v[start:stop] for k, v in samples.items()}
+    return evaluate_gains(
+        gains, chunk, base=base, settings=settings, parallel=parallel, backend=backend
+    ).as_array()
 
 
 def monte_carlo(
@@ -491,14 +545,17 @@ def monte_carlo(
     settings: LoopSettings | None = None,
     executor: Any = None,
     directory: Any = None,
-    task_size: int = 1000,
+    task_size: int | None = None,
     rng: Any = None,
+    backend: str = "cpu",
 ) -> MonteCarloResult:
     """Evaluate one gain triple on ``n`` LHS samples, as a resumable campaign.
 
-    The samples are drawn here (once, from ``rng``) and cut into tasks of ``task_size``
-    samples, so the result is identical on every executor; with ``directory`` an
-    interrupted campaign resumes (see :func:`adcskit.uncertainty.campaign.run_campaign`).
+    The samples are drawn here (once, from ``rng``), sent to the executor's workers once
+    (the campaign's shared data) and processed in tasks of ``task_size`` samples that carry
+    only their index range, so the result is identical on every executor and the task
+    graph stays small whatever ``n``; with ``directory`` an interrupted campaign resumes
+    (see :func:`adcskit.uncertainty.campaign.run_campaign`).
 
     Parameters
     ----------
@@ -514,10 +571,13 @@ def monte_carlo(
         Where tasks run.
     directory : path, optional
         Campaign directory (resume).
-    task_size : int
-        Samples per task.
+    task_size : int, optional
+        Samples per task (default 1000 on the CPU, 2**21 on the GPU, which needs large
+        batches to fill its threads).
     rng : Generator or int, optional
         Draws the samples.
+    backend : {"cpu", "cuda", "auto"}
+        Where each task's batch runs; on ``cuda`` every worker needs a GPU.
 
     Returns
     -------
@@ -535,18 +595,21 @@ def monte_carlo(
     if g.shape != (3,):
         raise InputError(f"gains must have shape (3,); got {np.shape(gains)}")
     n = check_int("n", n, minimum=1)
+    target = resolve_backend(backend)
+    if task_size is None:
+        task_size = 1 << 21 if target == "cuda" else 1000
     task_size = check_int("task_size", task_size, minimum=1)
     samples = latin_hypercube(dists, n, rng)
     owns = executor is None or isinstance(executor, str)
     ex = make_executor(executor)
     try:
         parallel = ex.n_workers == 1
-        tasks = []
-        for i in range(0, n, task_size):
-            chunk = {k: v[i : i + task_size] for k, v in samples.items()}
-            tasks.append((g, chunk, base, settings, parallel))
+        tasks = [
+            (g, (i, min(n, i + task_size)), base, settings, parallel, target)
+            for i in range(0, n, task_size)
+        ]
         camp = run_campaign(_mc_task, tasks, executor=ex, directory=directory, chunk_size=1,
-                            description="Monte-Carlo")
+                            description="Monte-Carlo", shared=samples)
     finally:
         if owns:
             ex.close()
@@ -555,7 +618,7 @@ def monte_carlo(
     metrics = OnOffMetrics(
         **{name: np.ascontiguousarray(arr[:, j]) for j, name in enumerate(METRIC_NAMES)},
         n_steps=s.n_steps,
-        backend="numba",
+        backend="cuda" if target == "cuda" else "numba",
     )
     err = np.degrees(metrics.mean_abs_err_last)
     return MonteCarloResult(
@@ -566,4 +629,186 @@ def monte_carlo(
         std_abs_err_deg=float(np.std(err)),
         n_resumed=camp.n_resumed,
         executor=camp.executor,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class RobustTuningScale:
+    """Size of a robust tuning run: GA population, stopping rule, LHS and evaluation sizes.
+
+    Attributes
+    ----------
+    pop_size : int
+        GA population (S4: 70).
+    max_gen : int
+        Generation cap (S4: 1000 iterations).
+    n_samples : int
+        LHS samples per candidate evaluation.
+    n_eval : int
+        Monte-Carlo runs of the final evaluation (S4: 10 000).
+    tol, window : float, int
+        S4 stopping rule: mean change of the best objective over the last ``window``
+        generations < ``tol`` (S4: 1e-7, 10).
+    """
+
+    pop_size: int = 70
+    max_gen: int = 1000
+    n_samples: int = 1000
+    n_eval: int = 10_000
+    tol: float = 1e-7
+    window: int = 10
+
+    def __post_init__(self) -> None:
+        check_int("pop_size", self.pop_size, minimum=4)
+        check_int("max_gen", self.max_gen, minimum=1)
+        check_int("n_samples", self.n_samples, minimum=2)
+        check_int("n_eval", self.n_eval, minimum=0)
+        check_positive("tol", self.tol)
+        check_int("window", self.window, minimum=1)
+
+    def tune_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :func:`tune_robust` for this scale."""
+        return {"pop_size": self.pop_size, "max_gen": self.max_gen, "n_samples": self.n_samples,
+                "tol": self.tol, "window": self.window}
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"pop_size": self.pop_size, "max_gen": self.max_gen, "n_samples": self.n_samples,
+                "n_eval": self.n_eval, "tol": self.tol, "window": self.window}
+
+
+PAPER_SCALE = RobustTuningScale()
+"""S4's protocol at full size: population 70, S4 stopping rule (1e-7 over 10 generations)
+with the 1000-generation cap, 1000 LHS samples per candidate, 10 000-run evaluation."""
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class TuningTimeEstimate:
+    """Predicted duration of a robust tuning run, from a timed calibration batch.
+
+    Attributes
+    ----------
+    backend : str
+        ``cpu`` or ``cuda``.
+    rate : float
+        Measured throughput [sample-steps/s] (compilation excluded).
+    calibration_s : float
+        Wall time of the timed calibration batch [s].
+    generation_s : float
+        Predicted time of one GA generation (``pop_size × n_samples`` loops) [s].
+    max_tuning_s : float
+        Predicted time if the GA runs to the generation cap (initial population included) [s].
+    evaluation_s : float
+        Predicted time of the ``n_eval``-run evaluation [s].
+    total_max_s : float
+        ``max_tuning_s + evaluation_s`` [s]: an upper bound, the S4 rule usually stops earlier.
+    message : str
+        One human-readable line.
+    """
+
+    backend: str
+    rate: float
+    calibration_s: float
+    generation_s: float
+    max_tuning_s: float
+    evaluation_s: float
+    total_max_s: float
+    message: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {f: getattr(self, f) for f in self.__slots__}  # type: ignore[attr-defined]
+
+
+def _fmt_duration(s: float) -> str:
+    if s < 120:
+        return f"{s:.1f} s"
+    if s < 7200:
+        return f"{s / 60:.1f} min"
+    if s < 2 * 86400:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 86400:.1f} days"
+
+
+def estimate_tuning_time(
+    scale: RobustTuningScale = PAPER_SCALE,
+    *,
+    settings: LoopSettings | None = None,
+    backend: str = "cpu",
+    calibration_samples: int | None = None,
+    rng: Any = 0,
+) -> TuningTimeEstimate:
+    """Predict how long a robust tuning run of ``scale`` takes here, from a short timed batch.
+
+    The calibration simulates ``calibration_samples`` loops (random gains in S4's box,
+    nominal parameters) for ``min(t_final, 5 s)`` after one untimed warm-up batch
+    (compilation), measures sample-steps per second, and scales: one GA generation is
+    ``pop_size × n_samples`` loops of ``settings.n_steps`` steps (pymoo's GA evaluates
+    ``pop_size`` offspring per generation), the cap adds ``max_gen + 1`` of them (the
+    initial population), and the evaluation is ``n_eval`` loops.
+
+    Parameters
+    ----------
+    scale : RobustTuningScale
+        Run size (default :data:`PAPER_SCALE`).
+    settings : LoopSettings, optional
+        Simulation settings of the run (S4: 1 ms step, 30 s).
+    backend : {"cpu", "cuda", "auto"}
+        Where the run will execute.
+    calibration_samples : int, optional
+        Loops in the timed batch (default 1024 on the CPU, 2**20 on the GPU).
+    rng : Generator or int
+        Draws the calibration gains.
+
+    Returns
+    -------
+    TuningTimeEstimate
+        Rate, per-generation and worst-case times, and a printable message.
+
+    References
+    ----------
+    S4, Fig. 8 (robust loop, 1000 iterations, stopping rule) and Figs. 15-21 (10 000 runs).
+
+    Examples
+    --------
+    >>> est = estimate_tuning_time(RobustTuningScale(pop_size=4, max_gen=2, n_samples=2,
+    ...     n_eval=10), settings=LoopSettings(t_final=1.0, t_window=0.5), calibration_samples=8)
+    >>> est.rate > 0 and est.total_max_s >= est.generation_s
+    True
+    """
+    if not isinstance(scale, RobustTuningScale):
+        raise InputError(f"scale must be a RobustTuningScale; got {type(scale).__name__}")
+    settings = LoopSettings() if settings is None else settings
+    if not isinstance(settings, LoopSettings):
+        raise InputError(f"settings must be a LoopSettings; got {type(settings).__name__}")
+    target = resolve_backend(backend)
+    if calibration_samples is None:
+        calibration_samples = 1 << 20 if target == "cuda" else 1024
+    n_cal = check_int("calibration_samples", calibration_samples, minimum=1)
+    t_cal = min(settings.t_final, 5.0)
+    cal = LoopSettings(
+        dt=settings.dt, t_final=t_cal, t_window=min(settings.t_window, t_cal),
+        tau_thruster=settings.tau_thruster, tau_deriv=settings.tau_deriv,
+        command_rate_hz=settings.command_rate_hz, settle_band=settings.settle_band,
+    )
+    gains = as_rng(rng).uniform(1.0, 100.0, size=(n_cal, 3))
+    evaluate_gains(gains[: min(n_cal, 64)], settings=cal, backend=target)  # compile / load cache
+    t0 = time.perf_counter()
+    evaluate_gains(gains, settings=cal, backend=target)
+    elapsed = max(time.perf_counter() - t0, 1e-9)
+    rate = n_cal * cal.n_steps / elapsed
+    steps = settings.n_steps
+    gen_s = scale.pop_size * scale.n_samples * steps / rate
+    tune_s = (scale.max_gen + 1) * gen_s
+    eval_s = scale.n_eval * steps / rate
+    total = tune_s + eval_s
+    msg = (
+        f"robust tuning on {target}: measured {rate:.3g} sample-steps/s; one generation = "
+        f"{scale.pop_size} x {scale.n_samples} loops x {steps} steps = "
+        f"{scale.pop_size * scale.n_samples * steps:.3g} sample-steps ~ {_fmt_duration(gen_s)}; "
+        f"at most {scale.max_gen} generations ~ {_fmt_duration(tune_s)} (the S4 rule usually "
+        f"stops earlier); {scale.n_eval}-run evaluation ~ {_fmt_duration(eval_s)}; "
+        f"worst case ~ {_fmt_duration(total)}"
+    )
+    return TuningTimeEstimate(
+        backend=target, rate=rate, calibration_s=elapsed, generation_s=gen_s,
+        max_tuning_s=tune_s, evaluation_s=eval_s, total_max_s=total, message=msg,
     )

@@ -1,0 +1,228 @@
+"""One kernel source, two compile targets: numba's CPU (``prange``) and CUDA (a thread per sample).
+
+The pattern
+-----------
+A batched simulation (many independent samples, a scalar state per sample, no
+communication) is written **once**, as a plain per-sample Python function::
+
+    def _sample(i, P, C, ..., scratch, out):
+        # simulate sample i: read P[i, :], loop over time, write out[i, :]
+        ...
+
+Rules for that function (so that both numba targets accept it and compute the same
+floating-point operations in the same order):
+
+* scalars, ``math`` functions, indexing of the arrays it receives, ``range`` loops only;
+  no allocation (``np.zeros``...), no ``prange``, no NumPy calls, no Python objects;
+* any per-sample scratch memory (a delay line, a small state vector) is *passed in* by the
+  driver: on the CPU the driver allocates it with :func:`numpy.empty`, on the GPU it is
+  ``cuda.local.array(L, dtype)`` with a compile-time length ``L`` (per-thread local memory);
+* results are written to ``out[i, ...]`` (one row per sample).
+
+It is wrapped in :class:`PerSample`, which compiles it with ``numba.njit`` for the CPU and
+— only when asked — with ``numba.cuda.jit(device=True)`` for the GPU. Two small *drivers*
+call it:
+
+* CPU: an ``njit(parallel=True)`` function with ``for i in numba.prange(n)`` that allocates
+  the scratch and calls ``_SAMPLE.cpu(i, ...)`` (numba links the per-sample function into
+  the driver's LLVM module, where it is inlined: same speed as a hand-inlined loop);
+* GPU: a ``cuda.jit`` kernel built by a factory on first use (cached by
+  :class:`LazyKernels`, keyed by its compile-time constants such as ``L``) that does
+  ``i = cuda.grid(1); if i < n: _SAMPLE.cuda()(i, ...)``.
+
+``numba.cuda`` is imported only inside :func:`import_cuda`, so CPU-only users never load it.
+The kernel factory binds it to a *module global* named ``cuda`` of the kernel module
+(``global cuda; cuda = import_cuda()``) and the kernel body refers to that global, not to a
+local of the factory: numba's CUDA simulator swaps module globals that are the ``cuda``
+module for its fake one, and would not see a closure variable.
+The backend names are ``"cpu"``, ``"cuda"`` and ``"auto"`` (:func:`resolve_backend`):
+``"auto"`` is CUDA when a real device is usable (never the CUDA simulator) and the CPU
+otherwise; an explicit ``"cuda"`` without numba-cuda or without a visible device raises
+:class:`adcskit.errors.SolverError` naming the ``gpu`` extra. With
+``NUMBA_ENABLE_CUDASIM=1`` set *before* numba is imported, an explicit ``"cuda"`` runs the
+GPU driver in numba's CUDA simulator (pure Python, slow: for tests of a handful of short
+samples).
+
+Users: :mod:`adcskit.control._onoff_kernels` (the on-off loop); the closed-loop simulator
+of :mod:`adcskit.simulation` follows the same pattern.
+
+Hand-written here: only the thin compile/dispatch helper; the compilers are numba's.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import numba
+
+from adcskit.errors import InputError, SolverError
+
+__all__ = [
+    "TARGET_BACKENDS",
+    "GPU_EXTRA_HINT",
+    "PerSample",
+    "LazyKernels",
+    "import_cuda",
+    "cuda_status",
+    "cuda_usable",
+    "simulator_enabled",
+    "resolve_backend",
+]
+
+TARGET_BACKENDS = ("cpu", "cuda", "auto")
+
+GPU_EXTRA_HINT = (
+    "install the GPU extra (pip install 'adcskit[gpu]', which brings numba-cuda and the CUDA "
+    "runtime wheels) on a machine with an NVIDIA GPU and driver"
+)
+
+
+def simulator_enabled() -> bool:
+    """True when numba's CUDA simulator is on (``NUMBA_ENABLE_CUDASIM=1`` at import)."""
+    return bool(getattr(numba.config, "ENABLE_CUDASIM", 0))
+
+
+def import_cuda() -> Any:
+    """Import and return ``numba.cuda`` (numba-cuda when installed, else numba's built-in).
+
+    Raises
+    ------
+    SolverError
+        If no CUDA target can be imported; the message names the ``gpu`` extra.
+    """
+    try:
+        from numba import cuda
+    except Exception as exc:  # ImportError, or a CUDA binding that fails to load
+        raise SolverError(f"backend='cuda' needs numba's CUDA target, which failed to import "
+                          f"({type(exc).__name__}: {exc}); {GPU_EXTRA_HINT}") from exc
+    return cuda
+
+
+def cuda_status() -> tuple[bool, str]:
+    """Whether a CUDA device (or the simulator) can run kernels, and why not.
+
+    Returns
+    -------
+    (bool, str)
+        ``(True, description)`` when kernels can run, ``(False, reason)`` otherwise.
+    """
+    try:
+        cuda = import_cuda()
+    except SolverError as exc:
+        return False, str(exc)
+    if simulator_enabled():
+        return True, "numba CUDA simulator (NUMBA_ENABLE_CUDASIM=1)"
+    try:
+        ok = bool(cuda.is_available())
+    except Exception as exc:  # driver library present but broken
+        return False, f"the CUDA driver could not be queried ({type(exc).__name__}: {exc})"
+    if not ok:
+        return False, "no CUDA device is visible (numba.cuda.is_available() is False)"
+    try:
+        name = cuda.get_current_device().name
+        name = name.decode() if isinstance(name, bytes) else str(name)
+    except Exception as exc:
+        return False, f"the CUDA device could not be opened ({type(exc).__name__}: {exc})"
+    return True, name
+
+
+def cuda_usable() -> bool:
+    """True when a *real* CUDA device can run kernels (the simulator does not count)."""
+    return not simulator_enabled() and cuda_status()[0]
+
+
+def resolve_backend(backend: str, *, name: str = "backend") -> str:
+    """Map ``"cpu" | "cuda" | "auto"`` to the target that will run: ``"cpu"`` or ``"cuda"``.
+
+    Parameters
+    ----------
+    backend : {"cpu", "cuda", "auto"}
+        ``"auto"`` picks CUDA when a real device is usable, else the CPU.
+    name : str
+        Parameter name used in error messages.
+
+    Returns
+    -------
+    str
+        ``"cpu"`` or ``"cuda"``.
+
+    Raises
+    ------
+    InputError
+        Unknown backend name.
+    SolverError
+        ``"cuda"`` requested but numba-cuda is missing or no device is visible.
+
+    Examples
+    --------
+    >>> resolve_backend("cpu")
+    'cpu'
+    >>> resolve_backend("auto") in ("cpu", "cuda")
+    True
+    """
+    if backend not in TARGET_BACKENDS:
+        raise InputError(f"{name} must be one of {', '.join(map(repr, TARGET_BACKENDS))}; got {backend!r}")
+    if backend == "cpu":
+        return "cpu"
+    if backend == "auto":
+        return "cuda" if cuda_usable() else "cpu"
+    ok, why = cuda_status()
+    if not ok:
+        if "gpu" in why and "extra" in why:
+            raise SolverError(why)
+        raise SolverError(f"{name}='cuda' cannot run: {why}; {GPU_EXTRA_HINT}, or use {name}='cpu' "
+                          f"or {name}='auto'")
+    return "cuda"
+
+
+class PerSample:
+    """A plain per-sample function compiled for the CPU now and for CUDA on first use.
+
+    Parameters
+    ----------
+    fn : callable
+        The per-sample function (see the module docstring for its rules).
+    cache : bool
+        Cache the CPU compilation on disk (numba ``cache=True``).
+
+    Attributes
+    ----------
+    py : callable
+        The plain Python function (reference; slow).
+    cpu : numba dispatcher
+        ``numba.njit`` compilation, callable from other njit code.
+    """
+
+    def __init__(self, fn: Callable[..., Any], *, cache: bool = True) -> None:
+        self.py = fn
+        self.cpu = numba.njit(cache=cache, nogil=True)(fn)
+        self._cuda: Any = None
+        self._lock = threading.Lock()
+
+    def cuda(self) -> Any:
+        """The ``numba.cuda.jit(device=True)`` compilation (imports numba.cuda)."""
+        with self._lock:
+            if self._cuda is None:
+                self._cuda = import_cuda().jit(device=True)(self.py)
+            return self._cuda
+
+
+class LazyKernels:
+    """CUDA kernels built by ``factory(*key)`` on first use and cached by ``key``.
+
+    The key holds the kernel's compile-time constants (e.g. the length of a per-thread
+    ``cuda.local.array``), so each distinct value compiles once per process.
+    """
+
+    def __init__(self, factory: Callable[..., Any]) -> None:
+        self._factory = factory
+        self._cache: dict[tuple, Any] = {}
+        self._lock = threading.Lock()
+
+    def get(self, *key: Any) -> Any:
+        with self._lock:
+            if key not in self._cache:
+                self._cache[key] = self._factory(*key)
+            return self._cache[key]
