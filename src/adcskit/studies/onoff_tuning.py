@@ -825,13 +825,14 @@ def _figures(config, pareto, det_gains, minfuel_gains, robust_runs, mc_results, 
     axes[0].set_yscale("log")
     axes[0].set_xlabel("generation")
     axes[0].set_ylabel("best robust objective [deg]")
+    axes[0].set_title("robust GA convergence (seed 0)", fontsize=9)
     axes[0].legend(fontsize=7)
     det, rob = mc_results["all"]
     bins = np.linspace(0, np.percentile(np.degrees(np.r_[det.metrics.mean_abs_err_last, rob.metrics.mean_abs_err_last]), 99), 50)
     axes[1].hist(np.degrees(det.metrics.mean_abs_err_last), bins=bins, alpha=0.6, label="deterministic")
     axes[1].hist(np.degrees(rob.metrics.mean_abs_err_last), bins=bins, alpha=0.6, label="robust")
     axes[1].set_xlabel("mean |error| over the last 10 s [deg]")
-    axes[1].set_title("all four uncertainties, Monte Carlo", fontsize=9)
+    axes[1].set_title("all four uncertainties, Monte Carlo (seed 0)", fontsize=9)
     axes[1].legend(fontsize=7)
     figures["ga_convergence_and_mc"] = fig
     return figures
