@@ -121,7 +121,7 @@ class Config:
     nsga_gen: int = 60
     # robust GA (S4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10)
     ga_pop: int = 70
-    ga_max_gen: int = 40
+    ga_max_gen: int = 30
     ga_tol: float = 1e-7
     ga_window: int = 10
     n_lhs: int = 40
@@ -132,18 +132,18 @@ class Config:
     ratio_delay: float = 10.0
     ratio_all: float = 180.0
     sweep_ratios: tuple[float, ...] = (1.0, 10.0, 50.0, 500.0)
-    sweep_max_gen: int = 30
+    sweep_max_gen: int = 20
     # ratio sweep of each single uncertainty (Figs 12-13): a lighter GA
     sweep_cases_max_gen: int = 20
     sweep_cases_ratios: tuple[float, ...] = (1.0, 500.0)
     sweep_cases_n_lhs: int = 20
     n_mc_ratio_cases: int = 1000
     # evaluation
-    n_mc: int = 4000
+    n_mc: int = 2000
     std_factors: tuple[float, ...] = (0.25, 0.5, 1.0, 1.5, 2.0)
     n_mc_sweep: int = 1000
     command_rates_hz: tuple[float, ...] = (50.0, 200.0, 1000.0)
-    n_mc_rate: int = 2000
+    n_mc_rate: int = 1000
     n_mc_order: int = 1000
     task_size: int = 1000
     campaign_dir: str = ""
