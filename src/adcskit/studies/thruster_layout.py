@@ -357,7 +357,7 @@ def _fig_on_times(rvo):
         ax.set_title(method, fontsize=10)
         ax.set_xticks(i)
         ax.legend(fontsize=8)
-    fig.suptitle("On-times: reference vs best 6-thruster layout (cf. S3 Fig 5)")
+    fig.suptitle("On-times on the 14 design demands: reference vs best 6-thruster layout (cf. S3 Fig 5)")
     return fig
 
 
