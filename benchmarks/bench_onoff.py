@@ -57,11 +57,11 @@ def _rate(backend: str, n: int, t_final: float, repeats: int) -> float:
     return n * settings.n_steps / best
 
 
-def _gpu_kernel_info(buf_len: int) -> dict:
+def _gpu_kernel_info(buf_len: int, max_registers: int | None = None) -> dict:
     """Registers and local memory per thread of the compiled CUDA kernel (best effort)."""
     from adcskit.control import _onoff_kernels as k
 
-    kern = k.CUDA_KERNELS.get(buf_len)
+    kern = k.CUDA_KERNELS.get(buf_len, max_registers)
     info: dict = {"threads_per_block": k.THREADS_PER_BLOCK, "delay_line_bytes": buf_len}
     for name in ("get_regs_per_thread", "get_local_mem_per_thread", "get_shared_mem_per_block"):
         try:
@@ -109,8 +109,27 @@ def _cuda_main(quick: bool) -> dict:
     max_rel = float(np.nanmax(np.where(np.abs(a) > 1e-12, rel, 0.0)))
     print(f"agreement: identical firings in {same_firings * 100:.3f}% of samples, max relative "
           f"difference of the metrics {max_rel:.2e}")
-    info = _gpu_kernel_info(_buffer_length(_param_matrix(p), settings.dt))
+    L = _buffer_length(_param_matrix(p), settings.dt)
+    info = _gpu_kernel_info(L)
     print(f"kernel: {info}")
+    # occupancy experiment: cap the registers per thread (more resident warps, some spills)
+    from adcskit.control import _onoff_kernels as k
+    from adcskit.control.onoff import _coefficients
+
+    P = _param_matrix(_params(n_gpu))
+    C = _coefficients(settings)
+    rec = np.empty((0, 0, k.N_TRACE))
+    sweep = {}
+    for cap in (96, 80, 64):
+        k.simulate_cuda(P[:256], C, settings.n_steps, settings.hold_steps, settings.n_window, L, rec,
+                        max_registers=cap)  # compile
+        t0 = time.perf_counter()
+        k.simulate_cuda(P, C, settings.n_steps, settings.hold_steps, settings.n_window, L, rec,
+                        max_registers=cap)
+        rate = n_gpu * settings.n_steps / (time.perf_counter() - t0)
+        sweep[str(cap)] = {"sample_steps_per_s": rate, **_gpu_kernel_info(L, cap)}
+        print(f"   cuda, max_registers={cap}: {rate:.3e} sample-steps/s  {sweep[str(cap)]}")
+    out["max_registers_sweep"] = sweep
     out["results"].update(cuda_sample_steps_per_s=gpu, gpu_samples=n_gpu, device=why)
     out["ratios"] = {"cuda_vs_cpu": ratio}
     out["agreement"] = {"identical_firings_fraction": same_firings, "max_rel_diff": max_rel}

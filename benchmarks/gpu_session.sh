@@ -14,9 +14,10 @@
 # (the workplace's GPU machines) gets pymoo as wheels: run benchmarks/gpu_wheels.sh where pip
 # works, carry .whl/, and this script installs them to /tmp/site first.
 #
-# Usage: bash benchmarks/gpu_session.sh [OUTDIR]      (about 5-9 minutes on an H100)
+# Usage: bash benchmarks/gpu_session.sh [OUTDIR]      (at most ~9.5 minutes)
 #   PAPER_CASES=all,delay,...  subset of the S4 cases (default: all five, "all" first)
-#   PAPER_TIMEOUT=seconds      limit for the paper-scale part (default 420)
+#   TEST_TIMEOUT, BENCH_TIMEOUT, PAPER_TIMEOUT  limits in seconds (150, 150, 270: the whole
+#   script stays under the 10-minute limit of one device command)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 OUTDIR="${1:-${OUT:-gpu_results}}"
@@ -38,15 +39,15 @@ fi
 } 2>&1 | tee "$OUTDIR/env.txt"
 
 echo "== tests (real device) =="
-timeout 300 "$PY" -m pytest -q -p no:cacheprovider tests/control/test_onoff_cuda.py \
+timeout "${TEST_TIMEOUT:-150}" "$PY" -m pytest -q -p no:cacheprovider tests/control/test_onoff_cuda.py \
   -m "slow or not slow" 2>&1 | tee "$OUTDIR/tests.txt"
 
 echo "== benchmark: CPU all cores vs GPU =="
-timeout 300 "$PY" benchmarks/bench_onoff.py --backend cuda --json "$OUTDIR/bench_onoff_cuda.json" \
+timeout "${BENCH_TIMEOUT:-150}" "$PY" benchmarks/bench_onoff.py --backend cuda --json "$OUTDIR/bench_onoff_cuda.json" \
   2>&1 | tee "$OUTDIR/bench_onoff_cuda.txt"
 
 echo "== paper-scale robust tuning (S4) =="
-timeout "${PAPER_TIMEOUT:-420}" "$PY" benchmarks/paper_scale_tuning.py --backend cuda \
+timeout "${PAPER_TIMEOUT:-270}" "$PY" benchmarks/paper_scale_tuning.py --backend cuda \
   --cases "${PAPER_CASES:-all,inertia,thrust,disturbance,delay}" --out "$OUTDIR" \
   2>&1 | tee "$OUTDIR/paper_scale_tuning.txt"
 echo "results in $OUTDIR"

@@ -6,8 +6,9 @@ same machine and backend:
 
 * paper scale (:data:`adcskit.uncertainty.tuning.PAPER_SCALE`): population 70, the S4
   stopping rule with the 1000-generation cap, 1000 LHS samples per candidate;
-* capped (the onoff-tuning study's 2-core default): population 70, 60 generations, 40 LHS
-  samples;
+* capped (the onoff-tuning study's 2-core GA): population 70, ``--capped-gen`` generations
+  (default 30, the study's ``ga_max_gen``), ``--capped-samples`` LHS samples (default 40,
+  its ``n_lhs``);
 
 then evaluates both gain triples and S4's deterministic minimum-error gains (Table 4, read
 as (K_p, K_i, K_d) = (56.24, 0.02, 49.99)) with the same 10 000-run LHS Monte-Carlo, and
@@ -18,7 +19,7 @@ shows a progress bar.
 
 Usage:
     python benchmarks/paper_scale_tuning.py [--backend auto|cpu|cuda] [--cases all,delay,...]
-        [--out DIR] [--smoke]
+        [--out DIR] [--capped-gen 30] [--capped-samples 40] [--smoke]
 
 ``--smoke`` shrinks every size (seconds on 2 cores) to check the script itself. Without a
 GPU the paper-scale run is runnable but long (the estimate says how long).
@@ -64,7 +65,6 @@ CASES = {  # S4 Table 6: uncertain parameters and printed weight ratio w2/w1
     "all": (("inertia", "torque", "disturbance", "delay"), 180.0),
 }
 DETERMINISTIC = (56.24, 0.02, 49.99)  # S4 Table 4 minimum-error point, (K_p, K_i, K_d)
-CAPPED = RobustTuningScale(pop_size=70, max_gen=60, n_samples=40, n_eval=10_000)
 
 
 def _run_case(case, scale, settings, backend, seed):
@@ -83,6 +83,8 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--cases", default=",".join(CASES), help="comma-separated subset of " + ",".join(CASES))
     ap.add_argument("--out", default=None, help="folder for paper_scale_tuning.json")
     ap.add_argument("--seed", type=int, default=2017)
+    ap.add_argument("--capped-gen", type=int, default=30, help="generation cap of the capped GA")
+    ap.add_argument("--capped-samples", type=int, default=40, help="LHS samples of the capped GA")
     ap.add_argument("--smoke", action="store_true", help="tiny sizes: checks the script only")
     args = ap.parse_args(argv)
     cases = [c.strip() for c in args.cases.split(",") if c.strip()]
@@ -95,7 +97,9 @@ def main(argv: list[str] | None = None) -> dict:
         capped = RobustTuningScale(pop_size=6, max_gen=2, n_samples=3, n_eval=60)
         settings = LoopSettings(t_final=2.0, t_window=1.0)
     else:
-        paper, capped, settings = PAPER_SCALE, CAPPED, LoopSettings()
+        capped = RobustTuningScale(pop_size=PAPER_SCALE.pop_size, max_gen=args.capped_gen,
+                                   n_samples=args.capped_samples, n_eval=PAPER_SCALE.n_eval)
+        paper, settings = PAPER_SCALE, LoopSettings()
     out: dict = {"backend": backend, "paper_scale": paper.to_dict(), "capped": capped.to_dict(),
                  "settings": settings.to_dict(), "cases": {}}
     with progress_session():

@@ -73,12 +73,6 @@ def track(iterable: Iterable[T], description: str, total: int | None = None) -> 
         progress.remove_task(task)
 
 
-def status(message: str) -> None:
-    """Print a one-line status message above the bars (no-op without a session)."""
-    if _SESSION is not None:
-        _SESSION.console.print(message)
-
-
 @contextlib.contextmanager
 def bar(description: str, total: int | None) -> Iterator[Callable[[int], None]]:
     """A progress bar advanced by hand: ``with bar("GA", 1000) as advance: ... advance(1)``.
@@ -95,3 +89,9 @@ def bar(description: str, total: int | None) -> Iterator[Callable[[int], None]]:
         yield lambda n=1: progress.advance(task, n)
     finally:
         progress.remove_task(task)
+
+
+def status(message: str) -> None:
+    """Print a one-line status message above the bars (no-op without a session)."""
+    if _SESSION is not None:
+        _SESSION.console.print(message)

@@ -70,13 +70,14 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
     compiled by ``numba.njit`` (called from :func:`simulate_parallel` under ``prange``) and
     by ``numba.cuda.jit(device=True)`` (called by one GPU thread per sample).
 
-    ``buf`` is the sample's delay line, ``int8[>= buf_len]`` scratch supplied by the driver
-    (a fresh ``np.empty`` on the CPU, ``cuda.local.array`` on the GPU); ``buf_len`` is a
-    power of two larger than the longest delay in steps + 2. It holds Schmitt outputs
-    {-1, 0, +1}, exact in int8: 1 byte per entry instead of 8 keeps a thread's line small
-    (32 B at S4's delays), which on the GPU lets the resident threads' local memory stay in
-    L1 instead of spilling to L2. ``rec`` is ``(N, n_steps + 1, N_TRACE)`` (record traces)
-    or has a zero first axis.
+    ``buf`` is the sample's delay line, scratch of length ``>= buf_len`` supplied by the
+    driver: a float64 ``np.empty`` on the CPU (in L1 there anyway), an int8
+    ``cuda.local.array`` on the GPU. ``buf_len`` is a power of two larger than the longest
+    delay in steps + 2. The line holds Schmitt outputs {-1, 0, +1}, exact in either dtype
+    (stores cast, ``1.0 * buf[j]`` reads back a float64), so both give the same numbers; on
+    the GPU 1 byte per entry instead of 8 keeps a thread's line at 32 B for S4's delays, so
+    the resident threads' local memory can stay in L1 instead of spilling to L2. ``rec`` is
+    ``(N, n_steps + 1, N_TRACE)`` (record traces) or has a zero first axis.
     """
     record = rec.shape[0] > 0
     mask = buf_len - 1
@@ -168,13 +169,13 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
                 firings += 1.0
         cnt -= 1
         # pure delay (linear interpolation between the two neighbouring command samples)
-        buf[k & mask] = int(s)
+        buf[k & mask] = s  # exact in any dtype of the line: s is -1, 0 or +1
         if k - nd >= 0:
-            ua = float(buf[(k - nd) & mask])
+            ua = 1.0 * buf[(k - nd) & mask]
         else:
             ua = 0.0
         if k - nd - 1 >= 0:
-            ub = float(buf[(k - nd - 1) & mask])
+            ub = 1.0 * buf[(k - nd - 1) & mask]
         else:
             ub = 0.0
         ud = (1.0 - frac) * ua + frac * ub
@@ -238,7 +239,7 @@ def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
     for i in numba.prange(n):
-        buf = np.empty(buf_len, dtype=np.int8)
+        buf = np.empty(buf_len)
         _sample_cpu(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
     return out
 
@@ -248,7 +249,7 @@ def _simulate_python(P, C, n_steps, hold, n_win, buf_len, rec):
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
     for i in range(n):
-        _sample(i, P, C, n_steps, hold, n_win, buf_len, np.empty(buf_len, np.int8), rec, out)
+        _sample(i, P, C, n_steps, hold, n_win, buf_len, np.empty(buf_len), rec, out)
     return out
 
 
@@ -266,15 +267,18 @@ simulate_python = _simulate_python
 # The kernel is specialised on the line length L = buf_len (a compile-time constant), so a
 # thread reserves exactly L bytes: 32 B for S4's delays (<= 30 ms at dt = 1 ms).
 #
-# Registers/occupancy (reasoning, to be checked with kernel.get_regs_per_thread() on a GPU by
-# benchmarks/gpu_session.sh): the time loop keeps ~16 shared coefficients, ~12 per-sample
-# constants and ~12 states/accumulators live, all FP64 (2 registers each) plus a few 64-bit
-# counters -> roughly 80-100 of 32-bit registers. At <= 128 registers an H100 SM (64 K
-# registers) holds >= 512 threads (4 blocks of 128), i.e. 16 warps for 4 FP64 pipes: enough to
-# hide the latency of the dependent FP64 chain, and the loop has no memory traffic apart from
-# the 1-byte delay line. If the compiler allocates more, max_registers in the factory is the
-# knob (it trades spills for occupancy).
+# Registers/occupancy. Compiled without a GPU (numba-cuda 0.30.4 -> PTX for sm_90, NVVM 13.0;
+# ptxas 12.9 -v): 124 registers per thread, an 80-byte stack frame (the 32-byte delay line
+# plus the slow path of the sin argument reduction), no spills; 31 FP64 multiply-adds of the
+# loop are contracted to FMAs. At 124 (allocated as 128) registers an H100 SM (64 K
+# registers) holds 512 threads = 4 blocks of 128 = 16 warps (25 % occupancy): the loop is one
+# dependent FP64 chain per thread with almost no memory traffic, so its speed is set by how
+# many warps hide the FP64 latency. Fewer registers buy more warps at the price of spills:
+# ptxas gives 32 B of spills at a 96-register cap (640 threads/SM), 56 B at 80 (768) and
+# 144 B at 64 (1024). Which wins can only be measured: max_registers (CUDA_MAX_REGISTERS,
+# or the argument of simulate_cuda) is the knob, and bench_onoff.py --backend cuda sweeps it.
 THREADS_PER_BLOCK = 128
+CUDA_MAX_REGISTERS = None  # None: the compiler's choice (see above)
 MAX_CUDA_BUFFER = 1 << 16  # longest delay line on the GPU [steps] (64 KiB of local memory)
 CUDA_CHUNK = 1 << 21  # samples per device round trip (2M x (14 + 7) x 8 B = 352 MB on the GPU)
 
@@ -282,13 +286,14 @@ CUDA_CHUNK = 1 << 21  # samples per device round trip (2M x (14 + 7) x 8 B = 352
 cuda = None  # numba.cuda, bound on first GPU use (a module global: see adcskit._targets)
 
 
-def _make_cuda_kernel(buf_len):
+def _make_cuda_kernel(buf_len, max_registers=None):
     global cuda
     cuda = import_cuda()
     sample = SAMPLE.cuda()
     int8 = numba.int8
+    jit = cuda.jit if max_registers is None else cuda.jit(max_registers=int(max_registers))
 
-    @cuda.jit
+    @jit
     def kernel(P, C, n_steps, hold, n_win, rec, out):
         i = cuda.grid(1)
         if i < P.shape[0]:
@@ -301,13 +306,16 @@ def _make_cuda_kernel(buf_len):
 CUDA_KERNELS = LazyKernels(_make_cuda_kernel)
 
 
-def simulate_cuda(P, C, n_steps, hold, n_win, buf_len, rec, chunk=CUDA_CHUNK):
+def simulate_cuda(P, C, n_steps, hold, n_win, buf_len, rec, chunk=CUDA_CHUNK, max_registers=None):
     """GPU driver: the same per-sample function, one CUDA thread per sample.
 
     Samples go to the device in chunks of ``chunk`` rows, so the batch size is bounded by
     host memory only. ``rec`` (traces) is copied along when its first axis is non-zero.
+    ``max_registers`` caps the registers per thread (default :data:`CUDA_MAX_REGISTERS`).
     """
-    kernel = CUDA_KERNELS.get(int(buf_len))  # binds the module global ``cuda``
+    if max_registers is None:
+        max_registers = CUDA_MAX_REGISTERS
+    kernel = CUDA_KERNELS.get(int(buf_len), max_registers)  # binds the module global ``cuda``
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
     record = rec.shape[0] > 0

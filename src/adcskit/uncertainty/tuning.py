@@ -649,6 +649,17 @@ class RobustTuningScale:
     tol, window : float, int
         S4 stopping rule: mean change of the best objective over the last ``window``
         generations < ``tol`` (S4: 1e-7, 10).
+
+    References
+    ----------
+    S4, Fig. 8 (population 70, 1000 iterations, stopping rule) and Figs. 15-21 (10 000 runs).
+
+    Examples
+    --------
+    >>> PAPER_SCALE.pop_size, PAPER_SCALE.max_gen, PAPER_SCALE.n_eval
+    (70, 1000, 10000)
+    >>> RobustTuningScale(max_gen=60, n_samples=40).tune_kwargs()["n_samples"]
+    40
     """
 
     pop_size: int = 70
