@@ -272,13 +272,17 @@ class LayoutScore:
 
 def _score(
     A: np.ndarray, demands: np.ndarray, fmax: np.ndarray, tmin: np.ndarray,
-    t_s: float, gain: float, weights: tuple[float, float, float],
+    t_s: float, gain: float, weights: tuple[float, float, float], per_actuator: int = 1,
 ):
-    """A (B, 3, n), demands (K, 3), fmax/tmin (n,) -> fun, error, e_min, sum_tp, t_p (B, K, n)."""
+    """A (B, 3, n), demands (K, 3), fmax/tmin (n,) -> fun, error, e_min, sum_tp, t_p (B, K, n).
+
+    ``per_actuator`` thrusters fire together per column of ``A`` (2 for a couple of the
+    paired reading): each burns the column's on-time, so ``sum_tp`` counts it that often.
+    """
     F, errs = _rpi_layouts(np.ascontiguousarray(A), np.ascontiguousarray(demands), fmax)
     err = errs.mean(axis=1)
     tp = F * (t_s / fmax)
-    sum_tp = tp.sum(axis=2).mean(axis=1)
+    sum_tp = per_actuator * tp.sum(axis=2).mean(axis=1)
     lever = np.linalg.norm(A, axis=1)  # (B, n)
     e_min = (lever * fmax * tmin / (t_s * gain)).max(axis=1)
     k1, k2, k3 = weights
@@ -346,10 +350,11 @@ def score_layout(
 # ----------------------------------------------------------------------------- pymoo glue
 
 
-def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com):
+def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com, paired=False):
     from pymoo.core.problem import Problem
 
     table = _face_table(faces)
+    per = 2 if paired else 1
     nf = len(faces)
     xl = np.tile([0.0, -1.0, -1.0, 0.0, 0.0], n)
     xu = np.tile([nf - 1e-9, 1.0, 1.0, 1.0, 2 * math.pi], n)
@@ -360,8 +365,9 @@ def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com):
 
         def _evaluate(self, X, out, *args, **kwargs):
             pos, d, _ = _decode(X, table)
-            A = np.swapaxes(np.cross(pos - com, d), -1, -2)
-            fun, *_ = _score(A, demands, fmax, tmin, t_s, gain, weights)
+            # a couple (p, d) + (-p, -d) gives 2 p x d about any CoM (paired reading)
+            A = np.swapaxes(2.0 * np.cross(pos, d) if paired else np.cross(pos - com, d), -1, -2)
+            fun, *_ = _score(A, demands, fmax, tmin, t_s, gain, weights, per)
             out["F"] = fun[:, None]
 
     return _LayoutProblem()
@@ -503,6 +509,7 @@ def design_layout(
     de_F: float = 0.8,
     de_CR: float = 0.9,
     rng: Any = None,
+    paired: bool = False,
 ) -> LayoutResult:
     """Design a thruster layout minimising S3 eq. 18 with pymoo's GA or DE.
 
@@ -533,6 +540,15 @@ def design_layout(
         DE weight and crossover rate (Storn & Price 1997: F in [0.5, 1], CR = 0.9).
     rng : Generator or int, optional
         Seeds pymoo; same seed -> same layout.
+    paired : bool
+        The paired reading of S3 §4-1 ("thrusters on parallel faces act as a pair"): each
+        gene is a couple, a thruster ``(p, d)`` and its twin ``(-p, -d)`` on the parallel
+        face (point reflection through the box centre), fired together. A couple gives
+        torque ``2 p x d`` and no net force; its impulse bit is ``2 Delta F_max t_min``, so
+        its ``e_min`` is twice the single thruster's, and both members burn the on-time.
+        ``n_thrusters`` must be even and every face's parallel face must be allowed.
+        ``torque_matrix`` / ``thrusters`` list all ``n`` thrusters (twins second);
+        ``extra["couple_matrix"]`` is the ``(3, n/2)`` matrix the allocation works on.
 
     Returns
     -------
@@ -540,7 +556,17 @@ def design_layout(
 
     References
     ----------
-    S3 §4-6, eq. 18-20, Tables 1-7.
+    S3 §4-1 (constraint 2), §4-6, eq. 9-10, 18-20, Tables 1-7.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = [[5.0, 0, 0], [0, 5.0, 0], [0, 0, 5.0], [-5.0, 0, 0], [0, -5.0, 0], [0, 0, -5.0]]
+    >>> r = design_layout(6, demands, paired=True, pop_size=8, n_gen=3, rng=0)
+    >>> r.torque_matrix.shape, r.extra["couple_matrix"].shape
+    ((3, 6), (3, 3))
+    >>> bool(abs(r.thrusters.force_matrix().sum(axis=1)).max() < 1e-12)  # couples: no net force
+    True
     """
     n = check_int("n_thrusters", n_thrusters, minimum=1, maximum=10_000)
     check_choice("algorithm", algorithm, DESIGN_ALGORITHMS)
@@ -548,6 +574,11 @@ def design_layout(
     faces = tuple(mounting) if mounting is not None else box_faces()
     if len(faces) == 0 or not all(isinstance(f, MountingFace) for f in faces):
         raise InputError("mounting must be a non-empty sequence of MountingFace")
+    if not isinstance(paired, bool | np.bool_):
+        raise InputError(f"paired must be a bool; got {paired!r}")
+    twin = _parallel_faces(faces) if paired else None
+    if paired and n % 2:
+        raise InputError(f"n_thrusters must be even with paired=True (couples); got {n}")
     D = as_array("demands", demands, ndim=2)
     if D.shape[1] != 3 or D.shape[0] < 1:
         raise InputError(f"demands must have shape (K, 3) with K >= 1; got {D.shape}")
@@ -575,7 +606,8 @@ def design_layout(
         def notify(self, algo) -> None:
             self.best.append(float(np.min(algo.pop.get("F"))))
 
-    problem = _make_problem(n, faces, D, fmax, tmin, t_s, gain, w, com)
+    n_act = n // 2 if paired else n
+    problem = _make_problem(n_act, faces, D, fmax[:n_act], tmin[:n_act], t_s, gain, w, com, paired)
     algo = _make_algorithm(algorithm, pop_size, de_strategy, de_F, de_CR)
     cb = _Best()
     t0, c0 = time.perf_counter(), time.process_time()
@@ -583,14 +615,45 @@ def design_layout(
                    copy_algorithm=False)
     runtime, cpu = time.perf_counter() - t0, time.process_time() - c0
     x = np.atleast_2d(res.X)[0]
-    ts = decode_layout(x, faces, com=com, f_max=fmax, t_min=tmin, mdot=mdot)
-    A = ts.torque_matrix()
-    fun, err, e_min, sum_tp, _ = _score(A[None], D, fmax, tmin, t_s, gain, w)
+    extra: dict[str, Any] = {}
+    if paired:
+        face_names = [f.name for f in faces]
+        one = decode_layout(x, faces)
+        ts = ThrusterSet(
+            positions=np.vstack([one.positions, -one.positions]),
+            directions=np.vstack([one.directions, -one.directions]), com=com,
+            names=tuple(one.names) + tuple(faces[twin[face_names.index(nm)]].name for nm in one.names),
+            f_max=fmax, t_min=tmin, mdot=mdot,
+        )
+        A = ts.torque_matrix()
+        A_score = 2.0 * np.cross(one.positions, one.directions).T
+        extra = {"paired": True, "couple_matrix": A_score}
+    else:
+        ts = decode_layout(x, faces, com=com, f_max=fmax, t_min=tmin, mdot=mdot)
+        A = A_score = ts.torque_matrix()
+    fun, err, e_min, sum_tp, _ = _score(A_score[None], D, fmax[:n_act], tmin[:n_act], t_s, gain, w,
+                                        2 if paired else 1)
     history = np.minimum.accumulate(np.asarray(cb.best)) if cb.best else np.array([float(fun[0])])
     return LayoutResult(
         x=x, thrusters=ts, fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
         sum_tp=float(sum_tp[0]), torque_matrix=A, success=True, status=0,
         message=f"{algorithm}: {len(cb.best)} generations of {pop_size}",
         nit=len(cb.best), nfev=int(algo.evaluator.n_eval), history=history, runtime_s=runtime, cpu_s=cpu,
-        algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}",
+        algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}", extra=extra,
     )
+
+
+def _parallel_faces(faces: Sequence[MountingFace]) -> list[int]:
+    """Index of each face's parallel (point-reflected) face; InputError if one is missing."""
+    out = []
+    for f in faces:
+        j = next((i for i, g in enumerate(faces)
+                  if np.allclose(g.centre, -f.centre) and np.allclose(g.normal, -f.normal)
+                  and np.isclose(g.half_u, f.half_u) and np.isclose(g.half_v, f.half_v)), None)
+        if j is None:
+            raise InputError(
+                f"paired=True needs the parallel face of every mounting face; face {f.name!r} has none "
+                f"among {[g.name for g in faces]}"
+            )
+        out.append(j)
+    return out

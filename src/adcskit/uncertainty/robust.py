@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, check_int, check_positive
+from adcskit._validation import as_array, check_choice, check_int, check_positive
 from adcskit.errors import InputError
 
 __all__ = ["robust_objective", "weights_from_ratio", "mean_change_converged"]
@@ -37,6 +37,7 @@ def robust_objective(
     w2: float = 1.0,
     overshoot_max_pct: float = 10.0,
     penalty_weight: float = 1.0,
+    penalty_on: str = "sample",
 ) -> np.ndarray:
     """S4 eq. (10): ``F = w₁ E(|Error|) + w₂ σ(Error) + penalty`` over the last axis.
 
@@ -53,7 +54,11 @@ def robust_objective(
     overshoot_max_pct : float
         Overshoot limit [%] (S4: 10 %).
     penalty_weight : float
-        Penalty per percent of mean overshoot excess, in the units of ``errors``.
+        Penalty per percent of overshoot excess, in the units of ``errors``.
+    penalty_on : {"sample", "mean"}
+        S4 does not print its penalty. ``"sample"``: the mean over the samples of each
+        sample's excess ``max(os - os_max, 0)``; ``"mean"``: the excess of the expected
+        overshoot, ``max(E[os] - os_max, 0)`` (a constraint on E[overshoot]).
 
     Returns
     -------
@@ -71,14 +76,19 @@ def robust_objective(
     w2 = check_positive("w2", w2, allow_zero=True)
     check_positive("overshoot_max_pct", overshoot_max_pct)
     check_positive("penalty_weight", penalty_weight, allow_zero=True)
+    check_choice("penalty_on", penalty_on, ("sample", "mean"))
     a = np.abs(e)
     f = w1 * a.mean(axis=-1) + w2 * a.std(axis=-1)
     if overshoot_pct is not None:
         os = as_array("overshoot_pct", overshoot_pct, finite=False)
         if os.shape != e.shape:
             raise InputError(f"overshoot_pct must have the shape of errors {e.shape}; got {os.shape}")
-        excess = np.maximum(np.nan_to_num(os, nan=0.0) - overshoot_max_pct, 0.0)
-        f = f + penalty_weight * excess.mean(axis=-1)
+        os = np.nan_to_num(os, nan=0.0)
+        if penalty_on == "mean":
+            excess = np.maximum(os.mean(axis=-1) - overshoot_max_pct, 0.0)
+        else:
+            excess = np.maximum(os - overshoot_max_pct, 0.0).mean(axis=-1)
+        f = f + penalty_weight * excess
     # a non-finite error (diverged sample) makes the candidate infeasible, not NaN
     return np.where(np.isfinite(f), f, np.inf)
 
