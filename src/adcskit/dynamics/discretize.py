@@ -58,6 +58,15 @@ def discretize(A: Any, B: Any, dt: float, method: str = "zoh") -> tuple[np.ndarr
     dt : float, s
         Sample time, > 0.
     method : {"zoh", "crank-nicolson"}
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Ad, Bd = discretize([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], 0.1)   # double integrator
+    >>> Ad, Bd.round(6)
+    (array([[1. , 0.1],
+           [0. , 1. ]]), array([[0.005],
+           [0.1  ]]))
     """
     method = check_choice("method", method, DISCRETIZATION_METHODS)
     Aa = as_array("A", A, ndim=2)

@@ -109,6 +109,20 @@ class VectorSensor:
     -----
     Instances compare and hash by value (arrays compared elementwise) and pickle, so they can
     be sent to process or dask workers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.sensors import VectorSensor
+    >>> sensor = VectorSensor(angle_bound=np.radians(1.0), normalize=True)
+    >>> b = sensor.measure(np.eye(3), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], rng=0)
+    >>> b.shape, np.allclose(np.linalg.norm(b, axis=1), 1.0)
+    ((2, 3), True)
+    >>> bool(np.degrees(np.arccos(b[0, 0])) <= 1.0)   # error inside the 1 deg cap
+    True
+    >>> mid, radius = sensor.interval(b[0])              # S0 box that encloses the true vector
+    >>> bool(np.all(np.abs(mid - [1.0, 0.0, 0.0]) <= radius + 1e-12))
+    True
     """
 
     noise_std: float = 0.0

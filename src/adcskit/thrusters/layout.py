@@ -109,6 +109,18 @@ class MountingFace:
     max_cant : float, rad
         Largest angle between the force and the inward normal, in ``[0, pi/2]``
         (``pi/2``: any direction whose exhaust leaves the face, S3 Tables 1-4).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import MountingFace, decode_layout
+    >>> face = MountingFace(name="+X", centre=np.array([1.0, 0.0, 0.0]),
+    ...                     normal=np.array([1.0, 0.0, 0.0]),
+    ...                     axis_u=np.array([0.0, 1.0, 0.0]), axis_v=np.array([0.0, 0.0, 1.0]),
+    ...                     half_u=0.5, half_v=0.5)
+    >>> ts = decode_layout([0.0, 1.0, 0.0, 0.0, 0.0], [face])   # corner u = 1, force along -normal
+    >>> ts.positions, ts.directions.round(12) + 0.0
+    (array([[1. , 0.5, 0. ]]), array([[-1.,  0.,  0.]]))
     """
 
     name: str
@@ -171,6 +183,17 @@ def box_faces(
         Faces allowed for mounting; leave out e.g. the solar-array faces.
     max_cant : float or dict name -> float, rad
         Per-face limit on the angle between force and inward normal.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import box_faces
+    >>> faces = box_faces((1.0, 1.0, 1.0))                 # S3: 2 x 2 x 2 m body
+    >>> [f.name for f in faces]
+    ['+X', '-X', '+Y', '-Y', '+Z', '-Z']
+    >>> faces[0].centre, faces[0].normal
+    (array([1., 0., 0.]), array([1., 0., 0.]))
+    >>> len(box_faces(names=("+X", "-X")))
+    2
     """
     h = as_array("half_size", half_size, shape=(3,))
     if np.any(h <= 0):
@@ -230,7 +253,22 @@ def _decode(X: np.ndarray, table: dict[str, np.ndarray]):
 def decode_layout(
     genes: Any, faces: Sequence[MountingFace], *, com: Any = (0.0, 0.0, 0.0), **thruster_kw: Any
 ) -> ThrusterSet:
-    """The :class:`ThrusterSet` encoded by a gene vector of length ``5 n`` (module docstring)."""
+    """The :class:`ThrusterSet` encoded by a gene vector of length ``5 n`` (module docstring).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import box_faces, decode_layout
+    >>> genes = [0.5, 0.0, 0.0, 0.0, 0.0,                  # face 0 (+X), centre, along -normal
+    ...          2.5, 1.0, -1.0, 1.0, 0.0]                 # face 2 (+Y), corner, fully canted
+    >>> ts = decode_layout(genes, box_faces())
+    >>> ts.n, ts.names
+    (2, ('+X', '+Y'))
+    >>> ts.positions, ts.directions.round(12) + 0.0
+    (array([[ 1.,  0.,  0.],
+           [-1.,  1.,  1.]]), array([[-1.,  0.,  0.],
+           [ 0.,  0.,  1.]]))
+    """
     g = as_array("genes", genes, ndim=1)
     if g.size % GENES_PER_THRUSTER or g.size == 0:
         raise InputError(f"genes must have length 5 n (n >= 1); got {g.size}")
@@ -255,6 +293,18 @@ class LayoutScore:
     e_min : largest per-thruster minimum reachable error (rad), eq. 16
     sum_tp : mean over the demands of the summed on-times (s), eq. 17
     on_times : on-time per demand and thruster (s), shape ``(..., K, n)``
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import score_layout
+    >>> s = score_layout(ts.torque_matrix(), np.array([[5.0, 0.0, 0.0], [0.0, 0.0, -3.0]]))
+    >>> type(s).__name__, s.on_times.shape, round(float(s.error), 9)
+    ('LayoutScore', (2, 6), 0.0)
     """
 
     fun: Any
@@ -324,6 +374,25 @@ def score_layout(
     References
     ----------
     S3 eq. 6, 15-18, Table 7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import score_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, 0.0, -3.0]])   # N m
+    >>> s = score_layout(ts.torque_matrix(), demands)
+    >>> round(float(s.error), 9), round(float(s.sum_tp), 6)       # exact; mean on-time 0.08 s
+    (0.0, 0.08)
+    >>> s.on_times.round(6)
+    array([[0.  , 0.  , 0.1 , 0.  , 0.  , 0.  ],
+           [0.  , 0.06, 0.  , 0.  , 0.  , 0.  ]])
+    >>> batch = score_layout(np.stack([ts.torque_matrix()] * 3), demands)
+    >>> batch.fun.shape
+    (3,)
     """
     A = as_array("torque_matrix", torque_matrix, ndim=(2, 3))
     single = A.ndim == 2
@@ -459,6 +528,15 @@ class LayoutResult:
         CPU time of the optimisation in this process (insensitive to other jobs on the
         machine, unlike ``runtime_s``).
     algorithm : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, -5.0, 2.0]])     # N m
+    >>> res = design_layout(4, demands, pop_size=8, n_gen=3, rng=0)
+    >>> type(res).__name__, res.thrusters.n, res.x.shape, res.history.shape
+    ('LayoutResult', 4, (20,), (3,))
     """
 
     x: np.ndarray
@@ -566,6 +644,18 @@ def design_layout(
     >>> r.torque_matrix.shape, r.extra["couple_matrix"].shape
     ((3, 6), (3, 3))
     >>> bool(abs(r.thrusters.force_matrix().sum(axis=1)).max() < 1e-12)  # couples: no net force
+    True
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, -5.0, 2.0], [0.0, 0.0, 5.0]])   # N m
+    >>> res = design_layout(6, demands, pop_size=10, n_gen=4, rng=0)   # S3: n_gen=400
+    >>> res.thrusters.n, res.nit, res.history.shape, bool(np.all(np.diff(res.history) <= 0))
+    (6, 4, (4,), True)
+    >>> res2 = design_layout(6, demands, pop_size=10, n_gen=4, rng=0)
+    >>> bool(res2.fun == res.fun)                          # same seed, same layout
     True
     """
     n = check_int("n_thrusters", n_thrusters, minimum=1, maximum=10_000)

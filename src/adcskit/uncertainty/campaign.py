@@ -56,6 +56,14 @@ class CampaignResult:
         Where chunk results are kept (None: not kept).
     executor : str
         Spec of the executor that ran the computed chunks.
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import run_campaign
+    >>> res = run_campaign(math.sqrt, [1.0, 4.0, 9.0], chunk_size=2)
+    >>> type(res).__name__, res.values, res.n_chunks, res.n_resumed, res.executor
+    ('CampaignResult', [1.0, 2.0, 3.0], 2, 0, 'serial')
     """
 
     values: list
@@ -170,6 +178,18 @@ def run_campaign(
     -------
     CampaignResult
         Values in task order, and how many chunks were resumed.
+
+    Examples
+    --------
+    >>> import math, tempfile
+    >>> from adcskit.uncertainty import run_campaign
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     first = run_campaign(math.sqrt, [1.0, 4.0, 9.0, 16.0], directory=d, chunk_size=2)
+    ...     again = run_campaign(math.sqrt, [1.0, 4.0, 9.0, 16.0], directory=d, chunk_size=2)
+    >>> first.values, first.n_resumed
+    ([1.0, 2.0, 3.0, 4.0], 0)
+    >>> again.values, again.n_resumed                    # every chunk loaded from disk
+    ([1.0, 2.0, 3.0, 4.0], 2)
     """
     check_callable("fn", fn)
     if isinstance(tasks, str | bytes) or not isinstance(tasks, Iterable):

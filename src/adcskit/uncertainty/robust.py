@@ -24,6 +24,14 @@ def weights_from_ratio(ratio: float) -> tuple[float, float]:
 
     S4 reports only the ratio ``w₂/w₁``; normalising the sum leaves the minimiser
     unchanged and keeps the objective on the scale of the error.
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import weights_from_ratio
+    >>> weights_from_ratio(1.0)
+    (0.5, 0.5)
+    >>> tuple(round(w, 6) for w in weights_from_ratio(3.0))   # w2 / w1 = 3, w1 + w2 = 1
+    (0.25, 0.75)
     """
     r = check_positive("ratio", ratio, allow_zero=True)
     return 1.0 / (1.0 + r), r / (1.0 + r)
@@ -68,6 +76,17 @@ def robust_objective(
     References
     ----------
     S4, eq. (10).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import robust_objective
+    >>> errors = np.array([[1.0, 2.0, 3.0], [2.0, 2.0, 2.0]])   # 2 candidates x 3 samples
+    >>> robust_objective(errors).round(6)                 # mean + std (ddof=0)
+    array([2.816497, 2.      ])
+    >>> overshoot = [[5.0, 5.0, 5.0], [12.0, 14.0, 16.0]]   # %, the 2nd candidate exceeds 10 %
+    >>> robust_objective(errors, overshoot).round(6)
+    array([2.816497, 6.      ])
     """
     e = as_array("errors", errors, finite=False)
     if e.ndim == 0 or e.shape[-1] < 1:
@@ -109,6 +128,17 @@ def mean_change_converged(history: Sequence[float], *, tol: float = 1e-7, window
     -------
     bool
         False until ``window + 1`` values are available.
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import mean_change_converged
+    >>> history = [1.0, 0.5, 0.3] + [0.2] * 10            # best objective per generation
+    >>> mean_change_converged(history, tol=1e-7, window=10)   # 0.3 -> 0.2 is still in the window
+    False
+    >>> mean_change_converged(history + [0.2], tol=1e-7, window=10)
+    True
+    >>> mean_change_converged(history[:5])                # too short to judge
+    False
     """
     tol = check_positive("tol", tol)
     window = check_int("window", window, minimum=1)
