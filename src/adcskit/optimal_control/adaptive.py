@@ -367,6 +367,16 @@ class MeshIteration:
     warm_start : str
         How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
         the new mesh) or ``"primal-dual"`` (see :func:`solve`).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> it = sol.mesh_history[0]
+    >>> it.n_collocation > 0, it.warm_start
+    (True, 'cold')
     """
 
     meshes: tuple[Mesh, ...]
@@ -410,6 +420,16 @@ class ErrorCertificate:
     mesh_iterations : int
     estimator : str
         How the error was measured.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> c = sol.certificate
+    >>> c.satisfied, c.tol
+    (True, 1e-06)
     """
 
     satisfied: bool
@@ -439,6 +459,15 @@ class AdaptiveSolution(OptimalControlSolution):
     mesh_history : tuple of MeshIteration
         Every solve of the refinement loop, first to last.
     certificate : ErrorCertificate
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> sol.success, round(sol.tf, 6), bool(sol.max_error <= 1e-6)
+    (True, 2.0, True)
     """
 
     max_error: float

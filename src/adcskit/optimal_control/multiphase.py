@@ -105,6 +105,22 @@ class Phase:
     state_scale, control_scale : array_like, optional
         NLP scaling magnitudes (default from bounds / boundary values).
     name : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> acc.n_states, acc.n_controls
+    (2, 1)
     """
 
     dynamics: Callable[..., Any]
@@ -211,6 +227,12 @@ class Link:
         Prescribed state jump (e.g. a stage's dropped mass); 0 for continuity.
     time : bool
         Link the times.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import Link
+    >>> Link(0, 1)          # state and time continuity from phase 0 to phase 1
+    Link(a=0, b=1, states=None, jump=0.0, time=True)
     """
 
     a: int
@@ -232,6 +254,23 @@ class Endpoint:
         Initial / final time (s).
     q : casadi vector
         Integrals ``∫ q dt`` of the phase's ``integrand`` (empty without one).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> sol = solve_multiphase(prob, meshes=[(1, 3), (1, 3)])   # events/objective receive Endpoints
+    >>> round(sol.phases[1].tf, 8)
+    2.0
     """
 
     x0: Any
@@ -261,6 +300,22 @@ class MultiPhaseProblem:
     links : "continuous" or sequence of Link
         ``"continuous"``: state and time continuity between consecutive phases.
     name : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> len(prob.phases), prob.n_parameters
+    (2, 1)
     """
 
     phases: Sequence[Phase]
@@ -342,7 +397,26 @@ class MultiPhaseProblem:
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MultiPhaseGuess:
     """Initial guess of a multi-phase problem: one :class:`Guess` per phase (its ``t`` spans
-    ``t0`` to ``tf`` of the phase) and the parameters."""
+    ``t0`` to ``tf`` of the phase) and the parameters.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> from adcskit.optimal_control import default_multiphase_guess
+    >>> g = default_multiphase_guess(prob)
+    >>> len(g.phases), g.parameters.shape
+    (2, (1,))
+    """
 
     phases: tuple[Guess, ...]
     parameters: np.ndarray
@@ -357,7 +431,25 @@ class MultiPhaseGuess:
 def default_multiphase_guess(problem: MultiPhaseProblem) -> MultiPhaseGuess:
     """Straight lines between boundary values (free ends: the linked neighbour's value, the
     middle of finite bounds, else 0), controls at the middle of finite bounds (else 0), times
-    from the guesses/bounds, each phase starting where the previous one ends."""
+    from the guesses/bounds, each phase starting where the previous one ends.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> g = default_multiphase_guess(prob)
+    >>> len(g.phases)
+    2
+    """
     out = []
     t_prev = None
     x_prev = None
@@ -713,6 +805,23 @@ class MultiPhaseSolution:
         Adaptive solves: per phase, the relative error of every interval.
     mesh_history : tuple of MeshIteration
     certificate : ErrorCertificate or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Phase, MultiPhaseProblem, solve_multiphase
+    >>> f = lambda x, u, t, p: [x[1], u[0]]
+    >>> acc = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[1], control_upper=[1],
+    ...             initial_state=[0, 0], tf_bounds=(0, 10))
+    >>> dec = Phase(dynamics=f, n_states=2, n_controls=1, control_lower=[-1], control_upper=[-1],
+    ...             final_state=[np.nan, 0], t0_bounds=(0, 10), tf_bounds=(0, 10))
+    >>> prob = MultiPhaseProblem(phases=[acc, dec], n_parameters=1, parameter_lower=[1],
+    ...     parameter_upper=[1], objective=lambda e, p: e[1].tf,
+    ...     events=lambda e, p: [e[1].xf[0] - p[0]], event_lower=[0], event_upper=[0])
+
+    >>> sol = solve_multiphase(prob, meshes=[(1, 3), (1, 3)])
+    >>> sol.success, len(sol.phases), round(float(sol.parameters[0]), 8)
+    (True, 2, 1.0)
     """
 
     success: bool

@@ -105,6 +105,14 @@ class NLPPoint:
     p : (n_states + n_controls + 3,) ndarray
         NLP parameters: state scales, control scales, ``tf`` scale, ``t0`` and the objective
         scale ``|J(guess)|`` the multipliers refer to.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve(double_integrator_min_time(), mesh=(4, 3))
+    >>> sol.nlp.z.shape == sol.nlp.lam_x.shape
+    True
     """
 
     method: str

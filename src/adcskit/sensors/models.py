@@ -338,6 +338,14 @@ class GyroMeasurement:
         Measured rates (true rate + bias + noise).
     bias : ndarray, rad/s, shape ([N,] T, 3)
         True bias at each epoch ``t_k`` (for NEES and plots).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.sensors import RateGyro
+    >>> m = RateGyro(sigma_v=1e-5, sigma_u=1e-7, rate_hz=10.0).measure(np.zeros((50, 3)), rng=0)
+    >>> m.omega.shape, m.bias.shape
+    ((50, 3), (50, 3))
     """
 
     t: np.ndarray
