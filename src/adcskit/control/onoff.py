@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
+from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_array, check_choice, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
@@ -228,6 +229,7 @@ class LoopParams:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OnOffMetrics:
     """Metrics of a batch simulation, one entry per sample.
@@ -288,6 +290,7 @@ class OnOffMetrics:
         return d
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OnOffTrace:
     """Time histories of one simulation (sampled every ``dt``).

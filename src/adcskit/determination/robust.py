@@ -74,6 +74,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
 from adcskit.determination._box import box_sphere_max
 from adcskit.determination.wahba import _k_from, solve_wahba
@@ -82,6 +83,7 @@ from adcskit.errors import InputError, InputTypeError
 __all__ = ["ROBUST_METHODS", "RobustWahbaResult", "robust_wahba", "interval_objectives"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class RobustWahbaResult:
     """Solution of one robust (interval) Wahba problem.

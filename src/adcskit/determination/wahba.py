@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_choice, short_repr
 from adcskit.determination import _kernels as _k
 from adcskit.errors import InputError, InputTypeError
@@ -73,6 +74,7 @@ STATUS_MESSAGES: dict[int, str] = {
 _PARALLEL_MIN = 4096
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class WahbaResult:
     """Solution of one or a batch of Wahba problems.

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_batch,
@@ -94,6 +95,7 @@ def euler_equations(omega: Any, inertia: Any, torque: Any = None) -> np.ndarray:
     return out(_euler_rhs(w, J, t), wb or tb)
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AttitudeTrajectory:
     """Result of :func:`propagate_attitude`.

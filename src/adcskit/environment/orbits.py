@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_batch, check_finite, check_positive, check_range
 from adcskit.environment.frames import WGS84_A
 from adcskit.environment.time import J2000, as_utc, utc_times
@@ -50,6 +51,7 @@ from adcskit.constants import MU_EARTH  # noqa: E402  (EGM-96 / WGS-84, m^3/s^2)
 R_EARTH = WGS84_A  #: Earth's equatorial radius used for altitudes, m
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class OrbitState:
     """Positions and velocities along an orbit.

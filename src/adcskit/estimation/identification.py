@@ -83,6 +83,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 from scipy.optimize import brentq
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -106,6 +107,7 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class IdentificationResult:
     """Output of :func:`identify_model`.

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -66,6 +67,7 @@ __all__ = ["AugmentedEKFResult", "JointResult", "augmented_ekf", "joint_estimate
 _UNREGULARISED = {"qr", "gmres", "bicg", "cgs", "bicgstab", "lsqr"}
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class JointResult:
     """Output of :func:`joint_estimate`.
@@ -285,6 +287,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
 # --------------------------------------------------------------------------- augmented EKF
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AugmentedEKFResult:
     """Output of :func:`augmented_ekf`.

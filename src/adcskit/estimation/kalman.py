@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_rng, check_choice, check_positive
 from adcskit.errors import InputError
 
@@ -115,6 +116,7 @@ def _loglik_term(nu, S_cf):
 # --------------------------------------------------------------------------- results
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class KalmanResult:
     """Output of :func:`kalman_filter`.

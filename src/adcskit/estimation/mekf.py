@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_finite, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import _mekf_kernels as _mk
@@ -289,6 +290,7 @@ class MultiplicativeEKF:
 # ------------------------------------------------------------------------- batch function
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class MEKFResult:
     """Output of :func:`mekf_filter` (leading ``N`` axis only for a batched call).

@@ -51,6 +51,7 @@ import casadi as ca
 import numpy as np
 from numpy.polynomial import legendre as _leg
 
+from adcskit._results import compact_repr
 from adcskit._validation import check_choice, check_int, check_positive
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
@@ -345,6 +346,7 @@ def refine_mesh(
 
 
 # ----------------------------------------------------------------------------- results
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MeshIteration:
     """One solve of the refinement loop.
@@ -402,6 +404,7 @@ class MeshIteration:
         }
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ErrorCertificate:
     """Final error statement of an adaptive solve.
@@ -446,6 +449,7 @@ class ErrorCertificate:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AdaptiveSolution(OptimalControlSolution):
     """An :class:`OptimalControlSolution` on an error-controlled mesh.

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from adcskit._results import compact_repr
 from adcskit._validation import check_choice, check_int, check_positive, check_range
 from adcskit.errors import InputTypeError
 from adcskit.optimal_control.solve import OptimalControlSolution
@@ -29,6 +30,7 @@ from adcskit.optimal_control.solve import OptimalControlSolution
 __all__ = ["BangBangResult", "ResimulationResult", "bang_bang", "resimulate"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BangBangResult:
     """Bang-bang structure of each control channel.
@@ -135,6 +137,7 @@ def bang_bang(solution: OptimalControlSolution, *, tol: float = 0.02, min_fracti
     )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ResimulationResult:
     """Open-loop re-simulation of an optimal control history.

@@ -38,6 +38,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_choice, check_int
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import gauss_differentiation_matrix, radau_differentiation_matrix
@@ -775,6 +776,7 @@ def _get(problem, method, meshes, opts):
 
 
 # ----------------------------------------------------------------------------- solution
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MultiPhaseSolution:
     """Result of :func:`solve_multiphase` (and of :func:`solve_adaptive` on a multi-phase

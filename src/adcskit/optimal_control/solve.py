@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import track
+from adcskit._results import compact_repr
 from adcskit._validation import as_rng, check_choice, check_flag, check_int, check_positive
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
@@ -134,6 +135,7 @@ class NLPPoint:
         )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OptimalControlSolution:
     """Result of one transcribed solve.
@@ -587,6 +589,7 @@ def _solve_with(
 
 
 # ------------------------------------------------------------------------- mesh sequence
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MeshSequenceResult:
     """Solutions on a warm-started sequence of meshes (one local branch).
@@ -764,6 +767,7 @@ def solve_mesh_sequence(
 
 
 # ------------------------------------------------------------------------- multistart
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MultistartResult:
     """Solves from seeded random initial guesses.

@@ -42,6 +42,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_batch,
@@ -325,6 +326,7 @@ class Magnetometer(VectorSensor):
     unit: ClassVar[str] = "T"
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class GyroMeasurement:
     """Output of :meth:`RateGyro.measure` (leading ``N`` axis only for a batch).

@@ -43,11 +43,13 @@ import numba
 import numpy as np
 from scipy.optimize import linprog, lsq_linear
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_batch, check_choice, check_positive_array
 
 __all__ = ["AllocationResult", "ALLOCATION_METHODS", "allocate"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AllocationResult:
     """Forces allocated to the thrusters for one or many torque demands.

@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -498,6 +499,7 @@ DE_STRATEGIES = {
 }
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LayoutResult:
     """Outcome of :func:`design_layout`.

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import check_callable, check_int, check_path, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
@@ -40,6 +41,7 @@ from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
 __all__ = ["CampaignResult", "run_campaign"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CampaignResult:
     """Outcome of :func:`run_campaign`.

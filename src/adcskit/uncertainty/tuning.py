@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import bar, status
+from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
@@ -113,6 +114,7 @@ def evaluate_gains(
     return simulate_batch(base.replace(**changes), settings, parallel=parallel, backend=backend)
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ParetoResult:
     """Pareto front of the deterministic two-objective tuning (S4 eq. 9).
@@ -153,6 +155,7 @@ class ParetoResult:
         }
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RobustTuningResult:
     """Outcome of the robust GA tuning (S4 eq. 10).
@@ -484,6 +487,7 @@ def tune_robust(
     )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MonteCarloResult:
     """Monte-Carlo evaluation of one gain triple.
@@ -692,6 +696,7 @@ PAPER_SCALE = RobustTuningScale()
 with the 1000-generation cap, 1000 LHS samples per candidate, 10 000-run evaluation."""
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class TuningTimeEstimate:
     """Predicted duration of a robust tuning run, from a timed calibration batch.
