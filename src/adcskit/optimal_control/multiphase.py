@@ -50,6 +50,7 @@ from adcskit.optimal_control.solve import (
     _Piece,
     _resolve_options,
     _solution_funs,
+    ipopt_status_code,
 )
 from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar
 
@@ -426,7 +427,7 @@ class MultiPhaseGuess:
         if not all(isinstance(g, Guess) for g in self.phases):
             raise InputTypeError("MultiPhaseGuess.phases must hold Guess objects")
         object.__setattr__(self, "phases", tuple(self.phases))
-        object.__setattr__(self, "parameters", as_array("parameters", self.parameters, ndim=1))
+        object.__setattr__(self, "parameters", as_array("parameters", self.parameters, ndim=1, nonempty=False))
 
 
 def default_multiphase_guess(problem: MultiPhaseProblem) -> MultiPhaseGuess:
@@ -785,7 +786,10 @@ class MultiPhaseSolution:
     Attributes
     ----------
     success : bool
-    status, message : str
+    status : int
+        scipy-style code (see :data:`adcskit.optimal_control.solve.IPOPT_STATUS_CODES`).
+    ipopt_status, message : str
+        IPOPT's ``return_status`` and a one-line summary.
     nit, nfev : int
     objective : float
     parameters : (n_parameters,) ndarray
@@ -827,7 +831,7 @@ class MultiPhaseSolution:
     """
 
     success: bool
-    status: str
+    status: int
     message: str
     nit: int
     nfev: int
@@ -846,6 +850,7 @@ class MultiPhaseSolution:
     interval_errors: tuple = ()
     mesh_history: tuple = ()
     certificate: Any = None
+    ipopt_status: str = ""
 
     def with_adaptive(self, **changes) -> MultiPhaseSolution:
         """A copy with the adaptive-refinement fields (used by :func:`solve_adaptive`)."""
@@ -859,6 +864,7 @@ class MultiPhaseSolution:
         return {
             "success": self.success,
             "status": self.status,
+            "ipopt_status": self.ipopt_status,
             "message": self.message,
             "nit": self.nit,
             "objective": self.objective,
@@ -1035,7 +1041,8 @@ def _solve(
     labels = ", ".join(m.label() for m in tr.meshes)
     return MultiPhaseSolution(
         success=success,
-        status=status,
+        status=ipopt_status_code(status),
+        ipopt_status=status,
         message=f"IPOPT: {status} after {nit} iterations ({tr.method}, meshes {labels})",
         nit=nit,
         nfev=int(stats.get("n_call_nlp_f", 0)),
@@ -1121,7 +1128,8 @@ def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, suc
     )
     return OptimalControlSolution(
         success=success,
-        status=status,
+        status=ipopt_status_code(status),
+        ipopt_status=status,
         message=f"phase {ph.name}: IPOPT {status}",
         nit=nit,
         nfev=0,

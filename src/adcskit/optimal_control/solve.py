@@ -144,8 +144,11 @@ class OptimalControlSolution:
     ----------
     success : bool
         IPOPT reported ``Solve_Succeeded`` or ``Solved_To_Acceptable_Level``.
-    status : str
-        IPOPT's ``return_status``.
+    status : int
+        scipy-style code (:data:`IPOPT_STATUS_CODES`): 0 converged, 1 converged to the
+        acceptable level, 2 iteration or time limit, 3 infeasible, 4 other failure.
+    ipopt_status : str
+        IPOPT's ``return_status`` string.
     message : str
     nit, nfev : int
         IPOPT iterations and objective evaluations.
@@ -194,7 +197,7 @@ class OptimalControlSolution:
     """
 
     success: bool
-    status: str
+    status: int
     message: str
     nit: int
     nfev: int
@@ -217,6 +220,7 @@ class OptimalControlSolution:
     pieces: tuple[_Piece, ...] = field(repr=False)
     dynamics_fun: Any = field(repr=False, default=None)
     warm_start: str = "cold"
+    ipopt_status: str = ""
     nlp: NLPPoint | None = field(repr=False, default=None)
 
     # ---------------------------------------------------------------- interpolation
@@ -267,6 +271,7 @@ class OptimalControlSolution:
         return {
             "success": self.success,
             "status": self.status,
+            "ipopt_status": self.ipopt_status,
             "message": self.message,
             "nit": self.nit,
             "nfev": self.nfev,
@@ -331,6 +336,33 @@ def _interp_fun(t_samples, values, t0_src, tf_src, t0_new, tf_new):
         return np.column_stack([np.interp(s, ts, vals[:, i]) for i in range(vals.shape[1])]) if vals.shape[1] else np.zeros((np.size(t), 0))
 
     return f
+
+
+#: IPOPT ``return_status`` -> scipy-style integer ``status`` of the solution objects.
+IPOPT_STATUS_CODES: dict[str, int] = {
+    "Solve_Succeeded": 0,
+    "Solved_To_Acceptable_Level": 1,
+    "Feasible_Point_Found": 1,
+    "Maximum_Iterations_Exceeded": 2,
+    "Maximum_CpuTime_Exceeded": 2,
+    "Maximum_WallTime_Exceeded": 2,
+    "Infeasible_Problem_Detected": 3,
+    "Restoration_Failed": 4,
+    "Search_Direction_Becomes_Too_Small": 4,
+    "Diverging_Iterates": 4,
+    "Error_In_Step_Computation": 4,
+    "Invalid_Number_Detected": 4,
+    "User_Requested_Stop": 4,
+}
+
+
+def ipopt_status_code(return_status: str) -> int:
+    """scipy-style integer status of an IPOPT ``return_status`` (4 for anything unlisted).
+
+    >>> ipopt_status_code("Solve_Succeeded"), ipopt_status_code("Maximum_Iterations_Exceeded")
+    (0, 2)
+    """
+    return IPOPT_STATUS_CODES.get(str(return_status), 4)
 
 
 def _check_problem(problem: Any) -> None:
@@ -561,7 +593,8 @@ def _solve_with(
     msg = f"IPOPT: {status} after {int(stats.get('iter_count', 0))} iterations ({tr.method}, mesh {tr.mesh.label()})"
     return OptimalControlSolution(
         success=success,
-        status=status,
+        status=ipopt_status_code(status),
+        ipopt_status=status,
         message=msg,
         nit=int(stats.get("iter_count", 0)),
         nfev=int(stats.get("n_call_nlp_f", 0)),
