@@ -426,12 +426,12 @@ def fuel_to_propellant(
     f = as_array("fuel", fuel, ndim=(0, 1))
     if np.any(f < 0):
         raise InputError(f"fuel must be >= 0 N m s; got min {float(np.min(f)):g}")
-    arm = check_positive("lever_arm", lever_arm, unit="m")
+    arm = check_positive("lever_arm", lever_arm, unit="m", min_value=1e-100)
     out = {"impulse_Ns": f / arm}
     if isp is not None:
-        out["propellant_kg"] = out["impulse_Ns"] / (check_positive("isp", isp, unit="s") * G0)
+        out["propellant_kg"] = out["impulse_Ns"] / (check_positive("isp", isp, unit="s", min_value=1e-100) * G0)
     if mass is not None:
-        out["delta_v_mps"] = out["impulse_Ns"] / check_positive("mass", mass, unit="kg")
+        out["delta_v_mps"] = out["impulse_Ns"] / check_positive("mass", mass, unit="kg", min_value=1e-100)
     return out
 
 

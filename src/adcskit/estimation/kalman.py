@@ -475,9 +475,13 @@ def simulate_linear(A, B, C, u, *, x0=None, R=1.0, Q=0.0, rng=None) -> LinearSim
         w = np.zeros((N, n))
     x = np.empty((N + 1, n))
     x[0] = x0
-    for t in range(N):
-        x[t + 1] = A @ x[t] + B @ u[t] + w[t]
-    y = x[:N] @ C.T + v
+    with np.errstate(over="ignore", invalid="ignore"):
+        for t in range(N):
+            x[t + 1] = A @ x[t] + B @ u[t] + w[t]
+        y = x[:N] @ C.T + v
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise InputError(f"the simulated state overflows float64 within {N} steps: A is too unstable "
+                         f"(spectral radius {np.abs(np.linalg.eigvals(A)).max():.3g}) for this horizon")
     return LinearSimulation(x=x, y=y, u=u, v=v, w=w)
 
 

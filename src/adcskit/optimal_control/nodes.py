@@ -21,7 +21,8 @@ import numpy as np
 from numpy.polynomial import legendre as _leg
 from scipy.special import roots_legendre
 
-from adcskit._validation import as_array, check_int
+from adcskit._validation import as_array, check_int, short_repr
+from adcskit.errors import InputError
 
 __all__ = [
     "legendre_gauss",
@@ -116,8 +117,20 @@ def barycentric_weights(support: np.ndarray) -> np.ndarray:
     diff = s[:, None] - s[None, :]
     np.fill_diagonal(diff, 1.0)
     if np.any(diff == 0.0):
-        raise ValueError("support points must be distinct")
-    return 1.0 / np.prod(diff, axis=1)
+        raise InputError(f"support points must be distinct; got {short_repr(s)}")
+    with np.errstate(over="ignore", divide="ignore", under="ignore"):
+        w = 1.0 / np.prod(diff, axis=1)
+    if not np.all(np.isfinite(w)) or np.any(w == 0.0):
+        raise InputError(f"support points are too close together or too spread for float64 "
+                         f"(barycentric weights overflow); got {short_repr(s)}")
+    return w
+
+
+def _finite_matrix(out: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(out)):
+        raise InputError("points must not lie within rounding distance of a support point (other than "
+                         "exactly on it): the interpolation matrix overflows")
+    return out
 
 
 def lagrange_matrix(support, points) -> np.ndarray:
@@ -143,7 +156,7 @@ def lagrange_matrix(support, points) -> np.ndarray:
         out[:] = terms / terms.sum(axis=1, keepdims=True)
     rows = exact.any(axis=1)
     out[rows] = exact[rows].astype(float)
-    return out
+    return _finite_matrix(out)
 
 
 def lagrange_derivative_matrix(support, points) -> np.ndarray:
@@ -182,7 +195,7 @@ def lagrange_derivative_matrix(support, points) -> np.ndarray:
             li = ell * bw / d
             inv = 1.0 / d
             out[k] = li * (inv.sum() - inv)
-    return out
+    return _finite_matrix(out)
 
 
 def gauss_differentiation_matrix(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

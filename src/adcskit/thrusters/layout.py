@@ -408,8 +408,8 @@ def score_layout(
     fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=(n,))
     tmin = check_positive_array("t_min", t_min, allow_zero=True, unit="s", broadcast_to=(n,))
     fun, err, e_min, sum_tp, tp = _score(
-        A, D, fmax, tmin, check_positive("t_s", t_s, unit="s"),
-        check_positive("gain", gain, unit="N m/rad"), _check_weights(weights),
+        A, D, fmax, tmin, check_positive("t_s", t_s, unit="s", min_value=1e-100),
+        check_positive("gain", gain, unit="N m/rad", min_value=1e-100), _check_weights(weights),
     )
     if single:
         return LayoutScore(fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
@@ -678,8 +678,8 @@ def design_layout(
     fmax = np.full(n, check_positive("f_max", f_max, unit="N", min_value=1e-100))
     tmin = np.full(n, check_positive("t_min", t_min, allow_zero=True, unit="s"))
     mdot = check_positive("mdot", mdot, unit="kg/s")
-    t_s = check_positive("t_s", t_s, unit="s")
-    gain = check_positive("gain", gain, unit="N m/rad")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
+    gain = check_positive("gain", gain, unit="N m/rad", min_value=1e-100)
     com = as_array("com", com, shape=(3,))
     pop_size = check_int("pop_size", pop_size, minimum=4, maximum=100_000)
     n_gen = check_int("n_gen", n_gen, minimum=1, maximum=1_000_000)

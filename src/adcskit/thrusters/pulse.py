@@ -78,7 +78,7 @@ def pulse_width(force: Any, *, f_max: Any = 10.0, t_s: float = 0.2) -> np.ndarra
 def _pulse_width(name: str, force: Any, f_max: Any, t_s: Any) -> np.ndarray:
     F = as_array(name, force)
     fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=F.shape[-1:])
-    t_s = check_positive("t_s", t_s, unit="s")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
     tol = 1e-9 * np.max(fmax)
     if np.any(F < -tol) or np.any(F > fmax + tol):
         raise InputError(
@@ -170,8 +170,8 @@ def min_reachable_error(
     >>> e.round(9), np.degrees(e).round(6)
     (array([0.00025 , 0.000125]), array([0.014324, 0.007162]))
     """
-    t_s = check_positive("t_s", t_s, unit="s")
-    gain = check_positive("gain", gain, unit="N m/rad")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
+    gain = check_positive("gain", gain, unit="N m/rad", min_value=1e-100)
     return min_impulse_bit(lever_arm, f_max=f_max, t_min=t_min) / (t_s * gain)
 
 
