@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 # method codes (order of METHODS in wahba.py)
-TRIAD, QMETHOD, QUEST, ESOQ2, SVD, FOAM, TWO_VECTOR = 0, 1, 2, 3, 4, 5, 6
+TRIAD, QMETHOD, QUEST, ESOQ2, SVD, FOAM, TWO_VECTOR, FLAE = 0, 1, 2, 3, 4, 5, 6, 7
 
 # status codes
 OK = 0
@@ -386,6 +386,128 @@ def _foam_quat(B, q, A):
 
 
 @njit(cache=True, error_model="numpy")
+def _flae_quat(B, K, q):
+    """FLAE (Wu et al. 2018): λ_max of the traceless K from the symbolic roots of its
+    characteristic quartic ``λ⁴ + τ1 λ² + τ2 λ + τ3`` (their eqs. 48-53), then the eigenvector
+    by Gauss-Jordan elimination of ``N = K − λ I`` (their eqs. 54-55). Returns (λ, ok).
+
+    ``τ1 = −2 ||B||²_F``, ``τ2 = −8 det B``, ``τ3 = det K`` (Wu et al.'s ``W`` is ``K``
+    under a signed permutation of the quaternion, same spectrum). Differences from the paper,
+    for robustness: the complex cube root of their ``T1`` is taken in its trigonometric form
+    when the resolvent has three real roots (the usual case; the paper leaves it to complex
+    arithmetic), the largest of the four roots is kept (the paper: the root closest to 1,
+    the same root for consistent data), the symbolic root is polished by Newton steps on
+    the same quartic (FLAE's own "newton" variant, started here from the symbolic root: the
+    cube-root formula loses up to ~1e-8 relative where three roots nearly coincide, i.e.
+    for near noise-free data), and the elimination uses full pivoting, so no component of
+    ``q`` is assumed non-zero (the paper's back-substitution divides by ``q4`` and fails at
+    180° rotations).
+    """
+    nB2 = 0.0
+    for i in range(3):
+        for j in range(3):
+            nB2 += B[i, j] * B[i, j]
+    detB = _det3(B[0, 0], B[0, 1], B[0, 2], B[1, 0], B[1, 1], B[1, 2], B[2, 0], B[2, 1], B[2, 2])
+    t1 = -2.0 * nB2
+    t2 = -8.0 * detB
+    # τ3 = det K by the Laplace expansion in 2×2 minors of rows (0, 1) and (2, 3)
+    s0 = K[0, 0] * K[1, 1] - K[1, 0] * K[0, 1]
+    s1 = K[0, 0] * K[1, 2] - K[1, 0] * K[0, 2]
+    s2 = K[0, 0] * K[1, 3] - K[1, 0] * K[0, 3]
+    s3 = K[0, 1] * K[1, 2] - K[1, 1] * K[0, 2]
+    s4 = K[0, 1] * K[1, 3] - K[1, 1] * K[0, 3]
+    s5 = K[0, 2] * K[1, 3] - K[1, 2] * K[0, 3]
+    c5 = K[2, 2] * K[3, 3] - K[3, 2] * K[2, 3]
+    c4 = K[2, 1] * K[3, 3] - K[3, 1] * K[2, 3]
+    c3 = K[2, 1] * K[3, 2] - K[3, 1] * K[2, 2]
+    c2 = K[2, 0] * K[3, 3] - K[3, 0] * K[2, 3]
+    c1 = K[2, 0] * K[3, 2] - K[3, 0] * K[2, 2]
+    c0 = K[2, 0] * K[3, 1] - K[3, 0] * K[2, 1]
+    t3 = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0
+    T0 = 2.0 * t1 * t1 * t1 + 27.0 * t2 * t2 - 72.0 * t1 * t3
+    u = t1 * t1 + 12.0 * t3
+    D = T0 * T0 - 4.0 * u * u * u
+    if D >= 0.0:
+        T1 = np.cbrt(T0 + np.sqrt(D))
+        s2 = 2.0 ** (4.0 / 3.0) * u / T1 + 2.0 ** (2.0 / 3.0) * T1 if T1 != 0.0 else 0.0
+    else:  # T1 = (T0 + i sqrt(−D))^(1/3); 2^(4/3) u / T1 + 2^(2/3) T1 = 2^(5/3) Re(T1)
+        rho = (4.0 * u * u * u) ** (1.0 / 6.0)
+        s2 = 2.0 ** (5.0 / 3.0) * rho * np.cos(np.arctan2(np.sqrt(-D), T0) / 3.0)
+    T2 = np.sqrt(max(-4.0 * t1 + s2, 0.0))
+    alpha = 1.0 / (2.0 * np.sqrt(6.0))
+    lam = -np.inf
+    if T2 > 0.0:
+        k1 = -T2 * T2 - 12.0 * t1
+        k2 = 12.0 * np.sqrt(6.0) * t2 / T2
+        r1 = np.sqrt(max(k1 - k2, 0.0))
+        r2 = np.sqrt(max(k1 + k2, 0.0))
+        lam = max(alpha * (T2 + r1), alpha * (T2 - r1), -alpha * (T2 - r2), -alpha * (T2 + r2))
+    else:
+        lam = 1.0
+    # Newton polish on f(λ) = λ⁴ + τ1 λ² + τ2 λ + τ3
+    for _ in range(8):
+        l2 = lam * lam
+        f = (l2 + t1) * l2 + t2 * lam + t3
+        fp = 4.0 * l2 * lam + 2.0 * t1 * lam + t2
+        if fp == 0.0:
+            break
+        step = f / fp
+        lam -= step
+        if abs(step) <= 1e-15 * abs(lam):
+            break
+    if not np.isfinite(lam):
+        return lam, False
+    # Gauss-Jordan elimination of N = K − λ I with full pivoting: three pivots (rows p,
+    # columns recorded in the bit mask ``used``), the remaining column is the free variable
+    # of the one-dimensional null space
+    M = np.empty((4, 4))
+    for i in range(4):
+        for j in range(4):
+            M[i, j] = K[i, j]
+        M[i, i] -= lam
+    used = 0
+    pc0 = pc1 = pc2 = -1
+    for p in range(3):
+        bi, bj, bv = p, 0, -1.0
+        for i in range(p, 4):
+            for j in range(4):
+                if not (used >> j) & 1:
+                    v = abs(M[i, j])
+                    if v > bv:
+                        bi, bj, bv = i, j, v
+        if not bv > 0.0:
+            return lam, False
+        if bi != p:
+            for j in range(4):
+                M[p, j], M[bi, j] = M[bi, j], M[p, j]
+        used |= 1 << bj
+        if p == 0:
+            pc0 = bj
+        elif p == 1:
+            pc1 = bj
+        else:
+            pc2 = bj
+        piv = M[p, bj]
+        for j in range(4):
+            M[p, j] /= piv
+        for i in range(4):
+            if i != p:
+                f = M[i, bj]
+                if f != 0.0:
+                    for j in range(4):
+                        M[i, j] -= f * M[p, j]
+    free = 0
+    while (used >> free) & 1:
+        free += 1
+    q[free] = 1.0
+    q[pc0] = -M[0, free]
+    q[pc1] = -M[1, free]
+    q[pc2] = -M[2, free]
+    _normalise_quat(q)
+    return lam, True
+
+
+@njit(cache=True, error_model="numpy")
 def _svd_quat(B, q, A):
     """Markley's SVD method (1988): A = U diag(1, 1, det U det V) Vᵀ, B = U S Vᵀ."""
     U, s, Vt = np.linalg.svd(B)
@@ -574,6 +696,8 @@ def _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all
         lam = 1.0
         if method == FOAM:
             ok = _foam_quat(B, q, A)
+        elif method == FLAE:
+            lam, ok = _flae_quat(B, K, q)
         else:
             lam2 = -1.0
             if n == 2:  # closed form λmax for two observations (Markley 1999 / M&C eq. 5.71)

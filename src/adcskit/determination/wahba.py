@@ -1,4 +1,4 @@
-"""Wahba's problem: batched point solvers (TRIAD, q-method, QUEST, ESOQ2, SVD, FOAM).
+"""Wahba's problem: batched point solvers (TRIAD, q-method, QUEST, ESOQ2, SVD, FOAM, FLAE).
 
 Wahba's problem (Wahba 1965; S0 eq. 1): find the attitude matrix ``A`` minimising
 ``L(A) = 1/2 Σ a_i ||b_i − A r_i||²`` for body-frame observations ``b_i`` and reference
@@ -28,6 +28,9 @@ References
    value decomposition", J. Astronaut. Sci. 36(3), 1988; "... a fast optimal matrix
    algorithm", J. Astronaut. Sci. 41(2), 1993 (FOAM).
 .. [5] S0 (Ghadiri et al., robust min-max attitude determination), eqs. 1–2.
+.. [6] Wu, J., Zhou, Z., Gao, B., Li, R., Cheng, Y. and Fourati, H., "Fast linear quaternion
+   attitude estimator using vector observations", IEEE Trans. Autom. Sci. Eng. 15(1),
+   2018, 307–319 (FLAE, eqs. 48–55).
 """
 
 from __future__ import annotations
@@ -53,6 +56,7 @@ METHODS: dict[str, tuple[int, bool, str]] = {
     "svd": (_k.SVD, True, "Markley's SVD method on the attitude profile matrix B"),
     "foam": (_k.FOAM, True, "Markley's fast optimal attitude matrix (FOAM)"),
     "two-vector": (_k.TWO_VECTOR, True, "Markley's closed-form optimum for exactly two observations"),
+    "flae": (_k.FLAE, True, "FLAE (Wu et al. 2018): symbolic quartic root, Gauss-Jordan eigenvector"),
 }
 
 #: Per-problem status codes and their messages.
@@ -97,7 +101,7 @@ class WahbaResult:
     method : str
         Solver used.
     fallback : bool or ndarray (N,)
-        QUEST/ESOQ2/FOAM only: the fast path's eigen-residual exceeded ``64 ε`` (or its
+        QUEST/ESOQ2/FOAM/FLAE only: the fast path's eigen-residual exceeded ``64 ε`` (or its
         Newton iteration did not converge) and the problem was re-solved by the q-method.
     """
 
@@ -212,7 +216,9 @@ def solve_wahba(
         Positive weights ``a_i`` (read as ``1/σ_i²`` [rad⁻²] for the covariance). Default 1.
     method : str
         One of :data:`METHODS`: ``"triad"``, ``"q-method"`` (default), ``"quest"``,
-        ``"esoq2"``, ``"svd"``, ``"foam"``, ``"two-vector"`` (exactly two observations:
+        ``"esoq2"``, ``"svd"``, ``"foam"``, ``"flae"`` (Wu et al. 2018: symbolic roots of
+        the characteristic quartic, eigenvector by Gauss-Jordan elimination),
+        ``"two-vector"`` (exactly two observations:
         Markley's closed form, the fastest optimal method for the sun + magnetometer case).
     covariance : bool, default True
         For a batch, ``False`` skips storing the ``(N, 3, 3)`` covariance (72 bytes per
@@ -236,7 +242,7 @@ def solve_wahba(
     Notes
     -----
     The optimal methods agree with the eigen-solution to the accuracy the problem's
-    conditioning allows (``~ε / gap``, gap = λ_max − λ_2 of ``K``); QUEST/ESOQ2/FOAM check
+    conditioning allows (``~ε / gap``, gap = λ_max − λ_2 of ``K``); QUEST/ESOQ2/FOAM/FLAE check
     their eigen-residual and fall back to the eigen-solver above ``64 ε``.
 
     References

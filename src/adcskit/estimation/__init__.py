@@ -8,6 +8,9 @@
   adaptive GMRES, ridge toward the prior, RLS).
 * :func:`joint_estimate` — S1's alternation of Kalman filtering and identification;
   :func:`augmented_ekf` — joint state/parameter EKF baseline.
+* :func:`mekf_filter` / :class:`MultiplicativeEKF` — multiplicative EKF for attitude with
+  gyro-bias estimation (Lefferts, Markley & Shuster 1982), batched over Monte-Carlo samples
+  in compiled code, with NEES/NIS statistics (:func:`chi2_band`).
 """
 
 from adcskit.estimation.identification import (
@@ -27,6 +30,7 @@ from adcskit.estimation.kalman import (
     kalman_filter,
     simulate_linear,
 )
+from adcskit.estimation.mekf import MEKFResult, MultiplicativeEKF, chi2_band, mekf_filter
 
 __all__ = [
     "IDENTIFICATION_METHODS",
@@ -37,11 +41,15 @@ __all__ = [
     "KalmanFilter",
     "KalmanResult",
     "LinearSimulation",
+    "MEKFResult",
+    "MultiplicativeEKF",
     "RecursiveLeastSquares",
     "augmented_ekf",
+    "chi2_band",
     "identify_model",
     "joint_estimate",
     "kalman_filter",
+    "mekf_filter",
     "offline_schedule",
     "regression_data",
     "simulate_linear",

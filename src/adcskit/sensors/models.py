@@ -1,4 +1,4 @@
-"""Vector sensor models: sun sensor and three-axis magnetometer.
+"""Sensor models: sun sensor (with eclipse), three-axis magnetometer, rate gyro.
 
 A sensor turns reference-frame vectors ``r`` and the true attitude matrix ``A``
 (reference -> body, ``b = A r``, design.md convention) into body-frame measurements. The
@@ -22,6 +22,9 @@ true vector given the bounded errors 2-3 (see :mod:`adcskit.sensors.intervals`);
 misalignment and bias are for the user to correct and Gaussian noise is unbounded, so
 neither is in the box.
 
+:class:`RateGyro` is Farrenkopf's gyro model (angle random walk + bias random walk), sampled
+at its own rate with the exact discrete form (see :mod:`adcskit.sensors._gyro_kernels`).
+
 Hand-written: the models are a few lines of array algebra; no kept library has them.
 
 References
@@ -39,11 +42,18 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from adcskit._validation import as_array, as_batch, as_rng, check_positive, check_range
+from adcskit._validation import (
+    as_array,
+    as_batch,
+    as_rng,
+    check_finite,
+    check_positive,
+    check_range,
+)
 from adcskit.errors import InputError, InputTypeError
 from adcskit.sensors.intervals import midpoint_radius
 
-__all__ = ["VectorSensor", "SunSensor", "Magnetometer"]
+__all__ = ["VectorSensor", "SunSensor", "Magnetometer", "RateGyro", "GyroMeasurement"]
 
 
 def _rotvec_matrix(rv: np.ndarray) -> np.ndarray:
@@ -242,6 +252,37 @@ class SunSensor(VectorSensor):
             raise InputError("r must be non-zero sun vectors; got a zero vector")
         return r / n
 
+    def measure(self, A: Any, r: Any, rng: Any = None, *, eclipse: Any = None) -> np.ndarray:
+        """Simulated sun directions; NaN rows where the spacecraft is in eclipse.
+
+        Parameters
+        ----------
+        A, r, rng
+            As :meth:`VectorSensor.measure`.
+        eclipse : array_like of bool, shape () or (N,), optional
+            True where the Sun is hidden (e.g. :func:`adcskit.environment.in_shadow` of the
+            orbit positions). Those rows are all-NaN, the "no measurement" marker that
+            :func:`adcskit.estimation.mekf_filter` skips. The random draws are the same with
+            or without eclipses (eclipsed rows are drawn, then blanked), so a seed gives the
+            same lit measurements either way.
+
+        Returns
+        -------
+        numpy.ndarray, shape (3,) or (N, 3)
+        """
+        out = VectorSensor.measure(self, A, r, rng)
+        if eclipse is None:
+            return out
+        ecl = np.asarray(eclipse)
+        if ecl.dtype != bool:
+            raise InputTypeError(f"eclipse must be booleans; got dtype {ecl.dtype}")
+        rows = np.atleast_2d(out)
+        if ecl.ndim > 1 or (ecl.ndim == 1 and ecl.shape[0] != rows.shape[0]):
+            raise InputError(f"eclipse must have shape () or ({rows.shape[0]},); got {ecl.shape}")
+        rows = rows.copy()
+        rows[np.broadcast_to(ecl, rows.shape[:1])] = np.nan
+        return rows if out.ndim == 2 else rows[0]
+
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class Magnetometer(VectorSensor):
@@ -263,3 +304,139 @@ class Magnetometer(VectorSensor):
 
     normalize: bool = False
     unit: ClassVar[str] = "T"
+
+
+@dataclass(frozen=True, slots=True)
+class GyroMeasurement:
+    """Output of :meth:`RateGyro.measure` (leading ``N`` axis only for a batch).
+
+    Attributes
+    ----------
+    t : ndarray, s, shape (T,)
+        Sample epochs ``t_k = t0 + k / rate_hz``; reading ``k`` is the mean rate over
+        ``[t_k, t_k+1)``.
+    omega : ndarray, rad/s, shape ([N,] T, 3)
+        Measured rates (true rate + bias + noise).
+    bias : ndarray, rad/s, shape ([N,] T, 3)
+        True bias at each epoch ``t_k`` (for NEES and plots).
+    """
+
+    t: np.ndarray
+    omega: np.ndarray
+    bias: np.ndarray
+
+    def to_dict(self) -> dict[str, Any]:
+        from adcskit.studies._base import to_jsonable
+
+        return {name: to_jsonable(getattr(self, name)) for name in self.__slots__}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class RateGyro:
+    """Three-axis rate gyro: Farrenkopf's angle random walk + bias random walk.
+
+    ``ω̃ = ω + b + η_v``, ``ḃ = η_u`` with white ``η_v`` (spectral density ``σv²``) and
+    ``η_u`` (``σu²``), sampled at ``rate_hz``. Each reading is the mean measured rate over its
+    sample interval, simulated with the exact discrete form (Crassidis & Junkins 2012 §7.2)::
+
+        b_{k+1} = b_k + σu √Δt n_u,k
+        ω̃_k     = ω_k + (b_k + b_{k+1}) / 2 + sqrt(σv²/Δt + σu² Δt/12) n_v,k
+
+    — the same model the MEKF (:mod:`adcskit.estimation.mekf`) assumes, so a filter given
+    these readings is consistent.
+
+    Attributes
+    ----------
+    sigma_v : float, rad/s^0.5
+        Angle random walk, >= 0.
+    sigma_u : float, rad/s^1.5
+        Bias random walk, >= 0.
+    rate_hz : float, Hz
+        Sample rate, > 0.
+    bias0 : array_like, rad/s, shape (3,)
+        Bias at the first sample (draw it from its prior yourself for Monte-Carlo runs).
+
+    References
+    ----------
+    Farrenkopf 1978; Crassidis & Junkins 2012 §7.2; Markley & Crassidis 2014 §6.2.1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> gyro = RateGyro(sigma_v=1e-5, sigma_u=1e-7, rate_hz=10.0, bias0=[1e-4, 0.0, 0.0])
+    >>> m = gyro.measure(np.zeros((100, 3)), rng=0)
+    >>> m.omega.shape, float(m.t[1])
+    ((100, 3), 0.1)
+    """
+
+    sigma_v: float = 0.0
+    sigma_u: float = 0.0
+    rate_hz: float = 10.0
+    bias0: Any = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "sigma_v", check_positive("sigma_v", self.sigma_v, allow_zero=True,
+                                                           unit="rad/s^0.5"))
+        object.__setattr__(self, "sigma_u", check_positive("sigma_u", self.sigma_u, allow_zero=True,
+                                                           unit="rad/s^1.5"))
+        object.__setattr__(self, "rate_hz", check_positive("rate_hz", self.rate_hz, unit="Hz"))
+        b0 = as_array("bias0", self.bias0, shape=(3,))
+        b0.setflags(write=False)
+        object.__setattr__(self, "bias0", b0)
+
+    def _key(self) -> tuple:
+        return (self.sigma_v, self.sigma_u, self.rate_hz, self.bias0.tobytes())
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, RateGyro):
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    @property
+    def dt(self) -> float:
+        """Sample interval ``1 / rate_hz`` [s]."""
+        return 1.0 / self.rate_hz
+
+    def measure(self, omega: Any, rng: Any = None, *, t0: float = 0.0) -> GyroMeasurement:
+        """Simulated readings for true rates at the gyro's sample epochs.
+
+        Parameters
+        ----------
+        omega : array_like, rad/s, shape (T, 3) or (N, T, 3)
+            True body rate at (more precisely: averaged over) each sample interval.
+        rng : numpy.random.Generator or int, optional
+            Random source (``None`` -> seed 0). Draws bias increments ``(N, T, 3)`` first,
+            then rate noise ``(N, T, 3)`` (``N = 1`` for a single run).
+        t0 : float, s
+            Epoch of the first sample.
+
+        Returns
+        -------
+        GyroMeasurement
+        """
+        w = as_array("omega", omega)
+        if w.ndim not in (2, 3) or w.shape[-1] != 3:
+            raise InputError(f"omega must have shape (T, 3) or (N, T, 3); got shape {w.shape}")
+        start = check_finite("t0", t0)
+        gen = as_rng(rng)
+        batched = w.ndim == 3
+        W = w if batched else w[None]
+        N, T = W.shape[0], W.shape[1]
+        dt = self.dt
+        n_u = gen.standard_normal((N, T, 3))
+        n_v = gen.standard_normal((N, T, 3))
+        # b_0 .. b_T: cumulative bias random walk (b_T only enters the last reading)
+        b = np.empty((N, T + 1, 3))
+        b[:, 0] = self.bias0
+        np.cumsum(self.sigma_u * np.sqrt(dt) * n_u, axis=1, out=b[:, 1:])
+        b[:, 1:] += self.bias0
+        sn = np.sqrt(self.sigma_v**2 / dt + self.sigma_u**2 * dt / 12.0)
+        meas = W + 0.5 * (b[:, :-1] + b[:, 1:]) + sn * n_v
+        t = start + dt * np.arange(T)
+        bias = b[:, :-1]
+        if not batched:
+            meas, bias = meas[0], bias[0]
+        return GyroMeasurement(t=t, omega=meas, bias=np.ascontiguousarray(bias))
