@@ -88,6 +88,10 @@ class Config:
         ``K_d = switch_tc_s K_p`` (the switching line ``e + (K_d/K_p) de/dt = 0``); S4's own
         ``K_d/K_p = 0.89 s`` suits its plant's angular acceleration (T/J = 0.1 rad/s^2), 12x
         that of the GEO spacecraft with 10 N m per axis, and overshoots there.
+    command_period_s : float, s
+        GEO and LEO command (sample-and-hold) period of the Schmitt loop: S4's 50 Hz. At S3's
+        t_s = 0.2 s a held pulse changes ``K_d omega`` by more than the Schmitt hysteresis on
+        the low-inertia y axis and the loop chatters between opposite thrusters.
     slew_deg, slew_accel_fraction : float
         Question 4: slew about the body z axis; the optimal profile uses this fraction of
         the torque level's angular acceleration.
@@ -98,18 +102,19 @@ class Config:
     n_seeds: int = 5
     n_samples: int = 1000
     geo_dt: float = 0.02
-    geo_t_final: float = 60.0
+    geo_t_final: float = 45.0
     geo_slew_deg: float = 5.0
     geo_torque_level_nm: float = 10.0
     geo_srp_torque_nm: float = 5e-5
     layout_pop: int = 30
     layout_gens: int = 150
-    leo_dt: float = 0.05
-    leo_t_final: float = 120.0
-    leo_window_s: float = 60.0
+    leo_dt: float = 0.02
+    leo_t_final: float = 60.0
+    leo_window_s: float = 30.0
     s4_dt: float = 0.005
     s4_t_final: float = 30.0
     switch_tc_s: float = 5.0
+    command_period_s: float = 0.02
     slew_deg: float = 20.0
     slew_accel_fraction: float = 0.7
     record_samples: int = 32
@@ -118,7 +123,7 @@ class Config:
         if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:
             raise ConfigError("n_seeds must be >= 1, n_samples >= 2, record_samples >= 1")
         for name in ("geo_dt", "geo_t_final", "geo_slew_deg", "geo_torque_level_nm", "leo_dt", "leo_t_final",
-                     "leo_window_s", "s4_dt", "s4_t_final", "slew_deg", "switch_tc_s"):
+                     "leo_window_s", "s4_dt", "s4_t_final", "slew_deg", "switch_tc_s", "command_period_s"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
         if not 0 < self.slew_accel_fraction <= 1:
@@ -146,7 +151,8 @@ def _geo_base(cfg: Config, thrusters: ThrusterSpec, allocation: str) -> Scenario
         sensors=SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, gyro_rate_hz=10.0, star_tracker_rate_hz=2.0,
                            star_tracker_noise_arcsec=10.0),
         estimator=EstimatorSpec(kind="mekf", init_error_deg=0.05),
-        controller=ControllerSpec(kind="schmitt", period_s=0.2, torque_level=(cfg.geo_torque_level_nm,) * 3,
+        controller=ControllerSpec(kind="schmitt", period_s=cfg.command_period_s,
+                                  torque_level=(cfg.geo_torque_level_nm,) * 3,
                                   kp=(S4_GAINS["nominal"][0],) * 3, ki=(S4_GAINS["nominal"][1],) * 3,
                                   kd=(cfg.switch_tc_s * S4_GAINS["nominal"][0],) * 3, allocation=allocation),
         dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.05, misalignment_deg=0.5, delay_std_s=0.005,
@@ -165,7 +171,7 @@ def _leo_base(cfg: Config, kind: str, noise: str) -> Scenario:
         sensors=SensorSpec(sun_rate_hz=1.0, sun_noise_deg=0.005, mag_rate_hz=1.0, mag_noise_deg=0.5, noise=noise,
                            gyro_rate_hz=10.0),
         estimator=EstimatorSpec(kind=kind, wahba_method="q-method", init_error_deg=0.05),
-        controller=ControllerSpec(kind="schmitt", period_s=0.2, torque_level=(0.2, 0.2, 0.05),
+        controller=ControllerSpec(kind="schmitt", period_s=cfg.command_period_s, torque_level=(0.2, 0.2, 0.05),
                                   kp=(S4_GAINS["nominal"][0],) * 3, ki=(S4_GAINS["nominal"][1],) * 3,
                                   kd=(cfg.switch_tc_s * S4_GAINS["nominal"][0],) * 3),
         dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.05, misalignment_deg=0.5,
@@ -484,6 +490,8 @@ def _fig_nees(nees_trace):
     t, nees = nees_trace
     fig, ax = new_figure(figsize=(6.4, 3.8))
     n = nees.shape[0]
+    keep = np.any(np.isfinite(nees), axis=0)
+    t, nees = t[keep], nees[:, keep]
     mean = np.nanmean(nees, axis=0)
     ax.plot(t, mean, "-", lw=0.8, label=f"mean NEES over {n} samples")
     lo, hi = chi2.ppf(0.025, 6 * n) / n, chi2.ppf(0.975, 6 * n) / n
@@ -515,6 +523,6 @@ STUDY = Study(
     config_cls=Config,
     run=run,
     quick={"n_seeds": 2, "n_samples": 48, "layout_pop": 16, "layout_gens": 25, "record_samples": 8,
-           "geo_t_final": 40.0, "leo_t_final": 60.0, "leo_window_s": 30.0, "s4_t_final": 20.0},
+           "geo_t_final": 40.0, "leo_t_final": 40.0, "leo_window_s": 20.0, "s4_t_final": 20.0},
     doc="docs/studies/closed-loop.md",
 )
