@@ -171,7 +171,9 @@ def _leo_base(cfg: Config, kind: str, noise: str) -> Scenario:
         sensors=SensorSpec(sun_rate_hz=1.0, sun_noise_deg=0.005, mag_rate_hz=1.0, mag_noise_deg=0.5, noise=noise,
                            gyro_rate_hz=10.0),
         estimator=EstimatorSpec(kind=kind, wahba_method="q-method", init_error_deg=0.05),
-        controller=ControllerSpec(kind="schmitt", period_s=cfg.command_period_s, torque_level=(0.2, 0.2, 0.05),
+        # torque levels: each allocated pulse at 50 Hz stays above the 3 ms minimum on-time
+        # (0.16 N m about z = two 0.08 N thrusters = 3.2 ms pulses of 0.5 N)
+        controller=ControllerSpec(kind="schmitt", period_s=cfg.command_period_s, torque_level=(0.4, 0.4, 0.16),
                                   kp=(S4_GAINS["nominal"][0],) * 3, ki=(S4_GAINS["nominal"][1],) * 3,
                                   kd=(cfg.switch_tc_s * S4_GAINS["nominal"][0],) * 3),
         dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.05, misalignment_deg=0.5,
