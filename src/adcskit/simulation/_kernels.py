@@ -40,10 +40,9 @@ from adcskit.determination._kernels import _solve_one
 from adcskit.estimation import _mekf_kernels as _mk
 
 # The heavy per-sample pieces of other packages are called through their own compiled
-# (and disk-cached) numba dispatchers rather than inlined into this kernel: numba then
-# compiles each once, and the loop below compiles in seconds instead of minutes. A CUDA
-# build of the loop would bind these names to device compilations of the same sources
-# (the MEKF kernels are plain ``register_jitable`` functions).
+# (and disk-cached) numba dispatchers rather than inlined into this kernel, so numba compiles
+# each of them once. A CUDA build of the loop would bind these names to device compilations
+# of the same sources (the MEKF kernels are plain ``register_jitable`` functions).
 mekf_propagate = _mk.mekf_propagate_jit
 mekf_update_vector = _mk.mekf_update_vector_jit
 mekf_update_quaternion = _mk.mekf_update_quaternion_jit
