@@ -316,6 +316,8 @@ def decide(
     frac = k / n if n else math.nan
     if vals:
         interval = mean_interval(vals, confidence)
+    elif not stochastic:
+        interval = (frac, frac)  # a deterministic computation: no sampling interval
     else:
         interval = wilson_interval(k, n, confidence)
     why = f"{k}/{n} seeds support it"
