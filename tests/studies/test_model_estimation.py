@@ -48,14 +48,22 @@ def test_three_paper_claims_over_seeds_and_readings(quick):
     for c in doc["claims"] + doc["findings"]:
         assert c["n_seeds"] == 2
         assert [r["reading"] for r in c["readings"]] == list(READINGS)
-    # full run (10 seeds): ">10x" and "37-195 %" do not hold on any seed under any reading
-    # (converged least squares gives 1-10 % on the 1-DOF model, and the online variant is
-    # stuck at the 13 % prior on the 3-DOF one); the quick run must agree
-    for cid in ("adaptive-10x", "standard-37-195"):
-        assert claims[cid]["outcome"] == "does not hold", claims[cid]["detail"]
-        assert all(r["outcome"] == "does not hold" for r in claims[cid]["readings"])
-    # "most accurate" is false on the 1-DOF model whenever least squares is informative
+    # full run (10 seeds, docs/studies/model-estimation.md): ">10x" holds on no seed under any
+    # reading (ratio 0.002-1.06 against 10); the quick run must agree
+    c = claims["adaptive-10x"]
+    assert c["outcome"] == "does not hold", c["detail"]
+    assert all(r["outcome"] == "does not hold" for r in c["readings"])
+    # "37-195 %": no seed in four readings (converged least squares gives 1-15 % on the 1-DOF
+    # model); under "spacecraft changed" 1 of 10 seeds lands inside, so that reading is not
+    # asserted
+    per = {r["reading"]: r["outcome"] for r in claims["standard-37-195"]["readings"]}
+    for reading in ("default", "per-axis inertia", "step dominant", "low noise"):
+        assert per[reading] == "does not hold", (reading, per)
+    # "most accurate": 0/10 seeds in every reading at L = 200. The quick run (L = 100) is a
+    # shorter manoeuvre, on which the online variant can win a seed at sigma = 1; it never
+    # holds, and with informative data (low noise) it is beaten on every seed
     most = {r["reading"]: r["outcome"] for r in claims["online-most-accurate"]["readings"]}
+    assert "holds" not in most.values()
     assert most["low noise"] == "does not hold"
     f = {x["id"]: x for x in doc["findings"]}
     assert {"online-improves-on-prior", "prior-baselines-match-online", "ekf-knowing-structure-beats-online",
