@@ -233,21 +233,38 @@ def test_loss_matches_wahba_loss_and_eigenvalue():
 
 
 def test_covariance_matches_monte_carlo():
-    # Markley & Crassidis 2014 eq. 5.66 with a_i = 1/σ_i²; check against the sample
-    # covariance of q-method errors over 4000 seeded trials (relative standard error of a
-    # variance estimate is sqrt(2/4000) = 2.2 %; 12 % is > 5 sigma)
+    # Markley & Crassidis 2014 eq. 5.66 with a_i = 1/σ_i²: P = [Σ a_i (I − b_i b_iᵀ)]⁻¹ is the
+    # covariance of the BODY-frame attitude error. Checked at a large, non-identity attitude,
+    # full matrix (off-diagonals too), against the sample covariance of q-method errors over
+    # 4000 seeded trials. The relative standard error of a covariance entry is ~sqrt(2/4000)
+    # = 2.2 %; 10 % in Frobenius norm is > 4 sigma. The reference-frame covariance
+    # Aᵀ P A (a body/reference swap) differs from P by ~100 % here and must fail.
+    from scipy.spatial.transform import Rotation
+
+    from adcskit.attitude import quat_to_dcm
+
     rng = np.random.default_rng(7)
     sig = np.array([1e-3, 3e-3, 2e-3])
     r = np.array([[1.0, 0, 0], [0.3, 1.0, 0], [0.1, 0.2, 1.0]])
     r /= np.linalg.norm(r, axis=1, keepdims=True)
+    A = Rotation.from_rotvec([0.9, -1.7, 0.6]).as_matrix()  # independent of adcskit (b = A r)
+    b = r @ A.T
     N = 4000
     noise = rng.normal(size=(N, 3, 3)) * sig[None, :, None]
-    body = r[None] + noise - np.einsum("kni,ni->kn", noise, r)[..., None] * r[None]
+    body = b[None] + noise - np.einsum("kni,ni->kn", noise, b)[..., None] * b[None]  # ⟂ to b
     res = solve_wahba(body, np.broadcast_to(r, body.shape), 1 / sig**2, method="q-method")
-    dth = 2 * res.q[:, :3] / res.q[:, 3:]  # small-angle error vector (truth = identity)
+    E = quat_to_dcm(res.q) @ A.T  # A_est A_trueᵀ ≈ I − [δθ×], δθ in the body frame
+    assert np.abs(E - np.eye(3)).max() < 0.05  # right attitude (a transposed A fails here)
+    dth = 0.5 * np.stack([E[:, 1, 2] - E[:, 2, 1], E[:, 2, 0] - E[:, 0, 2], E[:, 0, 1] - E[:, 1, 0]], axis=1)
     P_mc = np.cov(dth.T)
-    P = solve_wahba(r, r, 1 / sig**2).cov
-    np.testing.assert_allclose(np.diag(P_mc), np.diag(P), rtol=0.12)
+    P = solve_wahba(b, r, 1 / sig**2).cov
+    P_indep = np.linalg.inv(sum((1 / s**2) * (np.eye(3) - np.outer(bi, bi)) for s, bi in zip(sig, b)))
+    np.testing.assert_allclose(P, P_indep, rtol=1e-10)
+    rel = np.linalg.norm(P_mc - P) / np.linalg.norm(P)
+    assert rel < 0.10, rel
+    assert abs(P[0, 1]) > 0.1 * np.sqrt(P[0, 0] * P[1, 1])  # off-diagonals are not negligible here
+    swapped = A.T @ P @ A  # covariance in the reference frame: must be distinguishable
+    assert np.linalg.norm(P_mc - swapped) / np.linalg.norm(P) > 3 * rel
     assert res.cond.min() >= 1.0
 
 

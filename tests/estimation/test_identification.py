@@ -215,3 +215,31 @@ def test_inputs_not_modified():
     for a, c in zip((X, Z, U), copies):
         np.testing.assert_array_equal(a, c)
     np.testing.assert_array_equal(A0, A_TRUE)
+
+
+def test_discrepancy_rule_meets_its_target():
+    # Morozov's discrepancy principle: the chosen weight makes the residual equal to the
+    # noise it expects, ||Z - Theta Phi||_F^2 = tau N n sigma^2 (identification.py, tau = 1)
+    X, Z, U = _data(noise=0.5, N=40, seed=3)
+    A0 = 1.3 * A_TRUE
+    d = identify_model(X, Z, U, B=B_TRUE, method="ridge-prior", A_prior=A0,
+                       options={"rule": "discrepancy", "noise_std": 0.5})
+    Zc = Z - U @ B_TRUE.T
+    rss = float(np.sum((Zc - X @ d.A.T) ** 2))
+    assert rss == pytest.approx(Zc.size * 0.5**2, rel=1e-4)
+    # and it is the fixed-weight ridge solution at that weight (closed form, independent)
+    ref = np.linalg.solve(X.T @ X + d.reg_param * np.eye(3), X.T @ Zc + d.reg_param * A0.T).T
+    np.testing.assert_allclose(d.A, ref, rtol=1e-9, atol=1e-12)
+
+
+def test_rls_anchored_at_prior_is_ridge_toward_prior():
+    # The model-estimation study's "rls-prior" baseline: RLS started at A0 with P0 = delta I
+    # and no forgetting is the Bayesian posterior mean, i.e. ridge toward A0 with lam = 1/delta
+    # (Ljung 1999 §11.2): (Phi^T Phi + I/delta) Theta^T = Phi^T Z + A0^T / delta.
+    X, Z, U = _data(noise=0.5, N=25, seed=4)
+    A0 = 1.3 * A_TRUE
+    delta = 0.02
+    res = identify_model(X, Z, U, B=B_TRUE, method="rls", A_init=A0, options={"forgetting": 1.0, "delta": delta})
+    Zc = Z - U @ B_TRUE.T
+    ref = np.linalg.solve(X.T @ X + np.eye(3) / delta, X.T @ Zc + A0.T / delta).T
+    np.testing.assert_allclose(res.A, ref, rtol=1e-9, atol=1e-12)

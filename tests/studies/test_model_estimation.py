@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from adcskit.studies._runner import run_study
-from adcskit.studies.model_estimation import A13, CASES, METHODS, Config, build_case
+from adcskit.studies.model_estimation import A13, CASES, METHODS, READINGS, Config, build_case
 
 
 @pytest.fixture(scope="module")
@@ -27,6 +27,7 @@ def test_result_structure(quick):
         assert set(table[m]) == set(CASES)
         for st in table[m].values():
             assert st["min"] <= st["median"] <= st["max"]
+    assert set(doc["measured"]["table_by_reading"]) == set(READINGS)
     assert set(doc["measured"]["table_low_noise"]) == set(METHODS)
     # the paper's table carries S1 Table 1's printed numbers (GMRES 1-DOF random: 79 %)
     assert doc["paper"]["table"]["gmres"]["1dof-random"] == {"value": 79}
@@ -34,8 +35,40 @@ def test_result_structure(quick):
     for f in ("model-error-vs-time.png", "norm-convergence.png", "angle-estimate.png"):
         assert (d / f).is_file()
     assert (d / "table1.csv").is_file() and (d / "per-seed.csv").is_file()
-    assert any(c["kind"] == "claim" for c in doc["checks"])
+    assert all(c["kind"] == "check" and c["passed"] for c in doc["checks"])
     assert doc["measured"]["unsuccessful_runs"] >= 0
+
+
+def test_three_paper_claims_over_seeds_and_readings(quick):
+    _, d = quick
+    doc = json.loads((d / "result.json").read_text())
+    claims = {c["id"]: c for c in doc["claims"]}
+    # S1 makes three claims; our baselines are findings
+    assert set(claims) == {"adaptive-10x", "standard-37-195", "online-most-accurate"}
+    for c in doc["claims"] + doc["findings"]:
+        assert c["n_seeds"] == 2
+        assert [r["reading"] for r in c["readings"]] == list(READINGS)
+    # full run (10 seeds, docs/studies/model-estimation.md): ">10x" holds on no seed under any
+    # reading (ratio 0.002-1.06 against 10); the quick run must agree
+    c = claims["adaptive-10x"]
+    assert c["outcome"] == "does not hold", c["detail"]
+    assert all(r["outcome"] == "does not hold" for r in c["readings"])
+    # "37-195 %": no seed in four readings (converged least squares gives 1-15 % on the 1-DOF
+    # model); under "spacecraft changed" 1 of 10 seeds lands inside, so that reading is not
+    # asserted
+    per = {r["reading"]: r["outcome"] for r in claims["standard-37-195"]["readings"]}
+    for reading in ("default", "per-axis inertia", "step dominant", "low noise"):
+        assert per[reading] == "does not hold", (reading, per)
+    # "most accurate": 0/10 seeds in every reading at L = 200. The quick run (L = 100) is a
+    # shorter manoeuvre, on which the online variant can win a seed at sigma = 1; it never
+    # holds, and with informative data (low noise) it is beaten on every seed
+    most = {r["reading"]: r["outcome"] for r in claims["online-most-accurate"]["readings"]}
+    assert "holds" not in most.values()
+    assert most["low noise"] == "does not hold"
+    f = {x["id"]: x for x in doc["findings"]}
+    assert {"online-improves-on-prior", "prior-baselines-match-online", "ekf-knowing-structure-beats-online",
+            "least-squares-identifies-1dof"} <= set(f)
+    assert "knows the model structure" in f["ekf-knowing-structure-beats-online"]["statement"]
 
 
 def test_converged_solvers_are_the_same_least_squares(quick):
@@ -49,21 +82,82 @@ def test_converged_solvers_are_the_same_least_squares(quick):
             assert table[m][c]["median"] == pytest.approx(table["qr"][c]["median"], abs=0.5)
 
 
-def test_key_physics(quick):
+def _cn(A, B, h=1.0):
+    lhs = np.eye(A.shape[0]) - 0.5 * h * A
+    return np.linalg.solve(lhs, np.eye(A.shape[0]) + 0.5 * h * A), np.linalg.solve(lhs, h * B)
+
+
+def _closed_loop_3dof(inertia_gains, inertia_plant, n):
+    """S1 eq. (8)-(12), written out here independently of adcskit.dynamics (derived skew N)."""
+    from scipy.signal import place_poles
+
+    def plant(I):
+        Ix, Iy, Iz = I
+        M = np.diag(I)
+        L = n**2 * np.diag([4 * (Iy - Iz), 3 * (Ix - Iz), Iy - Ix])
+        N = n * (Ix - Iy + Iz) * np.array([[0.0, 0, -1], [0, 0, 0], [1, 0, 0]])
+        Mi = np.linalg.inv(M)
+        A = np.block([[np.zeros((3, 3)), np.eye(3)], [-Mi @ L, -Mi @ N]])
+        return A, np.vstack([np.zeros((3, 3)), Mi])
+
+    Ag, _ = plant(inertia_gains)
+    poles = [(-0.2041 + 0.4115j, -0.2041 - 0.4115j), (-0.2536 + 0.4550j, -0.2536 - 0.4550j), (-0.5441, -7.5034)]
+    K = np.zeros((3, 6))
+    for i, p in enumerate(poles):
+        k = place_poles(np.array([[0.0, 1.0], [Ag[3 + i, i], 0.0]]), np.array([[0.0], [1.0 / inertia_gains[i]]]),
+                        np.array(p)).gain_matrix
+        K[i, i], K[i, 3 + i] = k[0]
+    A, B = plant(inertia_plant)
+    return _cn(A - B @ K, B)[0]
+
+
+def test_key_physics_prior_errors_computed_independently(quick):
     result, _ = quick
-    prior = result.measured["prior_error"]
-    # prior errors follow from the matrices alone (computed independently below)
-    cfg = Config()
-    for c in CASES:
-        case = build_case(c, cfg)
-        e = 100 * np.linalg.norm(case.A0 - case.A, 2) / np.linalg.norm(case.A, 2)
-        assert prior[c] == pytest.approx(e, rel=1e-12)
-    # 1-DOF with the inertia 50 % too large: ||A0 - A||_2/||A||_2 = 37.3 % (hand calculation
-    # from A = [[1, 1], [-1, -1]], A0 = [[1, 1], [-2/3, -1/3]])
-    assert prior["1dof-random"] == pytest.approx(37.27, abs=0.01)
+    prior = result.measured["prior_error_by_reading"]
+
+    def e(A0, A):
+        return 100 * np.linalg.norm(A0 - A, 2) / np.linalg.norm(A, 2)
+
+    # 1-DOF (S1 eq. 3): A = [[1, 1], [-1, -1]]; the same PD loop with the inertia 1.5x has
+    # A' = [[1, 1], [-2/3, 1 - 4/3]] (k/I scaled by 1/1.5). Default: truth A, prior A'
+    # (hand value 37.27 %); S1's wording ("pre-change model" A0 = A): truth A', prior A.
+    A1 = np.array([[1.0, 1.0], [-1.0, -1.0]])
+    A1s = np.array([[1.0, 1.0], [-2.0 / 3.0, -1.0 / 3.0]])
+    assert prior["default"]["1dof-random"] == pytest.approx(e(A1s, A1), rel=1e-12)
+    assert prior["default"]["1dof-random"] == pytest.approx(37.27, abs=0.01)
+    assert prior["spacecraft changed"]["1dof-step"] == pytest.approx(e(A1, A1s), rel=1e-12)
+    # 3-DOF from the written-out equations (gains designed for the printed inertia)
+    inertia = np.array([82.0, 80.0, 4.0])
+    n = np.sqrt(3.986004418e14 / (6378137.0 + 500e3) ** 3)
+    A = _closed_loop_3dof(inertia, inertia, n)
+    A_uni = _closed_loop_3dof(inertia, 1.5 * inertia, n)
+    A_tr = _closed_loop_3dof(inertia, inertia * [1.5, 1.5, 1.0], n)
+    tol = dict(rel=1e-6)  # orbit-rate constants may differ in the last digits
+    assert prior["default"]["3dof-random"] == pytest.approx(e(A_uni, A), **tol)
+    assert prior["spacecraft changed"]["3dof-sine"] == pytest.approx(e(A, A_uni), **tol)
+    assert prior["per-axis inertia"]["3dof-random"] == pytest.approx(e(A_tr, A), **tol)
     # the physics-based EKF on the 1-DOF model identifies the inertia ratio 1/1.5 within 5 %
     for p in result.measured["augmented_ekf_inertia_ratio"]["1dof-random"]:
         assert p[0] == pytest.approx(1 / 1.5, rel=0.05)
+
+
+def test_equal_scaling_leaves_open_loop_ratios_unchanged():
+    # scaling all inertias by s leaves M^-1 L and M^-1 N unchanged (only M^-1 = B moves):
+    # the reason for the per-axis reading
+    cfg = Config()
+    uni = build_case("3dof-random", cfg)
+    Ap, _ = uni.model.reference(np.ones(3))  # prior inertias (1.5x), closed loop
+    At, _ = uni.model.reference(np.full(3, 1 / 1.5))  # back to the truth
+    np.testing.assert_allclose(At, uni.A, atol=1e-12)
+    np.testing.assert_allclose(Ap, uni.A0, atol=1e-12)
+    from adcskit.dynamics import lvlh_attitude_model
+
+    n = 1e-3
+    a1, _ = lvlh_attitude_model(np.array([82.0, 80.0, 4.0]), n)
+    a2, _ = lvlh_attitude_model(1.5 * np.array([82.0, 80.0, 4.0]), n)
+    np.testing.assert_allclose(a1, a2, atol=1e-15)  # open loop: identical
+    a3, _ = lvlh_attitude_model(np.array([123.0, 120.0, 4.0]), n)
+    assert np.abs(a3 - a1).max() > 1e-7  # per-axis change moves the open-loop dynamics
 
 
 def test_models_match_the_paper():
@@ -100,10 +194,9 @@ def test_printed_model_option_runs():
     from adcskit.studies.model_estimation import run
 
     cfg = Config(n_seeds=1, n_steps=30, cases=("3dof-random",), methods=("qr", "adaptive-gmres-online", "augmented-ekf"),
-                 model_3dof="printed", gyroscopic="printed", noise_std_low=0.0)
+                 model_3dof="printed", gyroscopic="printed", noise_std_low=0.0, readings=())
     res = run(cfg, rng=np.random.default_rng(1))
     assert set(res.measured["table"]) == {"qr", "adaptive-gmres-online", "augmented-ekf"}
-    assert res.measured["table_low_noise"] == {}
     assert res.measured["converged_solver_max_rel_diff"] < 1e-6
     with pytest.raises(ValueError, match="cases must be a subset"):
         Config(cases=("2dof",))
