@@ -528,7 +528,9 @@ case("optimal_control.random_guess", kinds={"problem": "object"}, positive=("spr
 case("optimal_control.solve", nan_ok=OCP_NAN, kinds={"problem": "object"}, extra=IPOPT_EXTRA)(
     lambda: dict(problem=_di(), method="gauss", mesh=(3, 3), ipopt_options={"max_iter": 200})
 )
-case("optimal_control.solve_mesh_sequence", nan_ok=(*OCP_NAN, "rel_change"), aliases={"meshes": ("mesh",)}, kinds={"problem": "object"}, positive=("rtol",), extra=IPOPT_EXTRA,
+# tf_change is NaN for the first mesh without a guess solution (documented); branch_jumps has
+# one index per flagged solve, so its length depends on rtol
+case("optimal_control.solve_mesh_sequence", nan_ok=(*OCP_NAN, "rel_change", "tf_change"), shape_stable=False, aliases={"meshes": ("mesh",)}, kinds={"problem": "object"}, positive=("rtol",), extra=IPOPT_EXTRA,
      slow=True)(
     lambda: dict(problem=_di(), meshes=((3, 3), (4, 3)), method="gauss", rtol=1e-5, ipopt_options={"max_iter": 200})
 )
