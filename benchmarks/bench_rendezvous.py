@@ -55,7 +55,7 @@ def bench_adcskit(repeats: int) -> dict:
             s = solve(rendezvous_problem(S0), method=method, mesh=(20, 3))
             warm.append(time.perf_counter() - t)
             tfs.append(s.tf)
-            status.append(s.status)
+            status.append(s.ipopt_status)
         out[method] = {
             "cold_s": statistics.median(cold),
             "warm_s": statistics.median(warm),

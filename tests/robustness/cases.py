@@ -193,7 +193,7 @@ def _torque(t: float, q: np.ndarray, w: np.ndarray) -> np.ndarray:
 )
 def _():
     return dict(q0=list(Q), omega0=list(W), inertia=[list(r) for r in J], t_eval=[0.0, 1.0, 2.0],
-                torque=_torque, method="DOP853", rtol=1e-8, atol=1e-10)
+                torque=_torque, method="DOP853", rtol=1e-8, atol=1e-10, max_nfev=20_000)
 
 
 # ============================================================================================
@@ -376,7 +376,8 @@ case("estimation.kalman_filter", positive=("R", "Q", "P0"))(
     lambda: dict(A=A2, B=B2, C=C2, y=_sim()[0][1:], u=_sim()[1], Q=0.001, R=0.01, x0=[0.0, 0.0], P0=1.0,
                  form="predict-update")
 )
-case("estimation.KalmanFilter", positive=("P0",))(lambda: dict(x0=[0.0, 0.0], P0=[[1.0, 0.0], [0.0, 1.0]], form="predict-update"))
+case("estimation.KalmanFilter")(  # P0 is a matrix: off-diagonal entries may be negative
+    lambda: dict(x0=[0.0, 0.0], P0=[[1.0, 0.0], [0.0, 1.0]], form="predict-update"))
 case("estimation.RecursiveLeastSquares", positive=("delta",))(lambda: dict(Theta0=np.zeros((3, 2)), delta=100.0, forgetting=0.99))
 
 
@@ -516,7 +517,8 @@ case("optimal_control.Guess", positive=("tf",))(
 )
 case("optimal_control.OptimalControlProblem", kinds={"name": "skip"},
      nan_ok=(*OCP_NAN, "initial_state", "final_state"),
-     nonfinite_ok=("initial_state", "final_state", "control_lower", "control_upper", "dynamics", "lagrange"))(
+     nonfinite_ok=("initial_state", "final_state", "control_lower", "control_upper", "dynamics", "lagrange",
+                   "tf_bounds"))(
     lambda: dict(dynamics=lambda x, u, t: [x[1], u[0]], n_states=2, n_controls=1,
                  initial_state=[0.0, 0.0], final_state=[1.0, 0.0], control_lower=[-10.0], control_upper=[10.0],
                  tf_bounds=(1.0, 1.0), lagrange=lambda x, u, t: u[0] ** 2)

@@ -135,8 +135,8 @@ def _hyp(name, data):
         value = a
     else:
         value = x
-    # a negative within rounding (> -1e-100) may legitimately be read as zero
-    cat = "nonfinite" if not math.isfinite(x) else ("negative" if x < -1e-100 else "finite")
+    # a negative within a rounding tolerance (> -1e-6) may legitimately be read as zero
+    cat = "nonfinite" if not math.isfinite(x) else ("negative" if x < -1e-6 else "finite")
     kwargs[arg] = value
     out = check_outcome(case, arg, Mutation(f"hyp={x!r}", value, cat), lambda: call_with_timeout(fn, kwargs), ref)
     assert out.ok, out.detail

@@ -1,37 +1,88 @@
-"""Quick run of the onoff-tuning study (S4 Tables 4-6, Figs 9-21): structure and key physics."""
+"""Quick run of the onoff-tuning study (S4 Tables 4-6, Figs 9-21): structure, physics, verdicts."""
 
 from __future__ import annotations
 
 import json
 
+import pytest
+
 from adcskit.studies._runner import run_study
+from adcskit.studies._verdict import OUTCOMES
 
+CASES = ("inertia", "thrust", "disturbance", "delay", "all")
 ROBUST_KEYS = {"gains", "ratio", "mean_abs_err_deg", "std_abs_err_deg", "det_mean_abs_err_deg",
-               "det_std_abs_err_deg"}
+               "det_std_abs_err_deg", "robust_violation_rate", "det_violation_rate", "ga_objective", "ga_penalty"}
 
 
-def test_onoff_tuning_quick(tmp_path):
-    run_study("onoff-tuning", out=tmp_path, quick=True, seed=0)
-    d = json.loads((tmp_path / "onoff-tuning" / "result.json").read_text())
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("tuning")
+    run_study("onoff-tuning", out=out, quick=True, seed=0)
+    return json.loads((out / "onoff-tuning" / "result.json").read_text()), out / "onoff-tuning"
+
+
+def test_onoff_tuning_quick(quick):
+    d, folder = quick
     m = d["measured"]
     assert m["pareto"], "NSGA-II found feasible gains"
     for p in m["pareto"]:
         assert set(p) >= {"gains", "error_deg", "fuel"} and len(p["gains"]) == 3
         assert p["overshoot_pct"] <= 10.0 + 1e-9  # S4 eq. (9) constraint
         assert all(0 < g <= 100 for g in p["gains"])
-    assert set(m["robust"]) == {"inertia", "thrust", "disturbance", "delay", "all"}
+    assert set(m["robust"]) == set(CASES)
     for case, r in m["robust"].items():
         assert set(r) >= ROBUST_KEYS, case
         assert r["std_abs_err_deg"] >= 0 and r["mean_abs_err_deg"] > 0
+        assert 0 <= r["robust_violation_rate"] <= 1 and r["ga_penalty"] >= 0
     # S4 Table 6 ratios as printed
-    assert [m["robust"][c]["ratio"] for c in ("inertia", "thrust", "disturbance", "delay", "all")] == [
-        25.0, 22.0, 15.0, 10.0, 180.0]
+    assert [m["robust"][c]["ratio"] for c in CASES] == [25.0, 22.0, 15.0, 10.0, 180.0]
     # the (K_p, K_d, K_i) reading keeps every printed gain set within 10 % overshoot; the other
     # reading makes the loop diverge (integral gain ~50 without damping)
     assert m["gain_order"]["consistent"] == "kp_kd_ki"
     assert "table4" in d["paper"] and "table6" in d["paper"]
-    claims = [c for c in d["checks"] if c["kind"] == "claim"]
-    assert any("lower standard deviation" in c["name"] for c in claims)
-    assert all(c["passed"] for c in d["checks"] if c["kind"] == "check")
+    assert d["checks"] and all(c["passed"] and c["kind"] == "check" for c in d["checks"])
     for f in d["figures"]:
-        assert (tmp_path / "onoff-tuning" / f).stat().st_size > 1000
+        assert (folder / f).stat().st_size > 1000
+
+
+def test_claims_over_seeds_and_readings(quick):
+    d, _ = quick
+    claims = {c["id"]: c for c in d["claims"]}
+    expected = {f"robust-std-lower-{c}" for c in CASES} | {f"robust-mean-higher-{c}" for c in CASES} | {"command-rate"}
+    assert set(claims) == expected
+    for c in claims.values():
+        assert c["outcome"] in OUTCOMES and c["statement"] and c["where"] and c["quantity"]
+        assert c["n_seeds"] == 2  # quick: two independent pipeline seeds
+    # readings: the deterministic reference (ours / S4 Table 4) everywhere, the penalty reading
+    # (per sample / on E[overshoot]) for the all-four case the issue asks about
+    for case in CASES:
+        names = {r["reading"] for r in claims[f"robust-std-lower-{case}"]["readings"]}
+        assert "deterministic = S4 Table 4 gains" in names
+        assert ("penalty on E[overshoot]" in names) == (case == "all")
+    # the objective the GA optimised (eq. 10 incl. penalty) and the violation rate, per seed
+    rows = d["measured"]["per_seed"]
+    assert {(r["seed_index"], r["case"]) for r in rows} == {(s, c) for s in (0, 1) for c in CASES}
+    for r in rows:
+        assert r["ga_objective_robust"] == pytest.approx(r["ga_core_robust"] + r["ga_penalty_robust"])
+        assert r["eq10_robust"] >= r["eq10_penalty_robust"] >= 0
+        assert 0 <= r["viol_robust"] <= 1 and 0 <= r["viol_det"] <= 1
+    alls = [r for r in rows if r["case"] == "all"]
+    assert all("std_robust_mean" in r and "std_table4" in r and "std_table6" in r for r in alls)
+    # independent training draws: different robust gains per seed
+    assert alls[0]["gains_robust_p"] != alls[1]["gains_robust_p"]
+    # S4's own Table 6 'all four' gains vs its Table 4 gains in our model: the per-seed outcome is
+    # the same on both seeds (the full run: std ratio > 1 on every seed)
+    f = {x["id"]: x for x in d["findings"]}["paper-table6-vs-table4-all"]
+    assert f["fraction_held"] == 0.0 and f["measured"] > 1
+
+
+def test_config_and_paper_scale_options():
+    from adcskit.studies.onoff_tuning import Config, _ga_settings
+
+    ga = _ga_settings(Config(paper_scale=True))
+    assert ga == {"pop": 70, "max_gen": 1000, "n_lhs": 1000, "n_mc": 10000}  # S4 protocol
+    assert _ga_settings(Config())["max_gen"] == Config().ga_max_gen
+    with pytest.raises(ValueError, match="penalty_readings"):
+        Config(penalty_readings=("sample", "max"))
+    with pytest.raises(ValueError, match="n_seeds"):
+        Config(n_seeds=0)

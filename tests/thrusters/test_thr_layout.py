@@ -101,3 +101,40 @@ def test_bad_arguments():
         box_faces(max_cant=2.0)
     with pytest.raises(InputError, match="demands"):
         design_layout(4, np.ones((3, 2)))
+
+
+# ----------------------------------------------------------------------------- paired reading (S3 §4-1)
+
+
+def test_paired_design_is_couples():
+    # S3 §4-1: "thrusters on parallel faces act as a pair" -> each gene is a couple
+    # (p, d) + (-p, -d): torque 2 p x d, zero net force, impulse bit 2 Delta F_max t_min
+    r = design_layout(6, DEMANDS, paired=True, pop_size=10, n_gen=5, rng=4)
+    ts = r.thrusters
+    assert ts.positions.shape == (6, 3)
+    np.testing.assert_allclose(ts.positions[3:], -ts.positions[:3], atol=1e-15)
+    np.testing.assert_allclose(ts.directions[3:], -ts.directions[:3], atol=1e-15)
+    np.testing.assert_allclose(ts.force_matrix().sum(axis=1), 0.0, atol=1e-12)
+    A = r.torque_matrix
+    np.testing.assert_allclose(A[:, 3:], A[:, :3], atol=1e-12)  # twins give the same torque
+    C = r.extra["couple_matrix"]
+    np.testing.assert_allclose(C, 2 * A[:, :3], atol=1e-12)
+    opposite = {"+X": "-X", "-X": "+X", "+Y": "-Y", "-Y": "+Y", "+Z": "-Z", "-Z": "+Z"}
+    assert [opposite[n] for n in ts.names[:3]] == list(ts.names[3:])
+    # e_min of a couple: 2 |p x d| F_max t_min / (t_s K) (S3 eq. 10 with the pair's impulse bit)
+    lever = np.linalg.norm(A[:, :3], axis=0)
+    assert r.e_min == pytest.approx(2 * lever.max() * 10.0 * 3e-3 / (0.2 * 600.0), rel=1e-12)
+    # the reported score is S3 eq. 18 with both members' on-times
+    sc = score_layout(C, DEMANDS)
+    assert r.sum_tp == pytest.approx(2 * sc.sum_tp, rel=1e-12)
+    assert r.error == pytest.approx(sc.error, abs=1e-12)
+
+
+def test_paired_design_rejects_bad_input():
+    with pytest.raises(InputError, match="even"):
+        design_layout(5, DEMANDS, paired=True, pop_size=8, n_gen=1, rng=0)
+    with pytest.raises(InputError, match="parallel face"):
+        design_layout(4, DEMANDS, paired=True, mounting=box_faces(names=("+X", "-X", "+Y")), pop_size=8,
+                      n_gen=1, rng=0)
+    with pytest.raises(InputError, match="paired"):
+        design_layout(4, DEMANDS, paired="yes", pop_size=8, n_gen=1, rng=0)

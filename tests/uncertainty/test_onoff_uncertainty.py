@@ -74,6 +74,22 @@ def test_robust_objective_eq10():
     assert robust_objective([np.nan, 1.0]) == np.inf
 
 
+def test_robust_objective_penalty_on_mean_overshoot():
+    # penalty readings (S4 prints none): per sample, mean(max(os - 10, 0)); on E[os], max(mean(os) - 10, 0)
+    e = np.array([[0.1, 0.3], [0.2, 0.2]])
+    os = np.array([[5.0, 14.0], [12.0, 12.0]])
+    w1, w2 = weights_from_ratio(3.0)
+    per = robust_objective(e, os, w1=w1, w2=w2, penalty_weight=2.0, penalty_on="sample")
+    mean = robust_objective(e, os, w1=w1, w2=w2, penalty_weight=2.0, penalty_on="mean")
+    core = np.array([0.05 + 0.075, 0.25 * 0.2])
+    # row 0: per sample 2 * mean(0, 4) = 4; E[os] = 9.5 < 10 -> 0
+    # row 1: both samples exceed by 2 -> 4 in both readings
+    np.testing.assert_allclose(per, core + [4.0, 4.0], rtol=1e-12)
+    np.testing.assert_allclose(mean, core + [0.0, 4.0], rtol=1e-12)
+    with pytest.raises(InputError, match="penalty_on"):
+        robust_objective(e, os, penalty_on="max")
+
+
 def test_stopping_rule():
     assert not mean_change_converged([1.0] * 10)  # needs 11 values for 10 changes
     assert mean_change_converged([1.0] * 11)

@@ -70,6 +70,13 @@ def euler_to_dcm(angles: Any, seq: str) -> np.ndarray:
     -------
     numpy.ndarray, shape (3, 3) or (N, 3, 3)
         ``A = R_a3(θ3) R_a2(θ2) R_a1(θ1)`` (reference → body).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = euler_to_dcm([np.pi / 2, 0.0, 0.0], "ZYX")   # yaw 90 deg
+    >>> (A @ [1.0, 0.0, 0.0]).round(12)                 # reference x seen in the body frame
+    array([ 0., -1.,  0.])
     """
     s = _seq(seq)
     arr, batched = vectors("angles", angles)
@@ -85,6 +92,13 @@ def dcm_to_euler(A: Any, seq: str) -> np.ndarray:
     -------
     numpy.ndarray, shape (3,) or (N, 3), rad
         See the module docstring for the angle ranges and the gimbal-lock rule.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = euler_to_dcm(np.radians([30.0, -5.0, 10.0]), "ZYX")
+    >>> np.degrees(dcm_to_euler(A, "ZYX")).round(6)
+    array([30., -5., 10.])
     """
     s = _seq(seq)
     arr, batched = dcms("A", A)

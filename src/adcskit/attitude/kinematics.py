@@ -22,7 +22,16 @@ __all__ = ["mrp_b_matrix", "mrp_kinematics", "quat_kinematics", "xi_matrix"]
 
 
 def xi_matrix(q: Any) -> np.ndarray:
-    """``Ξ(q) = [[q4 I₃ + [e×]], [−eᵀ]]``, shape (4, 3) or (N, 4, 3)."""
+    """``Ξ(q) = [[q4 I₃ + [e×]], [−eᵀ]]``, shape (4, 3) or (N, 4, 3).
+
+    Examples
+    --------
+    >>> xi_matrix([0.0, 0.0, 0.0, 1.0])
+    array([[ 1.,  0.,  0.],
+           [ 0.,  1.,  0.],
+           [ 0.,  0.,  1.],
+           [-0., -0., -0.]])
+    """
     arr, batched = quats("q", q)
     xi = np.empty((arr.shape[0], 4, 3))
     xi[:, :3, :] = arr[:, 3, None, None] * np.eye(3) + _k.skew(arr[:, :3])
@@ -39,6 +48,11 @@ def quat_kinematics(q: Any, omega: Any) -> np.ndarray:
         Attitude (normalised before use).
     omega : array_like, shape (3,) or (N, 3), rad/s
         Body rate relative to the reference frame, body components.
+
+    Examples
+    --------
+    >>> quat_kinematics([0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.2])   # q_dot = omega / 2 at identity
+    array([ 0. ,  0. ,  0.1, -0. ])
     """
     qa, qb = quats("q", q)
     wa, wb = vectors("omega", omega)
@@ -50,7 +64,15 @@ def quat_kinematics(q: Any, omega: Any) -> np.ndarray:
 
 
 def mrp_b_matrix(sigma: Any) -> np.ndarray:
-    """``B(σ) = (1 − σᵀσ) I₃ + 2[σ×] + 2σσᵀ`` (S2 eq. 5), shape (3, 3) or (N, 3, 3)."""
+    """``B(σ) = (1 − σᵀσ) I₃ + 2[σ×] + 2σσᵀ`` (S2 eq. 5), shape (3, 3) or (N, 3, 3).
+
+    Examples
+    --------
+    >>> mrp_b_matrix([0.0, 0.0, 0.0])
+    array([[1., 0., 0.],
+           [0., 1., 0.],
+           [0., 0., 1.]])
+    """
     s, batched = mrps("sigma", sigma)
     s2 = np.sum(s * s, axis=1)[:, None, None]
     B = (1 - s2) * np.eye(3) + 2 * _k.skew(s) + 2 * s[:, :, None] * s[:, None, :]
@@ -58,7 +80,13 @@ def mrp_b_matrix(sigma: Any) -> np.ndarray:
 
 
 def mrp_kinematics(sigma: Any, omega: Any) -> np.ndarray:
-    """MRP rate ``σ̇ = ¼ B(σ) ω`` (1/s); S2 eq. 4."""
+    """MRP rate ``σ̇ = ¼ B(σ) ω`` (1/s); S2 eq. 4.
+
+    Examples
+    --------
+    >>> mrp_kinematics([0.0, 0.0, 0.0], [0.0, 0.0, 0.4])   # sigma_dot = omega / 4 at identity
+    array([0. , 0. , 0.1])
+    """
     s, sb = mrps("sigma", sigma)
     w, wb = vectors("omega", omega)
     s, w = broadcast("sigma", s, "omega", w)

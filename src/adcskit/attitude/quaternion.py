@@ -58,13 +58,25 @@ def skew(v: Any) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3, 3) or (N, 3, 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.allclose(skew([1.0, 2.0, 3.0]) @ [4.0, 5.0, 6.0], np.cross([1, 2, 3], [4, 5, 6]))
+    True
     """
     arr, batched = vectors("v", v)
     return out(_k.skew(arr), batched)
 
 
 def quat_normalize(q: Any) -> np.ndarray:
-    """Unit quaternion(s) ``q / |q|`` (sign unchanged). Zero norm raises ``InputError``."""
+    """Unit quaternion(s) ``q / |q|`` (sign unchanged). Zero norm raises ``InputError``.
+
+    Examples
+    --------
+    >>> quat_normalize([0.0, 0.0, 0.0, 2.0])
+    array([0., 0., 0., 1.])
+    """
     arr, batched = quats("q", q)
     return out(arr, batched)
 
@@ -74,6 +86,11 @@ def quat_canonical(q: Any) -> np.ndarray:
 
     ``q`` and ``−q`` are the same attitude. On the 180° set (``q4 == 0``) the first non-zero
     vector component is made positive, so the canonical form is unique.
+
+    Examples
+    --------
+    >>> quat_canonical([0.0, 0.0, 0.0, -2.0])
+    array([-0., -0., -0.,  1.])
     """
     arr, batched = quats("q", q)
     return out(_k.canonical(arr), batched)
@@ -94,6 +111,13 @@ def quat_to_dcm(q: Any) -> np.ndarray:
     References
     ----------
     Markley & Crassidis (2014), eq. 2.125.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = quat_to_dcm([0.0, 0.0, np.sin(np.pi / 4), np.cos(np.pi / 4)])   # 90 deg about z
+    >>> (A @ [1.0, 0.0, 0.0]).round(12)
+    array([ 0., -1.,  0.])
     """
     arr, batched = quats("q", q)
     return out(_k.quat_to_dcm(arr), batched)
@@ -114,6 +138,14 @@ def dcm_to_quat(A: Any) -> np.ndarray:
     References
     ----------
     Shepperd (1978); Markley & Crassidis (2014), eq. 2.135-2.137.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> dcm_to_quat(np.eye(3))
+    array([0., 0., 0., 1.])
+    >>> dcm_to_quat(euler_to_dcm([np.pi / 2, 0.0, 0.0], "ZYX")).round(6)
+    array([0.      , 0.      , 0.707107, 0.707107])
     """
     arr, batched = dcms("A", A)
     return out(_k.dcm_to_quat(arr), batched)
@@ -128,6 +160,13 @@ def quat_multiply(p: Any, q: Any) -> np.ndarray:
     References
     ----------
     Markley & Crassidis (2014), eq. 2.82a.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p, q = random_quat(2, rng=1)
+    >>> np.allclose(quat_to_dcm(quat_multiply(p, q)), quat_to_dcm(p) @ quat_to_dcm(q))
+    True
     """
     pa, pb = quats("p", p)
     qa, qb = quats("q", q)
@@ -136,7 +175,15 @@ def quat_multiply(p: Any, q: Any) -> np.ndarray:
 
 
 def quat_inverse(q: Any) -> np.ndarray:
-    """Inverse (conjugate) of unit quaternion(s): ``A(q⁻¹) = A(q)ᵀ``."""
+    """Inverse (conjugate) of unit quaternion(s): ``A(q⁻¹) = A(q)ᵀ``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = random_quat(rng=0)
+    >>> np.allclose(quat_to_dcm(quat_inverse(q)), quat_to_dcm(q).T)
+    True
+    """
     arr, batched = quats("q", q)
     return out(_k.quat_conjugate(arr), batched)
 
@@ -150,6 +197,13 @@ def error_angle(q1: Any, q2: Any) -> np.ndarray | float:
     Returns
     -------
     float or numpy.ndarray, shape (N,)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = dcm_to_quat(euler_to_dcm([np.radians(10.0), 0.0, 0.0], "ZYX"))
+    >>> round(float(np.degrees(error_angle(q, [0.0, 0.0, 0.0, 1.0]))), 9)
+    10.0
     """
     a, ab = quats("q1", q1)
     b, bb = quats("q2", q2)
@@ -161,13 +215,25 @@ def error_angle(q1: Any, q2: Any) -> np.ndarray | float:
 def quat_from_scalar_first(q: Any) -> np.ndarray:
     """Reorder scalar-first ``[q0, q1, q2, q3]`` (Basilisk, Shuster, S0's printed values)
     to adcskit's scalar-last ``[q1, q2, q3, q0]``. The attitude matrix formula is the same
-    with the scalar moved (Shuster 1993), so the represented attitude is unchanged."""
+    with the scalar moved (Shuster 1993), so the represented attitude is unchanged.
+
+    Examples
+    --------
+    >>> quat_from_scalar_first([1.0, 0.0, 0.0, 0.0])   # Basilisk / Shuster order
+    array([0., 0., 0., 1.])
+    """
     arr, batched = quats("q", q)
     return out(np.roll(arr, -1, axis=1), batched)
 
 
 def quat_to_scalar_first(q: Any) -> np.ndarray:
-    """Reorder scalar-last ``[q1, q2, q3, q4]`` to scalar-first ``[q4, q1, q2, q3]``."""
+    """Reorder scalar-last ``[q1, q2, q3, q4]`` to scalar-first ``[q4, q1, q2, q3]``.
+
+    Examples
+    --------
+    >>> quat_to_scalar_first([0.0, 0.0, 0.0, 1.0])
+    array([1., 0., 0., 0.])
+    """
     arr, batched = quats("q", q)
     return out(np.roll(arr, 1, axis=1), batched)
 
@@ -177,6 +243,13 @@ def to_scipy(q: Any) -> Rotation:
 
     ``R`` rotates body axes onto the reference axes actively (``R.apply(b) = r``); the
     quaternion components are the same numbers (scipy is scalar-last too).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = random_quat(rng=3)
+    >>> np.allclose(to_scipy(q).inv().as_matrix(), quat_to_dcm(q))
+    True
     """
     arr, batched = quats("q", q)
     return Rotation.from_quat(arr if batched else arr[0])
@@ -186,6 +259,13 @@ def from_scipy(rotation: Rotation) -> np.ndarray:
     """Canonical quaternion(s) ``q`` with ``A(q) = rotation.inv().as_matrix()``.
 
     Inverse of :func:`to_scipy`.
+
+    Examples
+    --------
+    >>> from scipy.spatial.transform import Rotation
+    >>> q = from_scipy(Rotation.from_euler("z", 90, degrees=True))
+    >>> q.round(6)
+    array([0.      , 0.      , 0.707107, 0.707107])
     """
     if not isinstance(rotation, Rotation):
         raise InputTypeError(
@@ -204,6 +284,12 @@ def random_quat(n: int | None = None, rng: Any = None) -> np.ndarray:
         Number of quaternions; ``None`` returns one ``(4,)`` quaternion.
     rng : numpy.random.Generator, int or None
         Random source (``None`` = seed 0).
+
+    Examples
+    --------
+    >>> q = random_quat(1000, rng=42)
+    >>> q.shape, bool((q[:, 3] >= 0).all())
+    ((1000, 4), True)
     """
     gen = as_rng(rng)
     m = 1 if n is None else check_int("n", n, minimum=1, maximum=10**8)

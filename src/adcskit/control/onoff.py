@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
+from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_array, check_choice, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
@@ -93,6 +94,13 @@ class LoopSettings:
         compared).
     settle_band : float
         Settling band as a fraction of the step size (0.02 = 2 %).
+
+    Examples
+    --------
+    >>> from adcskit.control import LoopSettings
+    >>> s = LoopSettings(t_final=10.0, t_window=5.0, command_rate_hz=200.0)
+    >>> s.dt, s.t_final, s.command_rate_hz
+    (0.001, 10.0, 200.0)
     """
 
     dt: float = 1e-3
@@ -175,6 +183,17 @@ class LoopParams:
         Commanded angle [rad] (S4: 15° step).
     theta0, omega0 : float or array
         Initial angle [rad] and rate [rad/s] (S4 Table 3: 0, 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.control import LoopParams
+    >>> p = LoopParams()                                  # S4 Table 3 nominal loop
+    >>> p.inertia, p.torque, p.u_on, round(float(np.degrees(p.theta_ref)), 6)
+    (10.0, 1.0, 0.15, 15.0)
+    >>> batch = LoopParams(kp=np.array([40.0, 56.24, 70.0]), delay=0.03)   # 3 samples, one delay
+    >>> batch.kp.shape
+    (3,)
     """
 
     kp: Any = 56.24
@@ -210,6 +229,7 @@ class LoopParams:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OnOffMetrics:
     """Metrics of a batch simulation, one entry per sample.
@@ -234,6 +254,16 @@ class OnOffMetrics:
         Integration steps per sample.
     backend : str
         Kernel that produced the metrics (``numba``, ``cuda``, ``numpy`` or ``python``).
+
+    Examples
+    --------
+    >>> from adcskit.control import LoopParams, LoopSettings, simulate_batch
+    >>> m = simulate_batch(LoopParams(kp=[40.0, 56.24]), LoopSettings(t_final=10.0, t_window=5.0),
+    ...                    backend="python")                # plain loops: no JIT wait
+    >>> type(m).__name__, m.fuel.shape, m.n_steps, m.backend
+    ('OnOffMetrics', (2,), 10000, 'python')
+    >>> sorted(m.to_dict())[:3]
+    ['backend', 'final_error', 'firings']
     """
 
     overshoot_pct: np.ndarray
@@ -260,6 +290,7 @@ class OnOffMetrics:
         return d
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OnOffTrace:
     """Time histories of one simulation (sampled every ``dt``).
@@ -278,6 +309,15 @@ class OnOffTrace:
         Torque delivered by the thrusters ``T_c`` [N m].
     metrics : OnOffMetrics
         Metrics of this run (N = 1).
+
+    Examples
+    --------
+    >>> from adcskit.control import LoopSettings, simulate_trace
+    >>> tr = simulate_trace(settings=LoopSettings(t_final=5.0, t_window=2.0), backend="python")
+    >>> type(tr).__name__, tr.t.shape, tr.theta.shape, tr.command.shape
+    ('OnOffTrace', (5001,), (5001,), (5001,))
+    >>> sorted(set(tr.command.tolist()))                  # Schmitt-trigger levels used
+    [-1.0, 0.0, 1.0]
     """
 
     t: np.ndarray
@@ -321,6 +361,12 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
     References
     ----------
     S4, Fig. 1 (Schmitt trigger block).
+
+    Examples
+    --------
+    >>> from adcskit.control import schmitt_trigger
+    >>> schmitt_trigger([0.0, 0.2, 0.1, 0.05, -0.2, -0.1, 0.0], u_on=0.15, u_off=0.075)
+    array([ 0.,  1.,  1.,  0., -1., -1.,  0.])
     """
     arr = as_array("u", u, ndim=1)
     on = check_positive("u_on", u_on, allow_zero=True)
@@ -369,16 +415,23 @@ def fuel_to_propellant(
     References
     ----------
     S4, eq. (9) (fuel objective "ΔV", no formula printed).
+
+    Examples
+    --------
+    >>> from adcskit.control import fuel_to_propellant
+    >>> out = fuel_to_propellant(2.0, lever_arm=0.5, isp=220.0, mass=100.0)   # 2 N m s
+    >>> float(out["impulse_Ns"]), round(float(out["propellant_kg"]), 9), float(out["delta_v_mps"])
+    (4.0, 0.001854029, 0.04)
     """
     f = as_array("fuel", fuel, ndim=(0, 1))
     if np.any(f < 0):
         raise InputError(f"fuel must be >= 0 N m s; got min {float(np.min(f)):g}")
-    arm = check_positive("lever_arm", lever_arm, unit="m")
+    arm = check_positive("lever_arm", lever_arm, unit="m", min_value=1e-100)
     out = {"impulse_Ns": f / arm}
     if isp is not None:
-        out["propellant_kg"] = out["impulse_Ns"] / (check_positive("isp", isp, unit="s") * G0)
+        out["propellant_kg"] = out["impulse_Ns"] / (check_positive("isp", isp, unit="s", min_value=1e-100) * G0)
     if mass is not None:
-        out["delta_v_mps"] = out["impulse_Ns"] / check_positive("mass", mass, unit="kg")
+        out["delta_v_mps"] = out["impulse_Ns"] / check_positive("mass", mass, unit="kg", min_value=1e-100)
     return out
 
 
@@ -562,6 +615,21 @@ def simulate_batch(
     References
     ----------
     S4, Fig. 1 and Table 3; "Error" (mean ``|e|`` over the last 10 s) and "ΔV" of eq. (9).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.control import LoopParams, LoopSettings, simulate_batch
+    >>> params = LoopParams(kp=np.array([40.0, 56.24]))            # two PID gain samples
+    >>> settings = LoopSettings(t_final=10.0, t_window=5.0)
+    >>> m = simulate_batch(params, settings, backend="python")   # same numbers as numba
+    >>> m.firings, m.fuel.round(4)                                  # firings, N m s
+    (array([48., 50.]), array([6.4585, 7.7492]))
+    >>> np.degrees(m.mean_abs_err_last).round(4)                    # S4 "Error", deg
+    array([0.1139, 0.0277])
+    >>> m_numba = simulate_batch(params, settings)   # default numba kernel (JIT)  # doctest: +SKIP
+    >>> np.array_equal(m_numba.fuel, m.fuel)  # doctest: +SKIP
+    True
     """
     params, settings = _checked_inputs(params, settings, backend)
     P = _param_matrix(params)
@@ -598,6 +666,19 @@ def simulate_trace(
     References
     ----------
     S4, Figs. 5-7 (step response, thruster on/off history, limit cycle).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.control import LoopParams, LoopSettings, simulate_trace
+    >>> settings = LoopSettings(t_final=10.0, t_window=5.0)
+    >>> tr = simulate_trace(LoopParams(), settings, backend="python")
+    >>> tr.t.shape, float(tr.t[-1])
+    ((10001,), 10.0)
+    >>> round(float(np.degrees(tr.theta[-1])), 2)     # settles near the 15 deg command
+    15.04
+    >>> tr.metrics.firings
+    array([50.])
     """
     params, settings = _checked_inputs(params, settings, backend)
     P = _param_matrix(params)

@@ -74,6 +74,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
 from adcskit.determination._box import box_sphere_max
 from adcskit.determination.wahba import _k_from, solve_wahba
@@ -82,6 +83,7 @@ from adcskit.errors import InputError, InputTypeError
 __all__ = ["ROBUST_METHODS", "RobustWahbaResult", "robust_wahba", "interval_objectives"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class RobustWahbaResult:
     """Solution of one robust (interval) Wahba problem.
@@ -108,6 +110,15 @@ class RobustWahbaResult:
     nit, nfev : int
         Iterations (generations) and objective evaluations.
     method : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.determination import robust_wahba
+    >>> mid = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    >>> res = robust_wahba(mid, 0.01, mid, 0.0)
+    >>> type(res).__name__, res.success, res.q.shape, res.fun.shape, res.pareto_f.shape
+    ('RobustWahbaResult', True, (4,), (2,), (1, 2))
     """
 
     q: np.ndarray
@@ -223,6 +234,16 @@ def interval_objectives(q, alpha, beta, body_mid, body_radius, ref_mid, ref_radi
     """``(L^m, ΔL)`` of S0 eq. 7 at ``q`` (4,) and interval coefficients ``α, β`` (n, 3).
 
     Midpoints are normalised (radii scaled with them), weights normalised to sum 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.determination import interval_objectives
+    >>> mid = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    >>> Lm, dL = interval_objectives([0.0, 0.0, 0.0, 1.0], np.zeros((2, 3)), np.zeros((2, 3)),
+    ...                              mid, 0.01, mid, 0.0)
+    >>> round(float(Lm), 12), round(float(dL), 12) + 0.0   # exact midpoints, zero coefficients
+    (0.0, 0.0)
     """
     p = _problem(body_mid, body_radius, ref_mid, ref_radius, weights)
     qa = as_array("q", q, shape=(4,))
@@ -530,6 +551,22 @@ def robust_wahba(
     References
     ----------
     S0 eqs. 3–8 and §4-1; Ahmed & Kerrigan 2011; Deb et al. 2002.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.attitude import error_angle
+    >>> from adcskit.determination import robust_wahba
+    >>> ref = np.array([[1.0, 0.0, 0.0], [0.0, 0.6, 0.8]])
+    >>> body = ref + np.array([[0.0, 0.01, 0.0], [0.01, 0.0, 0.0]])   # measured with small errors
+    >>> res = robust_wahba(body, 0.02, ref, 0.0, method="minmax")
+    >>> res.success, res.q.shape, res.fun.shape
+    (True, (4,), (2,))
+    >>> bool(np.degrees(error_angle(res.q, [0.0, 0.0, 0.0, 1.0])) < 2.0)
+    True
+    >>> nsga = robust_wahba(body, 0.02, ref, 0.0, method="nsga2", pop_size=12, n_gen=5, rng=1)
+    >>> nsga.pareto_f.shape[1], nsga.q.shape
+    (2, (4,))
     """
     if not isinstance(method, str):
         raise InputTypeError(f"method must be a string; got {method!r}")

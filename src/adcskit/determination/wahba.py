@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_choice, short_repr
 from adcskit.determination import _kernels as _k
 from adcskit.errors import InputError, InputTypeError
@@ -73,6 +74,7 @@ STATUS_MESSAGES: dict[int, str] = {
 _PARALLEL_MIN = 4096
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class WahbaResult:
     """Solution of one or a batch of Wahba problems.
@@ -103,6 +105,18 @@ class WahbaResult:
     fallback : bool or ndarray (N,)
         QUEST/ESOQ2/FOAM/FLAE only: the fast path's eigen-residual exceeded ``64 ε`` (or its
         Newton iteration did not converge) and the problem was re-solved by the q-method.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.determination import solve_wahba
+    >>> res = solve_wahba([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    >>> type(res).__name__, res.success, res.message
+    ('WahbaResult', True, 'solved')
+    >>> res.q.round(12) + 0.0, res.cov.shape
+    (array([0., 0., 0., 1.]), (3, 3))
+    >>> sorted(res.to_dict())[:3]
+    ['cond', 'cov', 'fallback']
     """
 
     q: np.ndarray
@@ -253,6 +267,23 @@ def solve_wahba(
     References
     ----------
     Markley & Crassidis 2014 §5.2–5.5; S0 eqs. 1–2; see the module docstring.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.attitude import euler_to_dcm, error_angle, dcm_to_quat
+    >>> from adcskit.determination import solve_wahba
+    >>> A = euler_to_dcm(np.radians([30.0, 10.0, -5.0]), "ZYX")
+    >>> ref = np.array([[1.0, 0.0, 0.0], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0]])
+    >>> body = ref @ A.T                                  # b_i = A r_i
+    >>> res = solve_wahba(body, ref, weights=[1.0, 2.0, 1.0], method="quest")
+    >>> res.success, res.q.shape
+    (True, (4,))
+    >>> float(error_angle(res.q, dcm_to_quat(A))) < 1e-7
+    True
+    >>> batch = solve_wahba(np.stack([body, body]), ref)   # N = 2 problems at once
+    >>> batch.q.shape, batch.success
+    ((2, 4), array([ True,  True]))
     """
     entry = METHODS.get(method) if isinstance(method, str) else None
     if entry is None:
@@ -309,6 +340,16 @@ def davenport_k(body: Any, ref: Any, weights: Any = None) -> np.ndarray:
     Returns
     -------
     ndarray, shape (4, 4) or (N, 4, 4)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.determination import davenport_k
+    >>> K = davenport_k([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    >>> K.shape, np.allclose(K, K.T)
+    ((4, 4), True)
+    >>> float(np.linalg.eigvalsh(K)[-1])   # lambda_max = sum of weights for noise-free data
+    1.0
     """
     b, r, w, batched = _prepare(body, ref, weights)
     if not batched:
@@ -381,6 +422,17 @@ def wahba_loss(q: Any, body: Any, ref: Any, weights: Any = None) -> Any:
 
     Vectors are normalised; weights default to 1. Returns a float for one problem and an
     ``(N,)`` array for a batch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.determination import wahba_loss
+    >>> ref = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    >>> float(wahba_loss([0.0, 0.0, 0.0, 1.0], ref, ref))          # identity fits exactly
+    0.0
+    >>> q90 = [0.0, 0.0, np.sin(np.pi / 4), np.cos(np.pi / 4)]      # 90 deg about z
+    >>> round(float(wahba_loss(q90, ref, ref)), 9)                  # 1/2 (2 + 2)
+    2.0
     """
     b, r, w, batched = _prepare(body, ref, weights)
     if not batched:

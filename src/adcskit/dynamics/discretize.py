@@ -58,6 +58,15 @@ def discretize(A: Any, B: Any, dt: float, method: str = "zoh") -> tuple[np.ndarr
     dt : float, s
         Sample time, > 0.
     method : {"zoh", "crank-nicolson"}
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Ad, Bd = discretize([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], 0.1)   # double integrator
+    >>> Ad, Bd.round(6)
+    (array([[1. , 0.1],
+           [0. , 1. ]]), array([[0.005],
+           [0.1  ]]))
     """
     method = check_choice("method", method, DISCRETIZATION_METHODS)
     Aa = as_array("A", A, ndim=2)
@@ -73,4 +82,9 @@ def discretize(A: Any, B: Any, dt: float, method: str = "zoh") -> tuple[np.ndarr
         ev = np.linalg.eigvals(Aa)
         if np.any(np.isclose(ev * h / 2, 1.0, rtol=0, atol=1e-12)):
             raise InputError(f"dt = {h:g} s makes I − (dt/2) A singular (A has eigenvalue 2/dt); choose another dt")
-    return DISCRETIZATION_METHODS[method](Aa, Ba, h)
+    with np.errstate(over="ignore", invalid="ignore"):
+        Ad, Bd = DISCRETIZATION_METHODS[method](Aa, Ba, h)
+    if not (np.all(np.isfinite(Ad)) and np.all(np.isfinite(Bd))):
+        raise InputError(f"A * dt is too large to discretise in float64 (exp(A dt) overflows); got "
+                         f"max |A| = {np.abs(Aa).max():g}, dt = {h:g} s")
+    return Ad, Bd

@@ -29,6 +29,14 @@ def gravity_gradient_torque(r_body: Any, inertia: Any, mu: float = MU_EARTH) -> 
         (``A r_eci`` with ``A`` the attitude matrix).
     inertia : array_like, shape (3,) or (3, 3), kg m²
     mu : float, m³/s²
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = 7.0e6 * np.array([0.0, np.sin(0.1), np.cos(0.1)])   # m, body frame, tilted off the z axis
+    >>> tau = gravity_gradient_torque(r, [100.0, 120.0, 80.0])
+    >>> tau.shape, bool(abs(tau[0]) > 0)
+    ((3,), True)
     """
     r, batched = as_batch("r_body", r_body, (3,))
     J = as_inertia(inertia)
@@ -40,7 +48,15 @@ def gravity_gradient_torque(r_body: Any, inertia: Any, mu: float = MU_EARTH) -> 
 
 
 def orbit_rate(altitude: float, *, mu: float = MU_EARTH, radius: float = R_EARTH) -> float:
-    """Mean motion ``n = sqrt(μ / a³)`` (rad/s) of a circular orbit at ``altitude`` (m)."""
+    """Mean motion ``n = sqrt(μ / a³)`` (rad/s) of a circular orbit at ``altitude`` (m).
+
+    Examples
+    --------
+    >>> round(orbit_rate(800e3), 7)                 # rad/s
+    0.0010381
+    >>> round(2 * 3.141592653589793 / orbit_rate(800e3) / 60, 2)   # period, min
+    100.87
+    """
     h = check_positive("altitude", altitude, allow_zero=True, unit="m")
     mu = check_positive("mu", mu)
     radius = check_positive("radius", radius)

@@ -64,6 +64,14 @@ def lvlh_second_order(inertia: Any, orbit_rate: float, *, printed: bool = False)
     orbit_rate : float, rad/s
     printed : bool
         Use S1's printed (symmetric, sign-wrong) ``N`` instead of the derived skew one.
+
+    Examples
+    --------
+    >>> M, N, L = lvlh_second_order([10.0, 12.0, 8.0], orbit_rate(800e3))
+    >>> M.round(6)
+    array([[10.,  0.,  0.],
+           [ 0., 12.,  0.],
+           [ 0.,  0.,  8.]])
     """
     Ix, Iy, Iz = _principal(inertia)
     n = check_positive("orbit_rate", orbit_rate, allow_zero=True, unit="rad/s")
@@ -94,6 +102,12 @@ def lvlh_attitude_model(inertia: Any, orbit_rate: float, printed: bool = False) 
     References
     ----------
     S1 eq. 8–11; Wie (2008) §6.4.
+
+    Examples
+    --------
+    >>> A, B = lvlh_attitude_model([10.0, 12.0, 8.0], orbit_rate(800e3))
+    >>> A.shape, B.shape
+    ((6, 6), (6, 3))
     """
     M, N, L = lvlh_second_order(inertia, orbit_rate, printed=printed)
     Minv = np.diag(1.0 / np.diag(M))

@@ -34,6 +34,12 @@ def cw_matrices(n: float) -> tuple[np.ndarray, np.ndarray]:
     ----------
     n : float, rad/s
         Target's orbital mean motion.
+
+    Examples
+    --------
+    >>> A, B = cw_matrices(1.1e-3)
+    >>> A.shape, B.shape
+    ((6, 6), (6, 3))
     """
     n = check_positive("n", n, allow_zero=True, unit="rad/s")
     A = np.zeros((6, 6))
@@ -52,6 +58,12 @@ def cw_stm(n: float, t: float) -> np.ndarray:
 
     Obtained from the classical CW solution (Vallado 2013, eq. 6-66) with the axes mapped
     ``x_RSW = −z``, ``y_RSW = x``, ``z_RSW = −y``; used as an oracle in tests.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.allclose(cw_stm(1.1e-3, 0.0), np.eye(6))
+    True
     """
     n = check_positive("n", n, unit="rad/s", min_value=1e-150)
     t = check_finite("t", t)

@@ -81,6 +81,16 @@ def eci_to_ecef_matrix(times: Any) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3, 3) or (N, 3, 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import eci_to_ecef_matrix
+    >>> R = eci_to_ecef_matrix("2024-03-20T12:00:00")
+    >>> R.shape, np.allclose(R @ R.T, np.eye(3)), float(R[2, 2])
+    ((3, 3), True, 1.0)
+    >>> eci_to_ecef_matrix(["2024-03-20", "2024-03-21"]).shape
+    (2, 3, 3)
     """
     return _rot3(gmst(times))
 
@@ -120,13 +130,37 @@ def eci_to_ecef(r_eci: Any, times: Any) -> np.ndarray:
     numpy.ndarray, shape (3,) or (N, 3)
         ``R3(GMST) r``. Velocities need the extra ``-omega x r`` term, which this function
         does not add.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import eci_to_ecef, gmst
+    >>> t = "2024-03-20T12:00:00"
+    >>> r = eci_to_ecef([7000e3, 0.0, 0.0], t)
+    >>> np.allclose(r, 7000e3 * np.array([np.cos(gmst(t)), -np.sin(gmst(t)), 0.0]))
+    True
+    >>> eci_to_ecef(np.ones((4, 3)), ["2024-03-20T12:00:00"] * 4).shape
+    (4, 3)
     """
     vec, t, batched = _vectors_and_times(r_eci, times, "r_eci")
     return _transform(_rot3(gmst(t)), vec, batched)
 
 
 def ecef_to_eci(r_ecef: Any, times: Any) -> np.ndarray:
-    """Rotate position vectors from ECEF to ECI (inverse of :func:`eci_to_ecef`)."""
+    """Rotate position vectors from ECEF to ECI (inverse of :func:`eci_to_ecef`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import ecef_to_eci, eci_to_ecef
+    >>> t = "2024-03-20T12:00:00"
+    >>> r_ecef = np.array([6778e3, 0.0, 0.0])
+    >>> r_eci = ecef_to_eci(r_ecef, t)
+    >>> np.allclose(eci_to_ecef(r_eci, t), r_ecef)
+    True
+    >>> round(float(np.linalg.norm(r_eci)), 3)       # a rotation keeps the length, m
+    6778000.0
+    """
     vec, t, batched = _vectors_and_times(r_ecef, times, "r_ecef")
     return _transform(np.swapaxes(_rot3(gmst(t)), -1, -2), vec, batched)
 
@@ -145,6 +179,14 @@ def eci_to_ecef_state(r_eci: Any, v_eci: Any, times: Any) -> tuple[np.ndarray, n
     -------
     r_ecef, v_ecef : numpy.ndarray
         ``ω = [0, 0, EARTH_ROTATION_RATE]`` (transport theorem; Vallado 2013, sec. 3.7).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import eci_to_ecef_state
+    >>> r, v = eci_to_ecef_state([7000e3, 0.0, 0.0], [0.0, 7546.0, 0.0], "2024-03-20T12:00:00")
+    >>> round(float(np.linalg.norm(v)), 3)           # 7546 m/s minus omega_E * 7000 km, m/s
+    7035.552
     """
     r = eci_to_ecef(r_eci, times)
     v = eci_to_ecef(as_array("v_eci", v_eci, shape=np.shape(r_eci)), times)
@@ -152,7 +194,16 @@ def eci_to_ecef_state(r_eci: Any, v_eci: Any, times: Any) -> tuple[np.ndarray, n
 
 
 def ecef_to_eci_state(r_ecef: Any, v_ecef: Any, times: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Position and velocity from ECEF to ECI (inverse of :func:`eci_to_ecef_state`)."""
+    """Position and velocity from ECEF to ECI (inverse of :func:`eci_to_ecef_state`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import ecef_to_eci_state
+    >>> r, v = ecef_to_eci_state([6778e3, 0.0, 0.0], [0.0, 0.0, 0.0], "2024-03-20T12:00:00")
+    >>> round(float(np.linalg.norm(v)), 3)   # an Earth-fixed point moves at omega r in ECI, m/s
+    494.26
+    """
     rr = as_array("r_ecef", r_ecef)
     vv = as_array("v_ecef", v_ecef, shape=rr.shape)
     v_inertial_ecef = vv + np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]),
@@ -177,6 +228,16 @@ def geodetic_to_ecef(lat: Any, lon: Any, h: Any = 0.0) -> np.ndarray:
     References
     ----------
     Vallado (2013), eq. 3-14.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import geodetic_to_ecef
+    >>> geodetic_to_ecef(0.0, 0.0, 0.0).round(3)                 # WGS-84 equatorial radius, m
+    array([6378137.,       0.,       0.])
+    >>> geodetic_to_ecef(np.radians([0.0, 90.0]), 0.0).round(3)   # pole at the polar radius
+    array([[6378137.   ,       0.   ,       0.   ],
+           [      0.   ,       0.   , 6356752.314]])
     """
     lat_, lon_, h_ = np.broadcast_arrays(as_array("lat", lat), as_array("lon", lon), as_array("h", h))
     if np.any(np.abs(lat_) > np.pi / 2 + 1e-12):
@@ -202,6 +263,15 @@ def ecef_to_geodetic(r_ecef: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     -------
     lat, lon, h : numpy.ndarray
         Shapes () or (N,).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import ecef_to_geodetic, geodetic_to_ecef
+    >>> r = geodetic_to_ecef(np.radians(45.0), np.radians(10.0), 500e3)
+    >>> lat, lon, h = ecef_to_geodetic(r)
+    >>> round(float(np.degrees(lat)), 9), round(float(np.degrees(lon)), 9), round(float(h), 3)
+    (45.0, 10.0, 500000.0)
     """
     vec, batched = as_batch("r_ecef", r_ecef, (3,))
     x, y, z = vec.T
@@ -223,7 +293,16 @@ def ecef_to_geodetic(r_ecef: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def ecef_to_geocentric(r_ecef: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """ECEF position to geocentric radius (m), colatitude (rad, [0, π]) and longitude (rad)."""
+    """ECEF position to geocentric radius (m), colatitude (rad, [0, π]) and longitude (rad).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import ecef_to_geocentric
+    >>> radius, colat, lon = ecef_to_geocentric([0.0, 7000e3, 0.0])
+    >>> float(radius), round(float(np.degrees(colat)), 6), round(float(np.degrees(lon)), 6)
+    (7000000.0, 90.0, 90.0)
+    """
     vec, batched = as_batch("r_ecef", r_ecef, (3,))
     rad = np.linalg.norm(vec, axis=1)
     if np.any(rad == 0):
@@ -236,7 +315,15 @@ def ecef_to_geocentric(r_ecef: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def geocentric_to_ecef(radius: Any, colat: Any, lon: Any) -> np.ndarray:
-    """Geocentric spherical coordinates (m, rad, rad) to ECEF position, shape (..., 3)."""
+    """Geocentric spherical coordinates (m, rad, rad) to ECEF position, shape (..., 3).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import geocentric_to_ecef
+    >>> geocentric_to_ecef(7000e3, np.pi / 2, np.pi / 2).round(3)   # on the equator, 90 deg east
+    array([      0., 7000000.,       0.])
+    """
     r_, th, ph = np.broadcast_arrays(
         as_array("radius", radius), as_array("colat", colat), as_array("lon", lon)
     )
@@ -252,6 +339,14 @@ def enu_to_ecef_matrix(lat: Any, lon: Any) -> np.ndarray:
 
     ``v_ECEF = M @ [v_E, v_N, v_U]``. ``lat`` is geodetic (or geocentric, for a spherical
     local frame), ``lon`` east-positive, both rad; shape (..., 3, 3).
+
+    Examples
+    --------
+    >>> from adcskit.environment import enu_to_ecef_matrix
+    >>> enu_to_ecef_matrix(0.0, 0.0).round(12) + 0.0   # equator at Greenwich: E=y, N=z, U=x
+    array([[0., 0., 1.],
+           [1., 0., 0.],
+           [0., 1., 0.]])
     """
     la, lo = np.broadcast_arrays(as_array("lat", lat), as_array("lon", lon))
     sla, cla, slo, clo = np.sin(la), np.cos(la), np.sin(lo), np.cos(lo)
@@ -262,6 +357,15 @@ def enu_to_ecef_matrix(lat: Any, lon: Any) -> np.ndarray:
 
 
 def ned_to_ecef_matrix(lat: Any, lon: Any) -> np.ndarray:
-    """Matrix whose columns are the North, East, Down unit vectors in ECEF (see ENU)."""
+    """Matrix whose columns are the North, East, Down unit vectors in ECEF (see ENU).
+
+    Examples
+    --------
+    >>> from adcskit.environment import ned_to_ecef_matrix
+    >>> ned_to_ecef_matrix(0.0, 0.0).round(12) + 0.0   # equator at Greenwich: N=z, E=y, D=-x
+    array([[ 0.,  0., -1.],
+           [ 0.,  1.,  0.],
+           [ 1.,  0.,  0.]])
+    """
     M = enu_to_ecef_matrix(lat, lon)
     return np.stack([M[..., 1], M[..., 0], -M[..., 2]], axis=-1)

@@ -75,6 +75,15 @@ def dipole_coefficients(times: Any) -> np.ndarray:
 
     Linear interpolation between IGRF's five-yearly epochs, as ``ppigrf`` does; evaluated at
     00:00 UTC of each instant's day. Returns shape (3,) or (N, 3).
+
+    Examples
+    --------
+    >>> from adcskit.environment import dipole_coefficients
+    >>> g10, g11, h11 = dipole_coefficients("2025-01-01")    # nT
+    >>> bool(g10 < -29000.0)
+    True
+    >>> dipole_coefficients(["2020-01-01", "2025-01-01"]).shape
+    (2, 3)
     """
     t = as_utc(times)
     days = _check_dates(np.atleast_1d(t).astype("datetime64[D]").astype("datetime64[ns]"))

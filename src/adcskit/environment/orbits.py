@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_batch, check_finite, check_positive, check_range
 from adcskit.environment.frames import WGS84_A
 from adcskit.environment.time import J2000, as_utc, utc_times
@@ -50,6 +51,7 @@ from adcskit.constants import MU_EARTH  # noqa: E402  (EGM-96 / WGS-84, m^3/s^2)
 R_EARTH = WGS84_A  #: Earth's equatorial radius used for altitudes, m
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class OrbitState:
     """Positions and velocities along an orbit.
@@ -70,6 +72,18 @@ class OrbitState:
     Notes
     -----
     Iterating yields ``r, v``, so ``r, v = circular_orbit(...)`` works.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import OrbitState
+    >>> st = OrbitState(t=np.array([0.0, 10.0]), r=np.array([[7e6, 0.0, 0.0], [7e6, 75e3, 0.0]]),
+    ...                 v=np.array([[0.0, 7.5e3, 0.0], [-80.0, 7.5e3, 0.0]]))
+    >>> st.success
+    True
+    >>> r, v = st                                    # unpacks as (r, v)
+    >>> r.shape
+    (2, 3)
     """
 
     t: np.ndarray
@@ -242,6 +256,16 @@ def solve_kepler(mean_anomaly: Any, e: float) -> np.ndarray:
     References
     ----------
     Vallado (2013), Alg. 2 (KepEqtnE).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import solve_kepler
+    >>> E = solve_kepler(np.array([0.0, 1.0, np.pi]), 0.1)
+    >>> E.round(9)
+    array([0.        , 1.08859775, 3.14159265])
+    >>> np.allclose(E - 0.1 * np.sin(E), [0.0, 1.0, np.pi])
+    True
     """
     M = as_array("mean_anomaly", mean_anomaly)
     ecc = check_range("e", e, 0.0, 1.0, hi_open=True)
@@ -259,6 +283,16 @@ def elements_to_rv(
     References
     ----------
     Vallado (2013), Alg. 10 (COE2RV).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import elements_to_rv
+    >>> r, v = elements_to_rv(7000e3, 0.0, 0.0, 0.0, 0.0, 0.0)   # circular equatorial, at the node
+    >>> r.round(3), v.round(3)
+    (array([7000000.,       0.,       0.]), array([   0.   , 7546.053,    0.   ]))
+    >>> elements_to_rv(7000e3, 0.01, 0.9, 0.1, 0.2, np.linspace(0.0, np.pi, 5))[0].shape
+    (5, 3)
     """
     a_ = check_positive("a", a, unit="m", min_value=1.0)
     ecc = check_range("e", e, 0.0, 1.0, hi_open=True)
@@ -296,6 +330,17 @@ def rv_to_elements(r: Any, v: Any, *, mu: float = MU_EARTH) -> dict[str, np.ndar
     References
     ----------
     Vallado (2013), Alg. 9 (RV2COE).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import elements_to_rv, rv_to_elements
+    >>> r, v = elements_to_rv(7000e3, 0.01, 0.9, 0.1, 0.2, 0.3)
+    >>> el = rv_to_elements(r, v)
+    >>> round(float(el["a"]), 3), round(float(el["e"]), 9), round(float(el["inclination"]), 9)
+    (7000000.0, 0.01, 0.9)
+    >>> round(float(el["true_anomaly"]), 9)
+    0.3
     """
     rr, batched = as_batch("r", r, (3,))
     vv, _ = as_batch("v", v, (3,))
@@ -353,6 +398,18 @@ class KeplerOrbit:
     epoch : datetime-like, optional
         UTC instant of ``t = 0``.
     mu : float, m^3/s^2
+
+    Examples
+    --------
+    >>> from adcskit.environment import KeplerOrbit
+    >>> orb = KeplerOrbit(a=7000e3, e=0.01, inclination=0.9)
+    >>> round(orb.period, 3)                        # s
+    5828.517
+    >>> st = orb.propagate([0.0, 600.0, 1200.0])
+    >>> st.r.shape, st.v.shape
+    ((3, 3), (3, 3))
+    >>> round(float(st.r[0, 0]), 3)                 # perigee radius a (1 - e), m
+    6930000.0
     """
 
     a: float
@@ -420,6 +477,18 @@ def kepler_orbit(
     References
     ----------
     Vallado (2013), Alg. 2 (Kepler's equation) and Alg. 10 (COE2RV).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import kepler_orbit
+    >>> t = np.linspace(0.0, 3000.0, 4)                   # s
+    >>> st = kepler_orbit(7000e3, 0.05, np.radians(98.0), 0.0, 0.0, 0.0, t,
+    ...                   epoch="2024-03-20T12:00:00")
+    >>> st.r.shape, st.success
+    ((4, 3), True)
+    >>> round(float(np.linalg.norm(st.r[0])), 3)     # starts at perigee a (1 - e), m
+    6650000.0
     """
     return KeplerOrbit(a=a, e=e, inclination=inclination, raan=raan, argp=argp,
                        mean_anomaly0=mean_anomaly0, epoch=epoch, mu=mu).propagate(t)
@@ -446,6 +515,18 @@ def sgp4_orbit(tle_line1: str, tle_line2: str, times: Any) -> OrbitState:
     References
     ----------
     Vallado et al. (2006), "Revisiting Spacetrack Report #3".
+
+    Examples
+    --------
+    >>> from adcskit.environment import sgp4_orbit
+    >>> l1 = "1 25544U 98067A   08264.51782528 -.00002182  00000-0 -11606-4 0  2927"
+    >>> l2 = "2 25544  51.6416 247.4627 0006703 130.5360 325.0288 15.72125391563537"
+    >>> st = sgp4_orbit(l1, l2, ["2008-09-20T12:00:00", "2008-09-20T12:10:00"])
+    >>> st.r.shape, st.success, st.status
+    ((2, 3), True, array([0, 0]))
+    >>> import numpy as np
+    >>> bool(6.6e6 < np.linalg.norm(st.r[0]) < 6.8e6)   # ISS altitude, m
+    True
     """
     from sgp4.api import Satrec
 

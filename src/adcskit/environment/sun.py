@@ -60,6 +60,16 @@ def sun_position(times: Any) -> np.ndarray:
     ----------
     Vallado (2013), Algorithm 29 and Example 5-1 (2006-04-02 00:00 UTC:
     r = [0.9771945, 0.1924424, 0.0834308] AU).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import sun_position
+    >>> au = 149597870700.0
+    >>> (sun_position("2006-04-02T00:00:00") / au).round(4)   # Vallado (2013), Example 5-1
+    array([0.9772, 0.1924, 0.0834])
+    >>> sun_position(["2024-01-01", "2024-07-01"]).shape
+    (2, 3)
     """
     return _sun_mod_au(_days_since_j2000(as_utc(times))) * AU
 
@@ -113,6 +123,15 @@ def in_shadow(r_eci: Any, times: Any, *, radius: float = 6378137.0) -> np.ndarra
     References
     ----------
     Vallado (2013), sec. 5.3 and Algorithm 34 (SHADOW), cylindrical variant.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import in_shadow, sun_position
+    >>> t = "2024-03-20T12:00:00"
+    >>> s = sun_position(t) / np.linalg.norm(sun_position(t))
+    >>> in_shadow(np.array([7000e3 * s, -7000e3 * s]), [t, t])   # sunward side lit, far side dark
+    array([False,  True])
     """
     from adcskit._validation import as_batch, check_positive
     from adcskit.errors import InputError

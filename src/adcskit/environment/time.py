@@ -62,6 +62,14 @@ def as_utc(times: Any, name: str = "times") -> np.ndarray:
     -------
     numpy.ndarray of datetime64[ns]
         Same shape as the input (0-d for a single instant).
+
+    Examples
+    --------
+    >>> from adcskit.environment import as_utc
+    >>> as_utc("2024-03-20T03:06:00Z")
+    array('2024-03-20T03:06:00.000000000', dtype='datetime64[ns]')
+    >>> as_utc(["2024-01-01", "2024-01-02T12:00"]).shape
+    (2,)
     """
     value = times
     if isinstance(value, _dt.datetime) and value.tzinfo is not None:
@@ -171,12 +179,29 @@ def julian_date(times: Any) -> np.ndarray:
     References
     ----------
     Vallado (2013), eq. 3-43; the J2000 epoch is JD 2451545.0.
+
+    Examples
+    --------
+    >>> from adcskit.environment import julian_date
+    >>> float(julian_date("2000-01-01T12:00:00"))               # J2000.0
+    2451545.0
+    >>> julian_date(["2024-01-01", "2024-01-02"])
+    array([2460310.5, 2460311.5])
     """
     return 2451545.0 + _days_since_j2000(as_utc(times))
 
 
 def julian_centuries(times: Any) -> np.ndarray:
-    """Julian centuries since J2000.0, ``T = (JD - 2451545.0) / 36525`` (Vallado eq. 3-42)."""
+    """Julian centuries since J2000.0, ``T = (JD - 2451545.0) / 36525`` (Vallado eq. 3-42).
+
+    Examples
+    --------
+    >>> from adcskit.environment import julian_centuries
+    >>> float(julian_centuries("2000-01-01T12:00:00"))          # J2000.0
+    0.0
+    >>> round(float(julian_centuries("2050-01-01T12:00:00")), 6)
+    0.500014
+    """
     return _days_since_j2000(as_utc(times)) / 36525.0
 
 
@@ -212,12 +237,30 @@ def gmst(times: Any) -> np.ndarray:
     ----------
     Vallado (2013), eq. 3-47 (IAU-82 GMST); Example 3-5 (1992-08-20 12:14 UT1 ->
     152.578787810 deg) is a test oracle.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.environment import gmst
+    >>> round(float(np.degrees(gmst("1992-08-20T12:14:00"))), 6)   # Vallado (2013), Example 3-5
+    152.578788
+    >>> gmst(["2024-01-01", "2024-01-02"]).shape
+    (2,)
     """
     return _gmst_from_days(_days_since_j2000(as_utc(times)))
 
 
 def decimal_year(times: Any) -> np.ndarray:
-    """Decimal year of UTC instants (``2025.0`` is 2025-01-01 00:00 UTC)."""
+    """Decimal year of UTC instants (``2025.0`` is 2025-01-01 00:00 UTC).
+
+    Examples
+    --------
+    >>> from adcskit.environment import decimal_year
+    >>> float(decimal_year("2025-01-01T00:00:00"))
+    2025.0
+    >>> round(float(decimal_year("2024-07-02T00:00:00")), 4)
+    2024.5
+    """
     t = as_utc(times)
     year = t.astype("datetime64[Y]")
     start = year.astype("datetime64[ns]")

@@ -83,6 +83,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 from scipy.optimize import brentq
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -106,6 +107,7 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class IdentificationResult:
     """Output of :func:`identify_model`.
@@ -137,6 +139,19 @@ class IdentificationResult:
         Ridge weight ``lam`` (``ridge-prior``), else NaN.
     n_accepted : int
         Candidates accepted by ``adaptive-gmres-online`` (else 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import identify_model, simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, x0=[1.0, -0.5], rng=0)   # Q = 0: x is noise-free
+    >>> res = identify_model(sim.x[:-1], sim.x[1:], u, B=B)
+    >>> type(res).__name__, res.success, res.method, res.A.shape
+    ('IdentificationResult', True, 'qr', (2, 2))
     """
 
     A: np.ndarray
@@ -179,6 +194,18 @@ def regression_data(states, targets, inputs=None, *, B=None, estimate_B=False):
     -------
     Phi : ndarray, shape (N, q)
     Z : ndarray, shape (N, n)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.estimation import regression_data
+    >>> x = np.array([[1.0, 0.0], [1.0, 0.1], [1.01, 0.2]])
+    >>> Phi, Z = regression_data(x[:-1], x[1:])
+    >>> Phi.shape, Z.shape
+    ((2, 2), (2, 2))
+    >>> Phi, Z = regression_data(x[:-1], x[1:], np.zeros((2, 1)), estimate_B=True)
+    >>> Phi.shape                                          # regressors [x, u]
+    (2, 3)
     """
     X = as_array("states", states, ndim=2)
     N, n = X.shape
@@ -208,6 +235,12 @@ def offline_schedule(n_states: int) -> dict[str, Any]:
     S1: for the 1-DOF model (``n = 2``) one GMRES iteration for the first 3 time steps, then
     solve to tolerance 1e-6; for the 3-DOF model (``n = 6``) one iteration for the first 7
     time steps, then 3 iterations. Other sizes get the 3-DOF rule.
+
+    Examples
+    --------
+    >>> from adcskit.estimation import offline_schedule
+    >>> offline_schedule(2)
+    {'first_steps': 3, 'first_iterations': 1, 'later_iterations': None, 'rtol': 1e-06}
     """
     n = check_int("n_states", n_states, minimum=1)
     if n <= 2:
@@ -474,6 +507,19 @@ class RecursiveLeastSquares:
     References
     ----------
     Ljung (1999) §11.2, eq. (11.63)-(11.65).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.estimation import RecursiveLeastSquares
+    >>> Theta_true = np.array([[1.0, 0.1], [0.0, 0.9]])
+    >>> rls = RecursiveLeastSquares(np.zeros((2, 2)), delta=1e4, forgetting=1.0)
+    >>> rng = np.random.default_rng(0)
+    >>> for phi in rng.standard_normal((20, 2)):
+    ...     rls.update(phi, Theta_true @ phi)
+    >>> rls.Theta.round(3), rls.nit
+    (array([[1. , 0.1],
+           [0. , 0.9]]), 20)
     """
 
     def __init__(self, Theta0, *, delta: float = 100.0, forgetting: float = 0.99) -> None:
@@ -616,6 +662,23 @@ def identify_model(
     References
     ----------
     S1 eq. (14)-(17), Algorithms (19)-(21), Table 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import identify_model, simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, x0=[1.0, -0.5], rng=0)   # Q = 0: x is noise-free
+    >>> res = identify_model(sim.x[:-1], sim.x[1:], u, B=B, method="qr")
+    >>> res.success, res.A.round(6) + 0.0
+    (True, array([[1. , 0.1],
+           [0. , 1. ]]))
+    >>> gm = identify_model(sim.x[:-1], sim.x[1:], u, B=B, method="gmres")
+    >>> gm.success, np.allclose(gm.A, A, atol=1e-6)
+    (True, True)
     """
     check_choice("method", method, IDENTIFICATION_METHODS)
     opts = _resolve_options(method, options)

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -66,6 +67,7 @@ __all__ = ["AugmentedEKFResult", "JointResult", "augmented_ekf", "joint_estimate
 _UNREGULARISED = {"qr", "gmres", "bicg", "cgs", "bicgstab", "lsqr"}
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class JointResult:
     """Output of :func:`joint_estimate`.
@@ -88,6 +90,19 @@ class JointResult:
         still used if finite, as S1's loop does).
     success, status, message : bool, int, str
     method : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import joint_estimate, simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, x0=[1.0, 0.0], R=1e-4, rng=0)
+    >>> res = joint_estimate(sim.y, u, A_prior=np.eye(2), B=B, R=1e-4, method="qr")
+    >>> type(res).__name__, res.A.shape, res.A_history.shape, res.x.shape
+    ('JointResult', (2, 2), (40, 2, 2), (40, 2))
     """
 
     A: np.ndarray
@@ -168,6 +183,22 @@ def joint_estimate(
     References
     ----------
     S1 eq. (14)-(18).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import joint_estimate, simulate_linear
+    >>> A_true = np.array([[1.0, 0.1], [-0.05, 0.98]])   # the model changed: spring + damping
+    >>> sim = simulate_linear(A_true, B, C, u, x0=[1.0, 0.0], R=1e-4, rng=0)
+    >>> res = joint_estimate(sim.y, u, A_prior=A, B=B, R=1e-4, method="qr")
+    >>> res.success, res.x.shape
+    (True, (40, 2))
+    >>> bool(np.abs(res.A - A_true).max() < 0.05)
+    True
     """
     check_choice("method", method, IDENTIFICATION_METHODS)
     opts = _resolve_options(method, options)
@@ -256,6 +287,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
 # --------------------------------------------------------------------------- augmented EKF
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AugmentedEKFResult:
     """Output of :func:`augmented_ekf`.
@@ -275,6 +307,18 @@ class AugmentedEKFResult:
     innovations : ndarray, shape (N, m)
     success, status, message, nit, nfev : as scipy
         ``nfev`` counts model evaluations.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.estimation import augmented_ekf, simulate_linear
+    >>> def model(p):                                     # p[0] scales the input gain
+    ...     return np.array([[1.0, 0.1], [0.0, 1.0]]), p[0] * np.array([[0.005], [0.1]])
+    >>> u = np.sin(0.3 * np.arange(30))[:, None]
+    >>> sim = simulate_linear(*model([2.0]), np.eye(2), u, R=1e-4, rng=0)
+    >>> res = augmented_ekf(sim.y, u, model, [1.0], P_p0=1.0, C=np.eye(2), R=1e-4)
+    >>> type(res).__name__, res.p.shape, res.A_history.shape, res.success
+    ('AugmentedEKFResult', (30, 1), (30, 2, 2), True)
     """
 
     x: np.ndarray
@@ -343,6 +387,20 @@ def augmented_ekf(
     ----------
     Simon (2006) §13.4; S1 (the baseline S1 does not run; its uncertainty is in the
     moments of inertia).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.estimation import augmented_ekf, simulate_linear
+    >>> def model(p):                                     # p[0] scales the input gain
+    ...     return np.array([[1.0, 0.1], [0.0, 1.0]]), p[0] * np.array([[0.005], [0.1]])
+    >>> u = np.sin(0.3 * np.arange(60))[:, None]
+    >>> sim = simulate_linear(*model([2.0]), np.eye(2), u, R=1e-4, rng=0)   # true p = 2
+    >>> res = augmented_ekf(sim.y, u, model, [1.0], P_p0=1.0, C=np.eye(2), R=1e-4)
+    >>> res.x.shape, res.p.shape, res.success
+    ((60, 2), (60, 1), True)
+    >>> bool(abs(res.p[-1, 0] - 2.0) < 0.1)
+    True
     """
     check_callable("model", model)
     p0 = as_array("p0", p0, ndim=1)

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_rng, check_choice, check_positive
 from adcskit.errors import InputError
 
@@ -115,6 +116,7 @@ def _loglik_term(nu, S_cf):
 # --------------------------------------------------------------------------- results
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class KalmanResult:
     """Output of :func:`kalman_filter`.
@@ -142,6 +144,19 @@ class KalmanResult:
         ``success`` is False if a covariance became non-finite (``status=1``).
     nit : int
         Number of filter steps.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import kalman_filter, simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, R=0.01, rng=0)
+    >>> res = kalman_filter(A, B, C, sim.y, u, R=0.01)
+    >>> type(res).__name__, res.x.shape, res.x_pred.shape, res.P.shape, res.success
+    ('KalmanResult', (40, 2), (41, 2), (40, 2, 2), True)
     """
 
     x: np.ndarray
@@ -177,7 +192,20 @@ class KalmanResult:
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LinearSimulation:
     """Output of :func:`simulate_linear`: true states ``x`` (N+1, n), measurements ``y``
-    (N, m) taken at ``x[0..N-1]``, the inputs ``u`` (N, p) and the noise draws."""
+    (N, m) taken at ``x[0..N-1]``, the inputs ``u`` (N, p) and the noise draws.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, rng=0)
+    >>> type(sim).__name__, sim.x.shape, sim.y.shape, sim.u.shape
+    ('LinearSimulation', (41, 2), (40, 2), (40, 1))
+    """
 
     x: np.ndarray
     y: np.ndarray
@@ -240,6 +268,20 @@ class KalmanFilter:
         Prior covariance ``P(0|-1)``; a scalar means ``P0 * I``.
     form : {"predict-update", "predictor"}
         Recursion (see :data:`KALMAN_FORMS`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import KalmanFilter
+    >>> kf = KalmanFilter(np.zeros(2), 1.0)
+    >>> y0, u0 = np.array([0.5, 0.1]), np.array([0.0])
+    >>> x_f, P_f, nu, S = kf.step(y0, u0, A, B, C, 0.0, 0.01 * np.eye(2))   # Q = 0, R = 0.01 I
+    >>> x_f.round(4), P_f.shape, nu.shape
+    (array([0.495, 0.099]), (2, 2), (2,))
     """
 
     def __init__(self, x0, P0, *, form: str = "predict-update") -> None:
@@ -309,6 +351,23 @@ def kalman_filter(
     References
     ----------
     S1 eq. (18) (predictor form); Simon (2006) §5.1 and eq. (5.19) (Joseph form).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import kalman_filter, simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, x0=[1.0, 0.0], R=0.01, Q=1e-6, rng=0)
+    >>> res = kalman_filter(A, B, C, sim.y, u, Q=1e-6, R=0.01, x0=[1.0, 0.0])
+    >>> res.x.shape, res.P.shape, res.innovations.shape, res.success
+    ((40, 2), (40, 2, 2), (40, 2), True)
+    >>> rms_filter = np.sqrt(np.mean((res.x - sim.x[:-1]) ** 2))
+    >>> rms_raw = np.sqrt(np.mean((sim.y - sim.x[:-1]) ** 2))
+    >>> bool(rms_filter < rms_raw)                         # the filter beats the raw measurements
+    True
     """
     A, B, C, Q, R = _check_model(A, B, C, Q, R)
     n, p, m = A.shape[0], B.shape[1], C.shape[0]
@@ -383,6 +442,23 @@ def simulate_linear(A, B, C, u, *, x0=None, R=1.0, Q=0.0, rng=None) -> LinearSim
     References
     ----------
     S1 eq. (1)-(2).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[1.0, 0.1], [0.0, 1.0]])          # double integrator, dt = 0.1 s
+    >>> B = np.array([[0.005], [0.1]])
+    >>> C = np.eye(2)
+    >>> u = np.sin(0.3 * np.arange(40))[:, None]         # N = 40 input samples
+    >>> from adcskit.estimation import simulate_linear
+    >>> sim = simulate_linear(A, B, C, u, x0=[1.0, 0.0], R=0.01, rng=0)
+    >>> sim.x.shape, sim.y.shape
+    ((41, 2), (40, 2))
+    >>> np.allclose(sim.x[1], A @ sim.x[0] + B @ u[0])     # noise-free dynamics (Q = 0)
+    True
+    >>> again = simulate_linear(A, B, C, u, x0=[1.0, 0.0], R=0.01, rng=0)
+    >>> bool(np.array_equal(again.y, sim.y))              # seeded: reproducible
+    True
     """
     A, B, C, Q, R = _check_model(A, B, C, Q, R)
     n, p, m = A.shape[0], B.shape[1], C.shape[0]
@@ -399,9 +475,13 @@ def simulate_linear(A, B, C, u, *, x0=None, R=1.0, Q=0.0, rng=None) -> LinearSim
         w = np.zeros((N, n))
     x = np.empty((N + 1, n))
     x[0] = x0
-    for t in range(N):
-        x[t + 1] = A @ x[t] + B @ u[t] + w[t]
-    y = x[:N] @ C.T + v
+    with np.errstate(over="ignore", invalid="ignore"):
+        for t in range(N):
+            x[t + 1] = A @ x[t] + B @ u[t] + w[t]
+        y = x[:N] @ C.T + v
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise InputError(f"the simulated state overflows float64 within {N} steps: A is too unstable "
+                         f"(spectral radius {np.abs(np.linalg.eigvals(A)).max():.3g}) for this horizon")
     return LinearSimulation(x=x, y=y, u=u, v=v, w=w)
 
 

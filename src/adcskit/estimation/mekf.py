@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_finite, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import _mekf_kernels as _mk
@@ -307,6 +308,7 @@ class MultiplicativeEKF:
 # ------------------------------------------------------------------------- batch function
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class MEKFResult:
     """Output of :func:`mekf_filter` (leading ``N`` axis only for a batched call).
@@ -336,6 +338,18 @@ class MEKFResult:
     success : bool
         False if any sample produced a non-finite estimate or a non-positive variance.
     message : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.estimation import mekf_filter
+    >>> T = 20
+    >>> t = np.arange(T, dtype=float)
+    >>> ref = np.broadcast_to(np.eye(3)[:2], (T, 2, 3))
+    >>> res = mekf_filter([0, 0, 0, 1], np.zeros(3), np.diag([1e-2] * 3 + [1e-8] * 3), t,
+    ...                   np.zeros((T, 3)), ref, ref, [1e-3, 1e-3], sigma_v=1e-6, sigma_u=1e-9)
+    >>> res.success, res.q.shape
+    (True, (20, 4))
     """
 
     t: np.ndarray

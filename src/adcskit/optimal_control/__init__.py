@@ -1,6 +1,8 @@
 """Pseudospectral optimal control: Gauss (LG) and Radau (LGR) multi-interval transcriptions
-solved by CasADi + IPOPT, costate estimation from the KKT multipliers, Hamiltonian, bang-bang
-detection and open-loop re-simulation.
+solved by CasADi + IPOPT, error-controlled hp mesh refinement (:func:`solve_adaptive`),
+multi-phase problems with links, events, static parameters and integral constraints
+(:func:`solve_multiphase`), costate estimation from the KKT multipliers, Hamiltonian,
+bang-bang detection and open-loop re-simulation. See docs/optimal-control.md.
 
 Typical use::
 
@@ -15,11 +17,31 @@ References
 S2 (Gauss pseudospectral method, eq. 17–37). Benson et al. 2006; Garg et al. 2010.
 """
 
+from adcskit.optimal_control.adaptive import (
+    AdaptiveSolution,
+    ErrorCertificate,
+    MeshIteration,
+    estimate_error,
+    guess_from_function,
+    refine_mesh,
+    solve_adaptive,
+    symmetry_breaking_guess,
+)
 from adcskit.optimal_control.analysis import (
     BangBangResult,
     ResimulationResult,
     bang_bang,
     resimulate,
+)
+from adcskit.optimal_control.multiphase import (
+    Endpoint,
+    Link,
+    MultiPhaseGuess,
+    MultiPhaseProblem,
+    MultiPhaseSolution,
+    Phase,
+    default_multiphase_guess,
+    solve_multiphase,
 )
 from adcskit.optimal_control.nodes import (
     gauss_differentiation_matrix,
@@ -45,7 +67,23 @@ from adcskit.optimal_control.solve import (
 from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, clear_cache
 
 __all__ = [
+    "AdaptiveSolution",
     "BangBangResult",
+    "Endpoint",
+    "ErrorCertificate",
+    "Link",
+    "MeshIteration",
+    "MultiPhaseGuess",
+    "MultiPhaseProblem",
+    "MultiPhaseSolution",
+    "Phase",
+    "default_multiphase_guess",
+    "estimate_error",
+    "guess_from_function",
+    "refine_mesh",
+    "solve_adaptive",
+    "solve_multiphase",
+    "symmetry_breaking_guess",
     "DEFAULT_IPOPT_OPTIONS",
     "Guess",
     "METHODS",

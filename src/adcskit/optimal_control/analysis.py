@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from adcskit._results import compact_repr
 from adcskit._validation import check_choice, check_int, check_positive, check_range
 from adcskit.errors import InputTypeError
 from adcskit.optimal_control.solve import OptimalControlSolution
@@ -29,6 +30,7 @@ from adcskit.optimal_control.solve import OptimalControlSolution
 __all__ = ["BangBangResult", "ResimulationResult", "bang_bang", "resimulate"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BangBangResult:
     """Bang-bang structure of each control channel.
@@ -44,6 +46,16 @@ class BangBangResult:
         interpolation between collocation points) and the control flips between bounds.
     n_switches : (n_controls,) ndarray of int
     all_bang_bang : bool
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve(double_integrator_min_time(distance=1.0, accel_max=1.0), mesh=(4, 3))
+    >>> from adcskit.optimal_control import bang_bang
+    >>> bb = bang_bang(sol)
+    >>> type(bb).__name__, bb.all_bang_bang, bb.n_switches
+    ('BangBangResult', True, array([1]))
     """
 
     at_bound_fraction: np.ndarray
@@ -72,6 +84,18 @@ def bang_bang(solution: OptimalControlSolution, *, tol: float = 0.02, min_fracti
         A control is "on a bound" within ``tol`` of its bound range (default 2 %).
     min_fraction : float
         Fraction of collocation points that must be on a bound for a bang-bang channel.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve(double_integrator_min_time(distance=1.0, accel_max=1.0), mesh=(4, 3))
+    >>> from adcskit.optimal_control import bang_bang
+    >>> round(sol.tf, 6)                                  # analytic 2 sqrt(d / a) = 2 s
+    2.0
+    >>> bb = bang_bang(sol)
+    >>> bb.is_bang_bang, bb.n_switches, bb.switch_times[0].round(3)   # switch at tf / 2
+    (array([ True]), array([1]), array([1.]))
     """
     if not isinstance(solution, OptimalControlSolution):
         raise InputTypeError(f"solution must be an OptimalControlSolution; got {type(solution).__name__}")
@@ -113,6 +137,7 @@ def bang_bang(solution: OptimalControlSolution, *, tol: float = 0.02, min_fracti
     )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ResimulationResult:
     """Open-loop re-simulation of an optimal control history.
@@ -130,6 +155,16 @@ class ResimulationResult:
     terminal_miss_scaled : float
         ``max_i |miss_i| / scale_i`` with the problem's state scales.
     nfev : int
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> sol = solve(double_integrator_min_energy(distance=1.0, duration=1.0), mesh=(4, 3))
+    >>> from adcskit.optimal_control import resimulate
+    >>> rs = resimulate(sol)
+    >>> type(rs).__name__, rs.success, bool(rs.terminal_miss_scaled < 1e-6)
+    ('ResimulationResult', True, True)
     """
 
     success: bool
@@ -177,6 +212,18 @@ def resimulate(
         :func:`scipy.integrate.solve_ivp` method.
     rtol, atol : float
         Integrator tolerances.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve(double_integrator_min_time(distance=1.0, accel_max=1.0), mesh=(4, 3))
+    >>> from adcskit.optimal_control import resimulate
+    >>> rs = resimulate(sol)                    # integrate the NLP's controls (DOP853)
+    >>> rs.success, rs.x.shape[1], rs.terminal_miss.shape
+    (True, 2, (2,))
+    >>> bool(rs.terminal_miss_scaled < 0.05)
+    True
     """
     if not isinstance(solution, OptimalControlSolution):
         raise InputTypeError(f"solution must be an OptimalControlSolution; got {type(solution).__name__}")

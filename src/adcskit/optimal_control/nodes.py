@@ -21,7 +21,8 @@ import numpy as np
 from numpy.polynomial import legendre as _leg
 from scipy.special import roots_legendre
 
-from adcskit._validation import as_array, check_int
+from adcskit._validation import as_array, check_int, short_repr
+from adcskit.errors import InputError
 
 __all__ = [
     "legendre_gauss",
@@ -52,6 +53,17 @@ def legendre_gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     References
     ----------
     S2, eq. 30–31 (Gauss quadrature of the end state and of the cost).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import legendre_gauss
+    >>> tau, w = legendre_gauss(2)
+    >>> tau.round(6), w.round(6)                          # +-1/sqrt(3), weights 1
+    (array([-0.57735,  0.57735]), array([1., 1.]))
+    >>> tau, w = legendre_gauss(5)
+    >>> round(float(w @ tau**8), 12), round(2.0 / 9.0, 12)   # exact up to degree 2n - 1 = 9
+    (0.222222222222, 0.222222222222)
     """
     n = check_int("n", n, minimum=1, maximum=1000)
     tau, w = roots_legendre(n)
@@ -77,6 +89,13 @@ def legendre_gauss_radau(n: int) -> tuple[np.ndarray, np.ndarray]:
     References
     ----------
     Garg et al., Automatica 46(11), 2010, eq. 5–6.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import legendre_gauss_radau
+    >>> tau, w = legendre_gauss_radau(3)
+    >>> tau.round(6), w.round(6), round(float(w.sum()), 12)
+    (array([-1.      , -0.289898,  0.689898]), array([0.222222, 1.024972, 0.752806]), 2.0)
     """
     n = check_int("n", n, minimum=1, maximum=1000)
     if n == 1:
@@ -98,12 +117,34 @@ def barycentric_weights(support: np.ndarray) -> np.ndarray:
     diff = s[:, None] - s[None, :]
     np.fill_diagonal(diff, 1.0)
     if np.any(diff == 0.0):
-        raise ValueError("support points must be distinct")
-    return 1.0 / np.prod(diff, axis=1)
+        raise InputError(f"support points must be distinct; got {short_repr(s)}")
+    with np.errstate(over="ignore", divide="ignore", under="ignore"):
+        w = 1.0 / np.prod(diff, axis=1)
+    if not np.all(np.isfinite(w)) or np.any(w == 0.0):
+        raise InputError(f"support points are too close together or too spread for float64 "
+                         f"(barycentric weights overflow); got {short_repr(s)}")
+    return w
+
+
+def _finite_matrix(out: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(out)):
+        raise InputError("points must not lie within rounding distance of a support point (other than "
+                         "exactly on it): the interpolation matrix overflows")
+    return out
 
 
 def lagrange_matrix(support, points) -> np.ndarray:
-    """Matrix ``L`` with ``L[k, i] = L_i(points[k])`` (S2 eq. 23), so ``p(points) = L @ p(support)``."""
+    """Matrix ``L`` with ``L[k, i] = L_i(points[k])`` (S2 eq. 23), so ``p(points) = L @ p(support)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import lagrange_matrix
+    >>> support = np.array([-1.0, 0.0, 1.0])
+    >>> L = lagrange_matrix(support, [0.5])
+    >>> L.round(6), (L @ support**2).round(12)             # quadratics are interpolated exactly
+    (array([[-0.125,  0.75 ,  0.375]]), array([0.25]))
+    """
     s = as_array("support", support, ndim=1)
     p = as_array("points", points, ndim=1)
     bw = barycentric_weights(s)
@@ -115,7 +156,7 @@ def lagrange_matrix(support, points) -> np.ndarray:
         out[:] = terms / terms.sum(axis=1, keepdims=True)
     rows = exact.any(axis=1)
     out[rows] = exact[rows].astype(float)
-    return out
+    return _finite_matrix(out)
 
 
 def lagrange_derivative_matrix(support, points) -> np.ndarray:
@@ -123,6 +164,15 @@ def lagrange_derivative_matrix(support, points) -> np.ndarray:
 
     ``D @ p(support)`` is the derivative at ``points`` of the interpolating polynomial of
     degree ``len(support) − 1``; it is exact for polynomials of that degree.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import lagrange_derivative_matrix
+    >>> support = np.array([-1.0, 0.0, 1.0])
+    >>> D = lagrange_derivative_matrix(support, [0.5])
+    >>> (D @ support**2).round(12)                         # d(tau^2)/dtau at 0.5
+    array([1.])
     """
     s = as_array("support", support, ndim=1)
     p = as_array("points", points, ndim=1)
@@ -145,7 +195,7 @@ def lagrange_derivative_matrix(support, points) -> np.ndarray:
             li = ell * bw / d
             inv = 1.0 / d
             out[k] = li * (inv.sum() - inv)
-    return out
+    return _finite_matrix(out)
 
 
 def gauss_differentiation_matrix(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -161,6 +211,17 @@ def gauss_differentiation_matrix(n: int) -> tuple[np.ndarray, np.ndarray, np.nda
         LG points.
     w : (n,) ndarray
         LG weights.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import gauss_differentiation_matrix
+    >>> D, tau, w = gauss_differentiation_matrix(3)
+    >>> D.shape, tau.shape, w.shape
+    ((3, 4), (3,), (3,))
+    >>> support = np.concatenate([[-1.0], tau])
+    >>> np.allclose(D @ support**2, 2.0 * tau)            # exact derivative of tau^2
+    True
     """
     tau, w = legendre_gauss(n)
     support = np.concatenate(([-1.0], tau))
@@ -180,6 +241,17 @@ def radau_differentiation_matrix(n: int) -> tuple[np.ndarray, np.ndarray, np.nda
         LGR points (``tau[0] = -1``).
     w : (n,) ndarray
         LGR weights.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import radau_differentiation_matrix
+    >>> D, tau, w = radau_differentiation_matrix(3)
+    >>> D.shape, float(tau[0])
+    ((3, 4), -1.0)
+    >>> support = np.concatenate([tau, [1.0]])
+    >>> np.allclose(D @ support**3, 3.0 * tau**2)         # exact derivative of tau^3
+    True
     """
     tau, w = legendre_gauss_radau(n)
     support = np.concatenate((tau, [1.0]))

@@ -81,6 +81,23 @@ class OptimalControlProblem:
     state_scale, control_scale : array_like, optional
         Characteristic magnitudes for NLP scaling (default from bounds/boundary values).
     name : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import OptimalControlProblem, solve
+    >>> def f(x, u, t):                                   # double integrator x'' = u
+    ...     return [x[1], u[0]]
+    >>> def energy(x, u, t):
+    ...     return u[0] * u[0]
+    >>> ocp = OptimalControlProblem(dynamics=f, n_states=2, n_controls=1,
+    ...                             initial_state=[0.0, 0.0], final_state=[1.0, 0.0],
+    ...                             tf_bounds=(2.0, 2.0), lagrange=energy, name="move-1m-in-2s")
+    >>> ocp.free_final_time
+    False
+    >>> sol = solve(ocp, mesh=(4, 3))
+    >>> sol.success, round(sol.objective, 6)              # analytic 12 d^2 / T^3 = 1.5
+    (True, 1.5)
     """
 
     dynamics: Callable[..., Any]
@@ -221,6 +238,15 @@ class Mesh:
     fractions : tuple of float, optional
         Interval lengths as fractions of ``tf − t0`` (sum 1); default equal intervals, as in
         S2 ("20 equal sub-intervals × 3 LG points").
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import Mesh
+    >>> mesh = Mesh(nodes=(3, 3, 4), fractions=(0.25, 0.25, 0.5))
+    >>> mesh.n_intervals, mesh.breaks.round(6)
+    (3, array([0.  , 0.25, 0.5 , 1.  ]))
+    >>> Mesh.uniform(20, 3).n_intervals                   # S2: 20 equal intervals x 3 LG points
+    20
     """
 
     nodes: tuple[int, ...]
@@ -276,6 +302,19 @@ class Guess:
         Final time (s).
     t_u : (K,) ndarray, optional
         Sample times of ``u`` when they differ from ``t``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.optimal_control import Guess, solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> guess = Guess(t=t, x=np.column_stack([t, np.ones(5)]), u=np.zeros((5, 1)), tf=1.0)
+    >>> guess.x.shape, guess.tf
+    ((5, 2), 1.0)
+    >>> sol = solve(double_integrator_min_energy(), mesh=(4, 3), guess=guess)
+    >>> sol.success, round(sol.objective, 6)
+    (True, 12.0)
     """
 
     t: np.ndarray

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import track
+from adcskit._results import compact_repr
 from adcskit._validation import as_rng, check_choice, check_flag, check_int, check_positive
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
@@ -105,6 +106,14 @@ class NLPPoint:
     p : (n_states + n_controls + 3,) ndarray
         NLP parameters: state scales, control scales, ``tf`` scale, ``t0`` and the objective
         scale ``|J(guess)|`` the multipliers refer to.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve(double_integrator_min_time(), mesh=(4, 3))
+    >>> sol.nlp.z.shape == sol.nlp.lam_x.shape
+    True
     """
 
     method: str
@@ -126,6 +135,7 @@ class NLPPoint:
         )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OptimalControlSolution:
     """Result of one transcribed solve.
@@ -134,8 +144,11 @@ class OptimalControlSolution:
     ----------
     success : bool
         IPOPT reported ``Solve_Succeeded`` or ``Solved_To_Acceptable_Level``.
-    status : str
-        IPOPT's ``return_status``.
+    status : int
+        scipy-style code (:data:`IPOPT_STATUS_CODES`): 0 converged, 1 converged to the
+        acceptable level, 2 iteration or time limit, 3 infeasible, 4 other failure.
+    ipopt_status : str
+        IPOPT's ``return_status`` string.
     message : str
     nit, nfev : int
         IPOPT iterations and objective evaluations.
@@ -169,10 +182,22 @@ class OptimalControlSolution:
         ``"primal-dual"`` (same mesh: the previous NLP point and its multipliers).
     nlp : NLPPoint or None
         The raw NLP point (for warm starts).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> sol = solve(double_integrator_min_energy(distance=1.0, duration=1.0), mesh=(4, 3))
+    >>> type(sol).__name__, sol.success, sol.method
+    ('OptimalControlSolution', True, 'gauss')
+    >>> sol.t.shape, sol.x.shape, sol.t_control.shape, sol.u.shape, sol.costate.shape
+    ((17,), (17, 2), (12,), (12, 1), (17, 2))
+    >>> sol.state_at(1.0).round(6) + 0.0                    # ends at rest at x = 1 m
+    array([1., 0.])
     """
 
     success: bool
-    status: str
+    status: int
     message: str
     nit: int
     nfev: int
@@ -195,6 +220,7 @@ class OptimalControlSolution:
     pieces: tuple[_Piece, ...] = field(repr=False)
     dynamics_fun: Any = field(repr=False, default=None)
     warm_start: str = "cold"
+    ipopt_status: str = ""
     nlp: NLPPoint | None = field(repr=False, default=None)
 
     # ---------------------------------------------------------------- interpolation
@@ -245,6 +271,7 @@ class OptimalControlSolution:
         return {
             "success": self.success,
             "status": self.status,
+            "ipopt_status": self.ipopt_status,
             "message": self.message,
             "nit": self.nit,
             "nfev": self.nfev,
@@ -275,6 +302,14 @@ def default_guess(problem: OptimalControlProblem) -> Guess:
 
     Free boundary components take the other end's value, else the middle of finite bounds,
     else 0. Controls are 0 clipped into their bounds.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import default_guess
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> g = default_guess(double_integrator_min_energy(distance=2.0, duration=4.0))
+    >>> g.tf, g.x[0].round(6), g.x[-1].round(6)     # straight line between the boundary states
+    (4.0, array([0., 0.]), array([2., 0.]))
     """
     _check_problem(problem)
     x0 = np.array(problem.initial_state, float)
@@ -301,6 +336,33 @@ def _interp_fun(t_samples, values, t0_src, tf_src, t0_new, tf_new):
         return np.column_stack([np.interp(s, ts, vals[:, i]) for i in range(vals.shape[1])]) if vals.shape[1] else np.zeros((np.size(t), 0))
 
     return f
+
+
+#: IPOPT ``return_status`` -> scipy-style integer ``status`` of the solution objects.
+IPOPT_STATUS_CODES: dict[str, int] = {
+    "Solve_Succeeded": 0,
+    "Solved_To_Acceptable_Level": 1,
+    "Feasible_Point_Found": 1,
+    "Maximum_Iterations_Exceeded": 2,
+    "Maximum_CpuTime_Exceeded": 2,
+    "Maximum_WallTime_Exceeded": 2,
+    "Infeasible_Problem_Detected": 3,
+    "Restoration_Failed": 4,
+    "Search_Direction_Becomes_Too_Small": 4,
+    "Diverging_Iterates": 4,
+    "Error_In_Step_Computation": 4,
+    "Invalid_Number_Detected": 4,
+    "User_Requested_Stop": 4,
+}
+
+
+def ipopt_status_code(return_status: str) -> int:
+    """scipy-style integer status of an IPOPT ``return_status`` (4 for anything unlisted).
+
+    >>> ipopt_status_code("Solve_Succeeded"), ipopt_status_code("Maximum_Iterations_Exceeded")
+    (0, 2)
+    """
+    return IPOPT_STATUS_CODES.get(str(return_status), 4)
 
 
 def _check_problem(problem: Any) -> None:
@@ -387,6 +449,20 @@ def solve(
     >>> b = solve(p, mesh=(4, 3), guess=a)  # primal and dual warm start
     >>> b.warm_start, abs(b.tf - a.tf) < 1e-7, b.nit <= 3
     ('primal-dual', True, True)
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> ocp = double_integrator_min_energy(distance=1.0, duration=1.0)
+    >>> sol = solve(ocp, method="gauss", mesh=(4, 3))
+    >>> sol.success, round(sol.objective, 6)              # analytic 12 d^2 / T^3 = 12
+    (True, 12.0)
+    >>> sol.x.shape, sol.u.shape
+    ((17, 2), (12, 1))
+    >>> fine = solve(ocp, method="radau", mesh=(8, 3), guess=sol)   # warm start
+    >>> fine.success, round(fine.objective, 6)
+    (True, 12.0)
     """
     if not isinstance(problem, OptimalControlProblem):
         raise InputTypeError(f"problem must be an OptimalControlProblem; got {type(problem).__name__}")
@@ -517,7 +593,8 @@ def _solve_with(
     msg = f"IPOPT: {status} after {int(stats.get('iter_count', 0))} iterations ({tr.method}, mesh {tr.mesh.label()})"
     return OptimalControlSolution(
         success=success,
-        status=status,
+        status=ipopt_status_code(status),
+        ipopt_status=status,
         message=msg,
         nit=int(stats.get("iter_count", 0)),
         nfev=int(stats.get("n_call_nlp_f", 0)),
@@ -545,6 +622,7 @@ def _solve_with(
 
 
 # ------------------------------------------------------------------------- mesh sequence
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MeshSequenceResult:
     """Solutions on a warm-started sequence of meshes (one local branch).
@@ -569,6 +647,14 @@ class MeshSequenceResult:
     success : bool
         Every solve succeeded.
     message : str
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_mesh_sequence
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> seq = solve_mesh_sequence(double_integrator_min_energy(), [(2, 3), (4, 3)])
+    >>> type(seq).__name__, len(seq.solutions), seq.success, seq.objectives.round(6)
+    ('MeshSequenceResult', 2, True, array([12., 12.]))
     """
 
     solutions: tuple[OptimalControlSolution, ...]
@@ -647,6 +733,15 @@ def solve_mesh_sequence(
     >>> r = solve_mesh_sequence(double_integrator_min_time(2.0, 0.5), [(4, 3), (8, 3)], rtol=1e-6)
     >>> r.converged, r.on_branch, round(r.final.tf, 6)
     (True, True, 4.0)
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_mesh_sequence
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> meshes = [(2, 3), (4, 3), (8, 3)]
+    >>> seq = solve_mesh_sequence(double_integrator_min_energy(), meshes, rtol=1e-6)
+    >>> seq.converged, len(seq.solutions), seq.objectives.round(6)   # stops once J stops changing
+    (True, 2, array([12., 12.]))
     """
     _check_problem(problem)
     rtol = check_positive("rtol", rtol)
@@ -705,6 +800,7 @@ def solve_mesh_sequence(
 
 
 # ------------------------------------------------------------------------- multistart
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MultistartResult:
     """Solves from seeded random initial guesses.
@@ -722,6 +818,14 @@ class MultistartResult:
     best_index : int
         Start with the lowest successful objective (-1 if none succeeded).
     n_success : int
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import multistart
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> ms = multistart(double_integrator_min_energy(), 2, mesh=(4, 3), rng=0)
+    >>> type(ms).__name__, ms.n_success, ms.distinct_objectives.round(6), ms.counts
+    ('MultistartResult', 2, array([12.]), array([2]))
     """
 
     solutions: tuple[OptimalControlSolution, ...]
@@ -752,7 +856,19 @@ class MultistartResult:
 
 def random_guess(problem: OptimalControlProblem, rng, *, spread: float = 0.5, knots: int = 6) -> Guess:
     """A seeded random guess: straight line plus smooth noise, smooth random controls in bounds,
-    ``tf`` uniformly in ``[0.7, 1.5] × tf_guess`` (clipped to the bounds)."""
+    ``tf`` uniformly in ``[0.7, 1.5] × tf_guess`` (clipped to the bounds).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import random_guess
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> g = random_guess(double_integrator_min_time(), rng=0)
+    >>> type(g).__name__, g.x.shape[1], g.u.shape[1]
+    ('Guess', 2, 1)
+    >>> g2 = random_guess(double_integrator_min_time(), rng=0)
+    >>> bool(g.tf == g2.tf)                               # seeded: reproducible
+    True
+    """
     _check_problem(problem)
     spread = check_positive("spread", spread, allow_zero=True, max_value=1e6)
     knots = check_int("knots", knots, minimum=2, maximum=100_000)
@@ -796,6 +912,16 @@ def multistart(
         Standard deviation of the state perturbation, in units of the state scales.
     rtol : float
         Objectives within this relative distance are the same optimum.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import multistart
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> ms = multistart(double_integrator_min_energy(), 3, mesh=(4, 3), rng=0)
+    >>> len(ms.solutions), ms.n_success, ms.objectives.round(6)   # convex problem: one optimum
+    (3, 3, array([12., 12., 12.]))
+    >>> ms.distinct_objectives.round(6), ms.counts
+    (array([12.]), array([3]))
     """
     _check_problem(problem)
     n_starts = check_int("n_starts", n_starts, minimum=1, maximum=100_000)

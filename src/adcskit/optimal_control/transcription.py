@@ -318,5 +318,11 @@ def get_transcription(
 
 
 def clear_cache() -> None:
-    """Forget every compiled NLP (e.g. to time a cold build)."""
+    """Forget every compiled NLP (e.g. to time a cold build).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import clear_cache
+    >>> clear_cache()                                     # the next solve rebuilds its NLP
+    """
     _CACHE.clear()

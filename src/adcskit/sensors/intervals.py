@@ -55,6 +55,13 @@ def interval_from_bounds(lower: Any, upper: Any) -> tuple[np.ndarray, np.ndarray
     mid, radius : numpy.ndarray
         ``(upper + lower) / 2`` and ``(upper - lower) / 2 >= 0``, so that every
         ``x ∈ [lower, upper]`` is ``mid + α radius`` with ``α ∈ [-1, 1]`` (S0 eq. 4).
+
+    Examples
+    --------
+    >>> from adcskit.sensors import interval_from_bounds
+    >>> mid, radius = interval_from_bounds([0.9, -0.1, 0.0], [1.1, 0.1, 0.2])
+    >>> mid.round(6), radius.round(6)
+    (array([1. , 0. , 0.1]), array([0.1, 0.1, 0.1]))
     """
     lo = as_array("lower", lower)
     hi = as_array("upper", upper)
@@ -110,6 +117,18 @@ def vector_bounds(
     lower, upper : numpy.ndarray, shape of ``measured``
 
     See the module docstring for the formulas.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.sensors import vector_bounds
+    >>> lower, upper = vector_bounds([1.0, 0.0, 0.0], angle_bound=np.radians(2.0))
+    >>> bool(np.all(lower <= [1.0, 0.0, 0.0])), bool(np.all(upper >= [1.0, 0.0, 0.0]))
+    (True, True)
+    >>> lower.round(6), upper.round(6)
+    (array([ 0.999391, -0.034899, -0.034899]), array([1.      , 0.034899, 0.034899]))
+    >>> vector_bounds(np.ones((5, 3)), fraction=0.05)[0].shape
+    (5, 3)
     """
     v, batched = as_batch("measured", measured, (3,))
     th = check_range("angle_bound", angle_bound, 0.0, np.pi, unit="rad", hi_open=True)

@@ -42,6 +42,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_batch,
@@ -109,6 +110,20 @@ class VectorSensor:
     -----
     Instances compare and hash by value (arrays compared elementwise) and pickle, so they can
     be sent to process or dask workers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.sensors import VectorSensor
+    >>> sensor = VectorSensor(angle_bound=np.radians(1.0), normalize=True)
+    >>> b = sensor.measure(np.eye(3), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], rng=0)
+    >>> b.shape, np.allclose(np.linalg.norm(b, axis=1), 1.0)
+    ((2, 3), True)
+    >>> bool(np.degrees(np.arccos(b[0, 0])) <= 1.0)   # error inside the 1 deg cap
+    True
+    >>> mid, radius = sensor.interval(b[0])              # S0 box that encloses the true vector
+    >>> bool(np.all(np.abs(mid - [1.0, 0.0, 0.0]) <= radius + 1e-12))
+    True
     """
 
     noise_std: float = 0.0
@@ -311,6 +326,7 @@ class Magnetometer(VectorSensor):
     unit: ClassVar[str] = "T"
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True)
 class GyroMeasurement:
     """Output of :meth:`RateGyro.measure` (leading ``N`` axis only for a batch).
@@ -324,6 +340,14 @@ class GyroMeasurement:
         Measured rates (true rate + bias + noise).
     bias : ndarray, rad/s, shape ([N,] T, 3)
         True bias at each epoch ``t_k`` (for NEES and plots).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.sensors import RateGyro
+    >>> m = RateGyro(sigma_v=1e-5, sigma_u=1e-7, rate_hz=10.0).measure(np.zeros((50, 3)), rng=0)
+    >>> m.omega.shape, m.bias.shape
+    ((50, 3), (50, 3))
     """
 
     t: np.ndarray

@@ -165,6 +165,12 @@ STUDIES: dict[str, StudyInfo] = {
             "S4",
             "Deterministic NSGA-II and robust GA tuning of the PID gains under uncertainty (S4 Tables 4-6)",
         ),
+        StudyInfo(
+            "closed-loop",
+            "adcskit.studies.closed_loop",
+            "S0-S4",
+            "Closed-loop 3-axis ADCS Monte-Carlo: layouts, MEKF vs q-method, robust gains, optimal slews",
+        ),
     )
 }
 

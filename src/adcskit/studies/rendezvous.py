@@ -222,7 +222,7 @@ def _row_measure(res, reading: str, cfg: Config) -> dict[str, Any]:
         "converged_optima_s": conv_distinct,
         "branches_per_converged_optimum": conv_counts,
         "best_converged_s": float(conv_distinct[0]) if conv_distinct else math.nan,
-        "default_guess_status": ms.solutions[0].status,
+        "default_guess_status": ms.solutions[0].ipopt_status,
         "default_guess_tf_s": float(ms.solutions[0].tf),
     }
 
@@ -823,7 +823,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         for i_s, (tf, st) in enumerate(
             zip(
                 res["multistart"].objectives,
-                [s.status for s in res["multistart"].solutions],
+                [s.ipopt_status for s in res["multistart"].solutions],
                 strict=True,
             )
         ):

@@ -43,11 +43,13 @@ import numba
 import numpy as np
 from scipy.optimize import linprog, lsq_linear
 
+from adcskit._results import compact_repr
 from adcskit._validation import as_array, as_batch, check_choice, check_positive_array
 
 __all__ = ["AllocationResult", "ALLOCATION_METHODS", "allocate"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AllocationResult:
     """Forces allocated to the thrusters for one or many torque demands.
@@ -74,6 +76,20 @@ class AllocationResult:
     method : str
     nit : int
         Redistribution passes (``pinv-redistribute``) or solver calls.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import allocate
+    >>> res = allocate(ts, [0.0, 0.0, 5.0])
+    >>> type(res).__name__, res.success, bool(res.feasible), res.x.shape
+    ('AllocationResult', True, True, (6,))
+    >>> res.torque.round(9) + 0.0
+    array([0., 0., 5.])
     """
 
     x: np.ndarray
@@ -362,6 +378,23 @@ def allocate(
     References
     ----------
     S3 eq. 5, 12, 13.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import allocate
+    >>> res = allocate(ts, [2.0, -1.0, 5.0])               # N m
+    >>> res.x.round(9) + 0.0                               # N, within [0, f_max]
+    array([5., 0., 2., 0., 0., 1.])
+    >>> bool(res.feasible), float(res.error) < 1e-9
+    (True, True)
+    >>> big = allocate(ts, [[0.0, 0.0, 5.0], [0.0, 0.0, 50.0]], method="pinv-redistribute")
+    >>> big.x.shape, big.feasible                          # 50 N m exceeds 10 N x 1 m
+    ((2, 6), array([ True, False]))
     """
     method = check_choice("method", method, ALLOCATION_METHODS)
     from adcskit.thrusters.geometry import ThrusterSet

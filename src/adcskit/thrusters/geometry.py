@@ -62,6 +62,17 @@ def direction_from_angles(alpha: Any, beta: Any) -> np.ndarray:
     References
     ----------
     S3 eq. 4: the torque per newton printed there equals ``r x d`` with this ``d``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import direction_from_angles
+    >>> direction_from_angles(0.0, 0.0)
+    array([1., 0., 0.])
+    >>> direction_from_angles(np.pi / 2, 0.0).round(12)    # alpha = 90 deg: along +Y
+    array([0., 1., 0.])
+    >>> direction_from_angles(np.zeros(4), np.linspace(0.0, np.pi, 4)).shape
+    (4, 3)
     """
     a = as_array("alpha", alpha)
     b = as_array("beta", beta)
@@ -77,6 +88,14 @@ def angles_from_direction(direction: Any) -> tuple[np.ndarray, np.ndarray]:
     Returns ``alpha = arcsin(d_y)`` in ``[-pi/2, pi/2]`` and ``beta = atan2(d_z, d_x)`` in
     ``(-pi, pi]``. The pair ``(pi - alpha, beta + pi)`` describes the same direction; S3's
     Tables 1 and 3 use that second branch for the X faces. For ``d = ±Y`` ``beta`` is 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import angles_from_direction, direction_from_angles
+    >>> alpha, beta = angles_from_direction(direction_from_angles(0.3, -1.2))
+    >>> round(float(alpha), 12), round(float(beta), 12)
+    (0.3, -1.2)
     """
     d, batched = as_batch("direction", direction, (3,))
     scale = np.abs(d).max(axis=1, keepdims=True) if d.size else np.ones((0, 1))
@@ -118,6 +137,16 @@ class Thruster:
         Minimum on-time (S3 §6: 3 ms).
     mdot : float, kg/s
         Propellant mass flow when on (S3 Table 5: 3.5 g/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import Thruster
+    >>> th = Thruster(position=np.array([1.0, 0.0, 0.0]), direction=np.array([0.0, 2.0, 0.0]))
+    >>> th.direction, th.f_max, th.t_min       # normalised; S3 Table 5 defaults
+    (array([0., 1., 0.]), 10.0, 0.003)
+    >>> round(th.isp_s, 1)                                # s, from f_max / (mdot g0)
+    291.3
     """
 
     position: np.ndarray
@@ -172,6 +201,22 @@ class ThrusterSet:
         Centre of mass in the same frame as ``positions``.
     names : tuple of str
         Optional labels (for example the mounting face).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> ts.n, ts.torque_matrix().shape
+    (6, (3, 6))
+    >>> ts.torque_matrix()[:, :2]               # r x d of the first two thrusters, N m per N
+    array([[ 0.,  0.],
+           [ 0.,  0.],
+           [ 1., -1.]])
+    >>> ts.lever_arms()
+    array([1., 1., 1., 1., 1., 1.])
     """
 
     positions: np.ndarray
@@ -265,6 +310,17 @@ def torque_matrix(positions: Any, directions: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (3, n) or (B, 3, n), N m per N
         Column ``i`` is ``r_i x d_i`` (equal to S3 eq. 4 written with the angles).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import torque_matrix
+    >>> torque_matrix([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    array([[0., 1.],
+           [0., 0.],
+           [1., 0.]])
+    >>> torque_matrix(np.zeros((5, 4, 3)), np.ones((5, 4, 3))).shape   # a batch of 5 layouts
+    (5, 3, 4)
     """
     r = as_array("positions", positions, ndim=(2, 3))
     d = as_array("directions", directions, ndim=(2, 3))
@@ -295,6 +351,18 @@ class Controllability:
     unreachable : ndarray, shape (3,)
         A unit torque direction that cannot be produced (zeros when ``success``).
     message : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import check_controllability
+    >>> c = check_controllability(ts.torque_matrix())
+    >>> type(c).__name__, c.success, c.rank
+    ('Controllability', True, 3)
     """
 
     success: bool
@@ -332,6 +400,22 @@ def check_controllability(torque_matrix: Any, *, tol: float = 1e-9) -> Controlla
     -------
     Controllability
         Never raises on an uncontrollable layout; ``message`` says why.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import check_controllability
+    >>> A = ts.torque_matrix()
+    >>> ok = check_controllability(A)
+    >>> ok.success, ok.rank, bool(ok.margin > 0)
+    (True, 3, True)
+    >>> bad = check_controllability(A[:, :5])              # drop the -y thruster
+    >>> bad.success, bad.unreachable.round(6) + 0.0         # -y torque cannot be produced
+    (False, array([ 0., -1.,  0.]))
     """
     A = as_array("torque_matrix", torque_matrix, ndim=2)
     if A.shape[0] != 3:

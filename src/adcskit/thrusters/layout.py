@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -109,6 +110,18 @@ class MountingFace:
     max_cant : float, rad
         Largest angle between the force and the inward normal, in ``[0, pi/2]``
         (``pi/2``: any direction whose exhaust leaves the face, S3 Tables 1-4).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import MountingFace, decode_layout
+    >>> face = MountingFace(name="+X", centre=np.array([1.0, 0.0, 0.0]),
+    ...                     normal=np.array([1.0, 0.0, 0.0]),
+    ...                     axis_u=np.array([0.0, 1.0, 0.0]), axis_v=np.array([0.0, 0.0, 1.0]),
+    ...                     half_u=0.5, half_v=0.5)
+    >>> ts = decode_layout([0.0, 1.0, 0.0, 0.0, 0.0], [face])   # corner u = 1, force along -normal
+    >>> ts.positions, ts.directions.round(12) + 0.0
+    (array([[1. , 0.5, 0. ]]), array([[-1.,  0.,  0.]]))
     """
 
     name: str
@@ -171,6 +184,17 @@ def box_faces(
         Faces allowed for mounting; leave out e.g. the solar-array faces.
     max_cant : float or dict name -> float, rad
         Per-face limit on the angle between force and inward normal.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import box_faces
+    >>> faces = box_faces((1.0, 1.0, 1.0))                 # S3: 2 x 2 x 2 m body
+    >>> [f.name for f in faces]
+    ['+X', '-X', '+Y', '-Y', '+Z', '-Z']
+    >>> faces[0].centre, faces[0].normal
+    (array([1., 0., 0.]), array([1., 0., 0.]))
+    >>> len(box_faces(names=("+X", "-X")))
+    2
     """
     h = as_array("half_size", half_size, shape=(3,))
     if np.any(h <= 0):
@@ -230,7 +254,22 @@ def _decode(X: np.ndarray, table: dict[str, np.ndarray]):
 def decode_layout(
     genes: Any, faces: Sequence[MountingFace], *, com: Any = (0.0, 0.0, 0.0), **thruster_kw: Any
 ) -> ThrusterSet:
-    """The :class:`ThrusterSet` encoded by a gene vector of length ``5 n`` (module docstring)."""
+    """The :class:`ThrusterSet` encoded by a gene vector of length ``5 n`` (module docstring).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import box_faces, decode_layout
+    >>> genes = [0.5, 0.0, 0.0, 0.0, 0.0,                  # face 0 (+X), centre, along -normal
+    ...          2.5, 1.0, -1.0, 1.0, 0.0]                 # face 2 (+Y), corner, fully canted
+    >>> ts = decode_layout(genes, box_faces())
+    >>> ts.n, ts.names
+    (2, ('+X', '+Y'))
+    >>> ts.positions, ts.directions.round(12) + 0.0
+    (array([[ 1.,  0.,  0.],
+           [-1.,  1.,  1.]]), array([[-1.,  0.,  0.],
+           [ 0.,  0.,  1.]]))
+    """
     g = as_array("genes", genes, ndim=1)
     if g.size % GENES_PER_THRUSTER or g.size == 0:
         raise InputError(f"genes must have length 5 n (n >= 1); got {g.size}")
@@ -255,6 +294,18 @@ class LayoutScore:
     e_min : largest per-thruster minimum reachable error (rad), eq. 16
     sum_tp : mean over the demands of the summed on-times (s), eq. 17
     on_times : on-time per demand and thruster (s), shape ``(..., K, n)``
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import score_layout
+    >>> s = score_layout(ts.torque_matrix(), np.array([[5.0, 0.0, 0.0], [0.0, 0.0, -3.0]]))
+    >>> type(s).__name__, s.on_times.shape, round(float(s.error), 9)
+    ('LayoutScore', (2, 6), 0.0)
     """
 
     fun: Any
@@ -272,13 +323,17 @@ class LayoutScore:
 
 def _score(
     A: np.ndarray, demands: np.ndarray, fmax: np.ndarray, tmin: np.ndarray,
-    t_s: float, gain: float, weights: tuple[float, float, float],
+    t_s: float, gain: float, weights: tuple[float, float, float], per_actuator: int = 1,
 ):
-    """A (B, 3, n), demands (K, 3), fmax/tmin (n,) -> fun, error, e_min, sum_tp, t_p (B, K, n)."""
+    """A (B, 3, n), demands (K, 3), fmax/tmin (n,) -> fun, error, e_min, sum_tp, t_p (B, K, n).
+
+    ``per_actuator`` thrusters fire together per column of ``A`` (2 for a couple of the
+    paired reading): each burns the column's on-time, so ``sum_tp`` counts it that often.
+    """
     F, errs = _rpi_layouts(np.ascontiguousarray(A), np.ascontiguousarray(demands), fmax)
     err = errs.mean(axis=1)
     tp = F * (t_s / fmax)
-    sum_tp = tp.sum(axis=2).mean(axis=1)
+    sum_tp = per_actuator * tp.sum(axis=2).mean(axis=1)
     lever = np.linalg.norm(A, axis=1)  # (B, n)
     e_min = (lever * fmax * tmin / (t_s * gain)).max(axis=1)
     k1, k2, k3 = weights
@@ -320,6 +375,25 @@ def score_layout(
     References
     ----------
     S3 eq. 6, 15-18, Table 7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import ThrusterSet
+    >>> r = [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1]]     # m
+    >>> d = [[0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0]]  # +-z +-x +-y
+    >>> ts = ThrusterSet(positions=np.array(r, float), directions=np.array(d, float), f_max=10.0)
+    >>> from adcskit.thrusters import score_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, 0.0, -3.0]])   # N m
+    >>> s = score_layout(ts.torque_matrix(), demands)
+    >>> round(float(s.error), 9), round(float(s.sum_tp), 6)       # exact; mean on-time 0.08 s
+    (0.0, 0.08)
+    >>> s.on_times.round(6)
+    array([[0.  , 0.  , 0.1 , 0.  , 0.  , 0.  ],
+           [0.  , 0.06, 0.  , 0.  , 0.  , 0.  ]])
+    >>> batch = score_layout(np.stack([ts.torque_matrix()] * 3), demands)
+    >>> batch.fun.shape
+    (3,)
     """
     A = as_array("torque_matrix", torque_matrix, ndim=(2, 3))
     single = A.ndim == 2
@@ -334,8 +408,8 @@ def score_layout(
     fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=(n,))
     tmin = check_positive_array("t_min", t_min, allow_zero=True, unit="s", broadcast_to=(n,))
     fun, err, e_min, sum_tp, tp = _score(
-        A, D, fmax, tmin, check_positive("t_s", t_s, unit="s"),
-        check_positive("gain", gain, unit="N m/rad"), _check_weights(weights),
+        A, D, fmax, tmin, check_positive("t_s", t_s, unit="s", min_value=1e-100),
+        check_positive("gain", gain, unit="N m/rad", min_value=1e-100), _check_weights(weights),
     )
     if single:
         return LayoutScore(fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
@@ -346,10 +420,11 @@ def score_layout(
 # ----------------------------------------------------------------------------- pymoo glue
 
 
-def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com):
+def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com, paired=False):
     from pymoo.core.problem import Problem
 
     table = _face_table(faces)
+    per = 2 if paired else 1
     nf = len(faces)
     xl = np.tile([0.0, -1.0, -1.0, 0.0, 0.0], n)
     xu = np.tile([nf - 1e-9, 1.0, 1.0, 1.0, 2 * math.pi], n)
@@ -360,8 +435,9 @@ def _make_problem(n: int, faces, demands, fmax, tmin, t_s, gain, weights, com):
 
         def _evaluate(self, X, out, *args, **kwargs):
             pos, d, _ = _decode(X, table)
-            A = np.swapaxes(np.cross(pos - com, d), -1, -2)
-            fun, *_ = _score(A, demands, fmax, tmin, t_s, gain, weights)
+            # a couple (p, d) + (-p, -d) gives 2 p x d about any CoM (paired reading)
+            A = np.swapaxes(2.0 * np.cross(pos, d) if paired else np.cross(pos - com, d), -1, -2)
+            fun, *_ = _score(A, demands, fmax, tmin, t_s, gain, weights, per)
             out["F"] = fun[:, None]
 
     return _LayoutProblem()
@@ -423,6 +499,7 @@ DE_STRATEGIES = {
 }
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LayoutResult:
     """Outcome of :func:`design_layout`.
@@ -453,6 +530,15 @@ class LayoutResult:
         CPU time of the optimisation in this process (insensitive to other jobs on the
         machine, unlike ``runtime_s``).
     algorithm : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, -5.0, 2.0]])     # N m
+    >>> res = design_layout(4, demands, pop_size=8, n_gen=3, rng=0)
+    >>> type(res).__name__, res.thrusters.n, res.x.shape, res.history.shape
+    ('LayoutResult', 4, (20,), (3,))
     """
 
     x: np.ndarray
@@ -503,6 +589,7 @@ def design_layout(
     de_F: float = 0.8,
     de_CR: float = 0.9,
     rng: Any = None,
+    paired: bool = False,
 ) -> LayoutResult:
     """Design a thruster layout minimising S3 eq. 18 with pymoo's GA or DE.
 
@@ -533,6 +620,15 @@ def design_layout(
         DE weight and crossover rate (Storn & Price 1997: F in [0.5, 1], CR = 0.9).
     rng : Generator or int, optional
         Seeds pymoo; same seed -> same layout.
+    paired : bool
+        The paired reading of S3 §4-1 ("thrusters on parallel faces act as a pair"): each
+        gene is a couple, a thruster ``(p, d)`` and its twin ``(-p, -d)`` on the parallel
+        face (point reflection through the box centre), fired together. A couple gives
+        torque ``2 p x d`` and no net force; its impulse bit is ``2 Delta F_max t_min``, so
+        its ``e_min`` is twice the single thruster's, and both members burn the on-time.
+        ``n_thrusters`` must be even and every face's parallel face must be allowed.
+        ``torque_matrix`` / ``thrusters`` list all ``n`` thrusters (twins second);
+        ``extra["couple_matrix"]`` is the ``(3, n/2)`` matrix the allocation works on.
 
     Returns
     -------
@@ -540,7 +636,29 @@ def design_layout(
 
     References
     ----------
-    S3 §4-6, eq. 18-20, Tables 1-7.
+    S3 §4-1 (constraint 2), §4-6, eq. 9-10, 18-20, Tables 1-7.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = [[5.0, 0, 0], [0, 5.0, 0], [0, 0, 5.0], [-5.0, 0, 0], [0, -5.0, 0], [0, 0, -5.0]]
+    >>> r = design_layout(6, demands, paired=True, pop_size=8, n_gen=3, rng=0)
+    >>> r.torque_matrix.shape, r.extra["couple_matrix"].shape
+    ((3, 6), (3, 3))
+    >>> bool(abs(r.thrusters.force_matrix().sum(axis=1)).max() < 1e-12)  # couples: no net force
+    True
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import design_layout
+    >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, -5.0, 2.0], [0.0, 0.0, 5.0]])   # N m
+    >>> res = design_layout(6, demands, pop_size=10, n_gen=4, rng=0)   # S3: n_gen=400
+    >>> res.thrusters.n, res.nit, res.history.shape, bool(np.all(np.diff(res.history) <= 0))
+    (6, 4, (4,), True)
+    >>> res2 = design_layout(6, demands, pop_size=10, n_gen=4, rng=0)
+    >>> bool(res2.fun == res.fun)                          # same seed, same layout
+    True
     """
     n = check_int("n_thrusters", n_thrusters, minimum=1, maximum=10_000)
     check_choice("algorithm", algorithm, DESIGN_ALGORITHMS)
@@ -548,6 +666,11 @@ def design_layout(
     faces = tuple(mounting) if mounting is not None else box_faces()
     if len(faces) == 0 or not all(isinstance(f, MountingFace) for f in faces):
         raise InputError("mounting must be a non-empty sequence of MountingFace")
+    if not isinstance(paired, bool | np.bool_):
+        raise InputError(f"paired must be a bool; got {paired!r}")
+    twin = _parallel_faces(faces) if paired else None
+    if paired and n % 2:
+        raise InputError(f"n_thrusters must be even with paired=True (couples); got {n}")
     D = as_array("demands", demands, ndim=2)
     if D.shape[1] != 3 or D.shape[0] < 1:
         raise InputError(f"demands must have shape (K, 3) with K >= 1; got {D.shape}")
@@ -555,8 +678,8 @@ def design_layout(
     fmax = np.full(n, check_positive("f_max", f_max, unit="N", min_value=1e-100))
     tmin = np.full(n, check_positive("t_min", t_min, allow_zero=True, unit="s"))
     mdot = check_positive("mdot", mdot, unit="kg/s")
-    t_s = check_positive("t_s", t_s, unit="s")
-    gain = check_positive("gain", gain, unit="N m/rad")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
+    gain = check_positive("gain", gain, unit="N m/rad", min_value=1e-100)
     com = as_array("com", com, shape=(3,))
     pop_size = check_int("pop_size", pop_size, minimum=4, maximum=100_000)
     n_gen = check_int("n_gen", n_gen, minimum=1, maximum=1_000_000)
@@ -575,7 +698,8 @@ def design_layout(
         def notify(self, algo) -> None:
             self.best.append(float(np.min(algo.pop.get("F"))))
 
-    problem = _make_problem(n, faces, D, fmax, tmin, t_s, gain, w, com)
+    n_act = n // 2 if paired else n
+    problem = _make_problem(n_act, faces, D, fmax[:n_act], tmin[:n_act], t_s, gain, w, com, paired)
     algo = _make_algorithm(algorithm, pop_size, de_strategy, de_F, de_CR)
     cb = _Best()
     t0, c0 = time.perf_counter(), time.process_time()
@@ -583,14 +707,45 @@ def design_layout(
                    copy_algorithm=False)
     runtime, cpu = time.perf_counter() - t0, time.process_time() - c0
     x = np.atleast_2d(res.X)[0]
-    ts = decode_layout(x, faces, com=com, f_max=fmax, t_min=tmin, mdot=mdot)
-    A = ts.torque_matrix()
-    fun, err, e_min, sum_tp, _ = _score(A[None], D, fmax, tmin, t_s, gain, w)
+    extra: dict[str, Any] = {}
+    if paired:
+        face_names = [f.name for f in faces]
+        one = decode_layout(x, faces)
+        ts = ThrusterSet(
+            positions=np.vstack([one.positions, -one.positions]),
+            directions=np.vstack([one.directions, -one.directions]), com=com,
+            names=tuple(one.names) + tuple(faces[twin[face_names.index(nm)]].name for nm in one.names),
+            f_max=fmax, t_min=tmin, mdot=mdot,
+        )
+        A = ts.torque_matrix()
+        A_score = 2.0 * np.cross(one.positions, one.directions).T
+        extra = {"paired": True, "couple_matrix": A_score}
+    else:
+        ts = decode_layout(x, faces, com=com, f_max=fmax, t_min=tmin, mdot=mdot)
+        A = A_score = ts.torque_matrix()
+    fun, err, e_min, sum_tp, _ = _score(A_score[None], D, fmax[:n_act], tmin[:n_act], t_s, gain, w,
+                                        2 if paired else 1)
     history = np.minimum.accumulate(np.asarray(cb.best)) if cb.best else np.array([float(fun[0])])
     return LayoutResult(
         x=x, thrusters=ts, fun=float(fun[0]), error=float(err[0]), e_min=float(e_min[0]),
         sum_tp=float(sum_tp[0]), torque_matrix=A, success=True, status=0,
         message=f"{algorithm}: {len(cb.best)} generations of {pop_size}",
         nit=len(cb.best), nfev=int(algo.evaluator.n_eval), history=history, runtime_s=runtime, cpu_s=cpu,
-        algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}",
+        algorithm=algorithm if algorithm == "ga" else f"de:{de_strategy}", extra=extra,
     )
+
+
+def _parallel_faces(faces: Sequence[MountingFace]) -> list[int]:
+    """Index of each face's parallel (point-reflected) face; InputError if one is missing."""
+    out = []
+    for f in faces:
+        j = next((i for i, g in enumerate(faces)
+                  if np.allclose(g.centre, -f.centre) and np.allclose(g.normal, -f.normal)
+                  and np.isclose(g.half_u, f.half_u) and np.isclose(g.half_v, f.half_v)), None)
+        if j is None:
+            raise InputError(
+                f"paired=True needs the parallel face of every mounting face; face {f.name!r} has none "
+                f"among {[g.name for g in faces]}"
+            )
+        out.append(j)
+    return out

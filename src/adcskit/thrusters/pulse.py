@@ -65,6 +65,12 @@ def pulse_width(force: Any, *, f_max: Any = 10.0, t_s: float = 0.2) -> np.ndarra
     -------
     numpy.ndarray, s
         ``t_p = F t_s / F_max``, same shape as ``force``.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import pulse_width
+    >>> pulse_width([0.0, 2.5, 10.0])                     # s: F t_s / F_max with 0.2 s, 10 N
+    array([0.  , 0.05, 0.2 ])
     """
     return _pulse_width("force", force, f_max, t_s)
 
@@ -72,7 +78,7 @@ def pulse_width(force: Any, *, f_max: Any = 10.0, t_s: float = 0.2) -> np.ndarra
 def _pulse_width(name: str, force: Any, f_max: Any, t_s: Any) -> np.ndarray:
     F = as_array(name, force)
     fmax = check_positive_array("f_max", f_max, unit="N", min_value=1e-100, broadcast_to=F.shape[-1:])
-    t_s = check_positive("t_s", t_s, unit="s")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
     tol = 1e-9 * np.max(fmax)
     if np.any(F < -tol) or np.any(F > fmax + tol):
         raise InputError(
@@ -87,6 +93,15 @@ def realisable_pulses(t_p: Any, *, t_min: Any = 3e-3, mode: str = "drop") -> np.
 
     ``mode="drop"``: pulses shorter than ``t_min`` are not fired (dead zone of S3 §2-2);
     ``mode="round"``: they are rounded to 0 or ``t_min``, whichever is nearer.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import realisable_pulses
+    >>> t_p = [0.001, 0.002, 0.05]                        # s
+    >>> realisable_pulses(t_p)                            # below 3 ms: not fired
+    array([0.  , 0.  , 0.05])
+    >>> realisable_pulses(t_p, mode="round")              # nearer of 0 and t_min
+    array([0.   , 0.003, 0.05 ])
     """
     tp = check_positive_array("t_p", t_p, allow_zero=True, unit="s")
     tm = check_positive_array("t_min", t_min, allow_zero=True, unit="s",
@@ -113,6 +128,12 @@ def min_impulse_bit(lever_arm: Any, *, f_max: Any = 10.0, t_min: Any = 3e-3) -> 
     References
     ----------
     S3 eq. 9 with the lever arm of eq. 8 (derived in the module docstring).
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import min_impulse_bit
+    >>> min_impulse_bit([1.0, 0.5]).round(9)              # N m s: lever arm x 10 N x 3 ms
+    array([0.03 , 0.015])
     """
     d = as_array("lever_arm", lever_arm)
     if np.any(d < 0):
@@ -140,14 +161,31 @@ def min_reachable_error(
     References
     ----------
     S3 eq. 10 and 16 with the lever arm in the impulse bit (module docstring).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import min_reachable_error
+    >>> e = min_reachable_error([1.0, 0.5])               # rad: 0.03 N m s / (0.2 s x 600 N m/rad)
+    >>> e.round(9), np.degrees(e).round(6)
+    (array([0.00025 , 0.000125]), array([0.014324, 0.007162]))
     """
-    t_s = check_positive("t_s", t_s, unit="s")
-    gain = check_positive("gain", gain, unit="N m/rad")
+    t_s = check_positive("t_s", t_s, unit="s", min_value=1e-100)
+    gain = check_positive("gain", gain, unit="N m/rad", min_value=1e-100)
     return min_impulse_bit(lever_arm, f_max=f_max, t_min=t_min) / (t_s * gain)
 
 
 def fuel_mass(t_p: Any, *, mdot: Any = 3.5e-3) -> np.ndarray:
-    """Propellant used by pulses of width ``t_p`` (kg), S3 eq. 7; sum it for a manoeuvre."""
+    """Propellant used by pulses of width ``t_p`` (kg), S3 eq. 7; sum it for a manoeuvre.
+
+    Examples
+    --------
+    >>> from adcskit.thrusters import fuel_mass
+    >>> fuel_mass([0.1, 0.2])                             # kg, 3.5 g/s x on-time
+    array([0.00035, 0.0007 ])
+    >>> round(float(fuel_mass([[0.2, 0.0], [0.1, 0.1]]).sum()), 9)   # kg for a 2-sample manoeuvre
+    0.0014
+    """
     tp = check_positive_array("t_p", t_p, allow_zero=True, unit="s")
     md = check_positive_array("mdot", mdot, allow_zero=True, unit="kg/s", broadcast_to=tp.shape[-1:] if tp.ndim else ())
     return tp * md
@@ -172,6 +210,16 @@ def manoeuvre_fuel(
     References
     ----------
     S3 eq. 6-7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.thrusters import manoeuvre_fuel
+    >>> forces = np.array([[5.0, 0.0], [10.0, 0.1]])        # N, 2 samples x 2 thrusters
+    >>> round(manoeuvre_fuel(forces), 9)                  # kg: (0.1 + 0.2 + 0.002) s x 3.5 g/s
+    0.001057
+    >>> round(manoeuvre_fuel(forces, t_min=0.003), 9)     # the 2 ms pulse is dropped
+    0.00105
     """
     tp = _pulse_width("forces", forces, f_max, t_s)
     if t_min is not None:

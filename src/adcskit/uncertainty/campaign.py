@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import compact_repr
 from adcskit._validation import check_callable, check_int, check_path, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
@@ -40,6 +41,7 @@ from adcskit.uncertainty.executor import NO_SHARED, Executor, make_executor
 __all__ = ["CampaignResult", "run_campaign"]
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CampaignResult:
     """Outcome of :func:`run_campaign`.
@@ -56,6 +58,14 @@ class CampaignResult:
         Where chunk results are kept (None: not kept).
     executor : str
         Spec of the executor that ran the computed chunks.
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import run_campaign
+    >>> res = run_campaign(math.sqrt, [1.0, 4.0, 9.0], chunk_size=2)
+    >>> type(res).__name__, res.values, res.n_chunks, res.n_resumed, res.executor
+    ('CampaignResult', [1.0, 2.0, 3.0], 2, 0, 'serial')
     """
 
     values: list
@@ -170,6 +180,18 @@ def run_campaign(
     -------
     CampaignResult
         Values in task order, and how many chunks were resumed.
+
+    Examples
+    --------
+    >>> import math, tempfile
+    >>> from adcskit.uncertainty import run_campaign
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     first = run_campaign(math.sqrt, [1.0, 4.0, 9.0, 16.0], directory=d, chunk_size=2)
+    ...     again = run_campaign(math.sqrt, [1.0, 4.0, 9.0, 16.0], directory=d, chunk_size=2)
+    >>> first.values, first.n_resumed
+    ([1.0, 2.0, 3.0, 4.0], 0)
+    >>> again.values, again.n_resumed                    # every chunk loaded from disk
+    ([1.0, 2.0, 3.0, 4.0], 2)
     """
     check_callable("fn", fn)
     if isinstance(tasks, str | bytes) or not isinstance(tasks, Iterable):

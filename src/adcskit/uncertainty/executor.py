@@ -81,7 +81,18 @@ def _apply_shared(task: Any, fn: Callable[[Any, Any], Any], shared: Any) -> Any:
 
 
 class Executor(abc.ABC):
-    """Maps a function over tasks; results come back in task order."""
+    """Maps a function over tasks; results come back in task order.
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import Executor, make_executor
+    >>> ex = make_executor("serial")
+    >>> isinstance(ex, Executor), ex.n_workers
+    (True, 1)
+    >>> ex.map(math.pow, [1.0, 2.0, 3.0], shared=2.0)        # fn(task, shared) in task order
+    [1.0, 4.0, 9.0]
+    """
 
     spec: str = "?"
 
@@ -118,7 +129,16 @@ class Executor(abc.ABC):
 
 
 class SerialExecutor(Executor):
-    """Runs every task in the calling process, in order."""
+    """Runs every task in the calling process, in order.
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import SerialExecutor
+    >>> with SerialExecutor() as ex:
+    ...     print(ex.spec, ex.n_workers, ex.map(math.sqrt, [1.0, 4.0, 9.0]))
+    serial 1 [1.0, 2.0, 3.0]
+    """
 
     spec = "serial"
 
@@ -140,7 +160,16 @@ def _check_map(fn: Any, tasks: Any) -> None:
 
 
 class ProcessExecutor(Executor):
-    """A local process pool (``spawn`` start method)."""
+    """A local process pool (``spawn`` start method).
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import ProcessExecutor
+    >>> with ProcessExecutor(n_workers=2) as ex:
+    ...     print(ex.spec, ex.map(math.sqrt, [1.0, 4.0, 9.0]))
+    processes:2 [1.0, 2.0, 3.0]
+    """
 
     def __init__(self, n_workers: int | None = None) -> None:
         if n_workers is not None:
@@ -190,7 +219,19 @@ class ProcessExecutor(Executor):
 
 
 class DaskExecutor(Executor):
-    """Tasks on a ``dask.distributed`` cluster: a new local one or an existing scheduler."""
+    """Tasks on a ``dask.distributed`` cluster: a new local one or an existing scheduler.
+
+    Examples
+    --------
+    >>> import math
+    >>> from adcskit.uncertainty import DaskExecutor
+    >>> with DaskExecutor(n_workers=2) as ex:     # LocalCluster: slow start  # doctest: +SKIP
+    ...     print(ex.n_workers, ex.map(math.sqrt, [1.0, 4.0, 9.0]))
+    2 [1.0, 2.0, 3.0]
+    >>> from adcskit.uncertainty import Executor
+    >>> issubclass(DaskExecutor, Executor)
+    True
+    """
 
     def __init__(self, address: str | None = None, n_workers: int | None = None) -> None:
         from dask.distributed import Client, LocalCluster
@@ -270,6 +311,18 @@ def make_executor(spec: str | Executor | None = None) -> Executor:
     InputError
         If ``spec`` is not one of ``serial``, ``processes[:N]``, ``dask-local[:N]`` or
         ``dask://HOST:PORT``.
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import make_executor
+    >>> make_executor("serial")
+    SerialExecutor('serial')
+    >>> make_executor(None).n_workers                     # default: serial
+    1
+    >>> ex = make_executor("processes:2")                 # spawn pool; workers start on first map
+    >>> ex.n_workers
+    2
+    >>> ex.close()
     """
     if spec is None:
         return SerialExecutor()

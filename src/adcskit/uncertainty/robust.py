@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import as_array, check_int, check_positive
+from adcskit._validation import as_array, check_choice, check_int, check_positive
 from adcskit.errors import InputError
 
 __all__ = ["robust_objective", "weights_from_ratio", "mean_change_converged"]
@@ -24,6 +24,14 @@ def weights_from_ratio(ratio: float) -> tuple[float, float]:
 
     S4 reports only the ratio ``w₂/w₁``; normalising the sum leaves the minimiser
     unchanged and keeps the objective on the scale of the error.
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import weights_from_ratio
+    >>> weights_from_ratio(1.0)
+    (0.5, 0.5)
+    >>> tuple(round(w, 6) for w in weights_from_ratio(3.0))   # w2 / w1 = 3, w1 + w2 = 1
+    (0.25, 0.75)
     """
     r = check_positive("ratio", ratio, allow_zero=True)
     return 1.0 / (1.0 + r), r / (1.0 + r)
@@ -37,6 +45,7 @@ def robust_objective(
     w2: float = 1.0,
     overshoot_max_pct: float = 10.0,
     penalty_weight: float = 1.0,
+    penalty_on: str = "sample",
 ) -> np.ndarray:
     """S4 eq. (10): ``F = w₁ E(|Error|) + w₂ σ(Error) + penalty`` over the last axis.
 
@@ -53,7 +62,11 @@ def robust_objective(
     overshoot_max_pct : float
         Overshoot limit [%] (S4: 10 %).
     penalty_weight : float
-        Penalty per percent of mean overshoot excess, in the units of ``errors``.
+        Penalty per percent of overshoot excess, in the units of ``errors``.
+    penalty_on : {"sample", "mean"}
+        S4 does not print its penalty. ``"sample"``: the mean over the samples of each
+        sample's excess ``max(os - os_max, 0)``; ``"mean"``: the excess of the expected
+        overshoot, ``max(E[os] - os_max, 0)`` (a constraint on E[overshoot]).
 
     Returns
     -------
@@ -63,6 +76,17 @@ def robust_objective(
     References
     ----------
     S4, eq. (10).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import robust_objective
+    >>> errors = np.array([[1.0, 2.0, 3.0], [2.0, 2.0, 2.0]])   # 2 candidates x 3 samples
+    >>> robust_objective(errors).round(6)                 # mean + std (ddof=0)
+    array([2.816497, 2.      ])
+    >>> overshoot = [[5.0, 5.0, 5.0], [12.0, 14.0, 16.0]]   # %, the 2nd candidate exceeds 10 %
+    >>> robust_objective(errors, overshoot).round(6)
+    array([2.816497, 6.      ])
     """
     e = as_array("errors", errors, finite=False)
     if e.ndim == 0 or e.shape[-1] < 1:
@@ -71,14 +95,19 @@ def robust_objective(
     w2 = check_positive("w2", w2, allow_zero=True)
     check_positive("overshoot_max_pct", overshoot_max_pct)
     check_positive("penalty_weight", penalty_weight, allow_zero=True)
+    check_choice("penalty_on", penalty_on, ("sample", "mean"))
     a = np.abs(e)
     f = w1 * a.mean(axis=-1) + w2 * a.std(axis=-1)
     if overshoot_pct is not None:
         os = as_array("overshoot_pct", overshoot_pct, finite=False)
         if os.shape != e.shape:
             raise InputError(f"overshoot_pct must have the shape of errors {e.shape}; got {os.shape}")
-        excess = np.maximum(np.nan_to_num(os, nan=0.0) - overshoot_max_pct, 0.0)
-        f = f + penalty_weight * excess.mean(axis=-1)
+        os = np.nan_to_num(os, nan=0.0)
+        if penalty_on == "mean":
+            excess = np.maximum(os.mean(axis=-1) - overshoot_max_pct, 0.0)
+        else:
+            excess = np.maximum(os - overshoot_max_pct, 0.0).mean(axis=-1)
+        f = f + penalty_weight * excess
     # a non-finite error (diverged sample) makes the candidate infeasible, not NaN
     return np.where(np.isfinite(f), f, np.inf)
 
@@ -99,6 +128,17 @@ def mean_change_converged(history: Sequence[float], *, tol: float = 1e-7, window
     -------
     bool
         False until ``window + 1`` values are available.
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import mean_change_converged
+    >>> history = [1.0, 0.5, 0.3] + [0.2] * 10            # best objective per generation
+    >>> mean_change_converged(history, tol=1e-7, window=10)   # 0.3 -> 0.2 is still in the window
+    False
+    >>> mean_change_converged(history + [0.2], tol=1e-7, window=10)
+    True
+    >>> mean_change_converged(history[:5])                # too short to judge
+    False
     """
     tol = check_positive("tol", tol)
     window = check_int("window", window, minimum=1)

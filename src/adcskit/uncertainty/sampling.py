@@ -36,7 +36,16 @@ __all__ = ["Gaussian", "TruncatedGaussian", "Fixed", "latin_hypercube", "SampleS
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Gaussian:
-    """Normal distribution ``N(mean, std²)``."""
+    """Normal distribution ``N(mean, std²)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import Gaussian
+    >>> g = Gaussian(mean=10.0, std=1.0)                  # inertia, kg m^2
+    >>> g.ppf(np.array([0.5, 0.975])).round(4)           # quantile function
+    array([10.  , 11.96])
+    """
 
     mean: float
     std: float
@@ -62,6 +71,15 @@ class TruncatedGaussian:
 
     Used for parameters that must keep their sign (delay and inertia stay positive). Note
     that ``mean`` and ``std`` are those of the parent normal, not of the truncated law.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import TruncatedGaussian
+    >>> delay = TruncatedGaussian(mean=0.02, std=0.02, low=0.0)   # s, kept positive
+    >>> x = delay.ppf(np.array([0.001, 0.5, 0.9]))           # quantiles
+    >>> bool(np.all(x >= 0.0)), (1e3 * x).round(2)                 # ms
+    (True, array([ 0.07, 24.  , 47.56]))
     """
 
     mean: float
@@ -94,7 +112,14 @@ class TruncatedGaussian:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Fixed:
-    """A parameter without uncertainty (a point mass)."""
+    """A parameter without uncertainty (a point mass).
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import Fixed, latin_hypercube
+    >>> latin_hypercube({"torque": Fixed(value=1.0)}, 3, rng=0)["torque"]
+    array([1., 1., 1.])
+    """
 
     value: float
 
@@ -143,6 +168,18 @@ def latin_hypercube(
     References
     ----------
     S4, Fig. 11 (LHS of the Gaussian inertia, 1000 samples); McKay, Beckman & Conover (1979).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import Fixed, Gaussian, latin_hypercube
+    >>> dists = {"inertia": Gaussian(mean=10.0, std=1.0), "torque": Fixed(value=1.0)}
+    >>> s = latin_hypercube(dists, 4, rng=0)
+    >>> list(s), s["inertia"].shape
+    (['inertia', 'torque'], (4,))
+    >>> from scipy.stats import norm
+    >>> np.sort(np.floor(4 * norm.cdf(s["inertia"], 10.0, 1.0)))   # one sample per quartile bin
+    array([0., 1., 2., 3.])
     """
     if not isinstance(dists, Mapping) or not dists:
         raise InputTypeError(f"dists must be a non-empty mapping of name -> distribution; got {dists!r}")
@@ -159,7 +196,15 @@ def latin_hypercube(
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SampleStats:
-    """Summary statistics of a sample (``std`` with ``ddof=1``)."""
+    """Summary statistics of a sample (``std`` with ``ddof=1``).
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import sample_stats
+    >>> s = sample_stats([1.0, 2.0, 3.0, 4.0])
+    >>> type(s).__name__, s.n, s.mean, round(s.std, 6), s.p50
+    ('SampleStats', 4, 2.5, 1.290994, 2.5)
+    """
 
     n: int
     mean: float
@@ -179,6 +224,17 @@ def sample_stats(x: Any) -> SampleStats:
 
     NaN and infinite entries are ignored; ``n`` counts the finite ones. An input without any
     finite value raises :class:`~adcskit.errors.InputError` (there is nothing to summarise).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adcskit.uncertainty import sample_stats
+    >>> x = np.random.default_rng(0).normal(10.0, 1.0, 1000)
+    >>> s = sample_stats(np.append(x, np.nan))            # NaN is ignored
+    >>> s.n, round(s.mean, 1), round(s.std, 1)
+    (1000, 10.0, 1.0)
+    >>> sorted(s.to_dict())
+    ['max', 'mean', 'min', 'n', 'p05', 'p50', 'p95', 'std']
     """
     arr = as_array("x", x, finite=False, nonempty=False).ravel()
     arr = arr[np.isfinite(arr)]

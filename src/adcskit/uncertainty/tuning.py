@@ -37,8 +37,9 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import bar, status
+from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
-from adcskit._validation import as_rng, check_int, check_positive
+from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
 from adcskit.errors import InputError
 from adcskit.uncertainty.robust import mean_change_converged, robust_objective
@@ -113,6 +114,7 @@ def evaluate_gains(
     return simulate_batch(base.replace(**changes), settings, parallel=parallel, backend=backend)
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ParetoResult:
     """Pareto front of the deterministic two-objective tuning (S4 eq. 9).
@@ -153,6 +155,7 @@ class ParetoResult:
         }
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RobustTuningResult:
     """Outcome of the robust GA tuning (S4 eq. 10).
@@ -339,6 +342,7 @@ def tune_robust(
     rng: Any = None,
     backend: str = "cpu",
     time_estimate: bool = False,
+    penalty_on: str = "sample",
 ) -> RobustTuningResult:
     """Robust GA tuning on LHS samples (S4 eq. 10, Fig. 8).
 
@@ -373,6 +377,9 @@ def tune_robust(
         print the predicted duration above the progress bars (shown when a progress session
         is active, e.g. under the CLI). A progress bar over the generations is always
         offered to the active session.
+    penalty_on : {"sample", "mean"}
+        Penalise each sample's overshoot excess (averaged) or the excess of the mean
+        overshoot (:func:`adcskit.uncertainty.robust.robust_objective`).
 
     Returns
     -------
@@ -400,6 +407,7 @@ def tune_robust(
     tol = check_positive("tol", tol)
     lo, hi = _bounds(bounds)
     osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
+    check_choice("penalty_on", penalty_on, ("sample", "mean"))
     base = LoopParams() if base is None else base
     target = resolve_backend(backend)
     gen = as_rng(rng)
@@ -420,7 +428,8 @@ def tune_robust(
         err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
         os = m.overshoot_pct.reshape(x.shape[0], n_samples)
         f = robust_objective(
-            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight
+            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight,
+            penalty_on=penalty_on,
         )
         return f, m
 
@@ -478,6 +487,7 @@ def tune_robust(
     )
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MonteCarloResult:
     """Monte-Carlo evaluation of one gain triple.
@@ -686,6 +696,7 @@ PAPER_SCALE = RobustTuningScale()
 with the 1000-generation cap, 1000 LHS samples per candidate, 10 000-run evaluation."""
 
 
+@compact_repr
 @dataclass(frozen=True, slots=True, kw_only=True)
 class TuningTimeEstimate:
     """Predicted duration of a robust tuning run, from a timed calibration batch.

@@ -4,6 +4,30 @@ from adcskit.optimal_control.problems.double_integrator import (
     double_integrator_min_energy,
     double_integrator_min_time,
 )
+from adcskit.optimal_control.problems.launch import launch_ascent, launch_ascent_guess
 from adcskit.optimal_control.problems.rendezvous import RendezvousParams, rendezvous_problem
+from adcskit.optimal_control.problems.standard import (
+    brachistochrone,
+    brachistochrone_time,
+    bryson_denham,
+    goddard_rocket,
+    hypersensitive,
+    reference_objective,
+    rigid_body_reorientation,
+)
 
-__all__ = ["RendezvousParams", "double_integrator_min_energy", "double_integrator_min_time", "rendezvous_problem"]
+__all__ = [
+    "RendezvousParams",
+    "brachistochrone",
+    "brachistochrone_time",
+    "bryson_denham",
+    "double_integrator_min_energy",
+    "double_integrator_min_time",
+    "goddard_rocket",
+    "hypersensitive",
+    "launch_ascent",
+    "launch_ascent_guess",
+    "reference_objective",
+    "rendezvous_problem",
+    "rigid_body_reorientation",
+]

@@ -1,0 +1,792 @@
+"""Error-controlled hp mesh refinement for the Gauss and Radau transcriptions.
+
+:func:`estimate_error` measures, in every mesh interval, the relative error of the state:
+the collocation polynomial ``X(τ)`` is compared with an integration of the dynamics under
+the interpolated control on a finer set of ``N + extra`` Legendre–Gauss–Radau points
+(Patterson, Hager & Rao 2015, eq. 26–29)::
+
+    X̂(s_j) = X(s_1) + (h/2) Σ_l I_jl f(X(s_l), U(s_l), t_l),
+    e_i    = max_j |X̂_i(s_j) − X_i(s_j)| / (1 + max_j |X_i(s_j)|),
+
+with ``I`` the LGR integration matrix of the finer points and ``U`` the Lagrange
+interpolant of the collocation controls (clipped to the bounds). State bounds hold only at
+the support points; a violation ``max(X − x_max, x_min − X, 0) / (1 + max|X|)`` at the finer
+points counts as error too (it is what limits the objective's accuracy on state-constrained
+arcs such as Bryson–Denham's). The interval's error is the largest over the states.
+
+:func:`solve_adaptive` solves, estimates, and refines each interval whose error exceeds
+``tol`` until every interval meets it:
+
+* **p** (degree increase) where the state is smooth: the new number of collocation points is
+  ``N + P`` with ``P = ⌈log(e / tol) / log N⌉`` (Patterson, Hager & Rao 2015, eq. 31), as long
+  as it stays ``<= n_max``;
+* **h** (split) otherwise: an interval whose control jumps between collocation points (a
+  bang-bang switch, a constraint corner: Liu, Hager & Rao 2015 bracket such
+  nonsmoothness) is split at the jump; an interval whose Legendre coefficients of the state
+  do not decay (Liu, Hager & Rao 2018), or whose required degree exceeds ``n_max``, is split
+  into ``B = max(2, ⌈(N + P) / n_min⌉)`` equal sub-intervals of ``n_min`` points
+  (Patterson, Hager & Rao 2015, eq. 32).
+
+Each refinement is warm-started from the previous solution (:func:`solve` with the previous
+solution as ``guess``). Multi-phase problems (:class:`MultiPhaseProblem`) are refined phase
+by phase with the same rules.
+
+References
+----------
+Patterson, Hager & Rao, "A ph mesh refinement method for optimal control", Optim. Control
+Appl. Meth. 36(4), 2015. Liu, Hager & Rao, "Adaptive mesh refinement method for optimal
+control using nonsmoothness detection and mesh size reduction", J. Franklin Inst. 352(10),
+2015. Liu, Hager & Rao, "An hp mesh refinement method for optimal control", Optim. Control
+Appl. Meth. 39(4), 2018. Garg et al., Automatica 46(11), 2010 (LGR integration matrix).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, fields
+from typing import Any
+
+import casadi as ca
+import numpy as np
+from numpy.polynomial import legendre as _leg
+
+from adcskit._results import compact_repr
+from adcskit._validation import check_choice, check_int, check_positive
+from adcskit.errors import InputError, InputTypeError
+from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
+from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
+from adcskit.optimal_control.solve import OptimalControlSolution, solve
+from adcskit.optimal_control.transcription import METHODS
+
+__all__ = [
+    "AdaptiveSolution",
+    "ErrorCertificate",
+    "MeshIteration",
+    "estimate_error",
+    "refine_mesh",
+    "solve_adaptive",
+    "symmetry_breaking_guess",
+    "guess_from_function",
+]
+
+
+# ----------------------------------------------------------------------------- estimate
+_INT_CACHE: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _lgr_integration(m: int) -> tuple[np.ndarray, np.ndarray]:
+    """LGR points ``s`` (m) and the matrix ``I`` (m × m) with ``I[j, l] = ∫_{-1}^{e_j} L_l``,
+    ``e = (s_2, …, s_m, +1)`` (Garg et al. 2010, integral form of the Radau method)."""
+    hit = _INT_CACHE.get(m)
+    if hit is not None:
+        return hit
+    s, _ = legendre_gauss_radau(m)
+    V = _leg.legvander(s, m - 1)  # V[j, k] = P_k(s_j)
+    C = np.linalg.inv(V)  # column l: Legendre coefficients of L_l
+    ends = np.concatenate((s[1:], [1.0]))
+    Cint = _leg.legint(C, lbnd=-1.0, axis=0)
+    I = _leg.legvander(ends, m) @ Cint
+    _INT_CACHE[m] = (s, I)
+    return s, I
+
+
+def _interval_error(piece, f_map, lo, hi, s_lo, s_hi, extra: int) -> tuple[float, np.ndarray]:
+    """Relative state error of one interval and the per-state errors."""
+    t_a, t_b = float(piece.ts[0]), float(piece.t_end)
+    h = t_b - t_a
+    n = piece.uc.shape[0]
+    m = n + extra
+    s, I = _lgr_integration(m)
+    tau_sup = 2.0 * (piece.ts - t_a) / h - 1.0
+    tau_c = 2.0 * (piece.tc - t_a) / h - 1.0
+    pts = np.concatenate((s, [1.0]))
+    X = lagrange_matrix(tau_sup, pts) @ piece.xs  # (m+1, nx)
+    if piece.uc.shape[1]:
+        U = np.clip(lagrange_matrix(tau_c, s) @ piece.uc, lo, hi)
+    else:
+        U = np.zeros((m, 0))
+    tt = t_a + (s + 1.0) / 2.0 * h
+    F = np.asarray(f_map(m)(X[:m].T, U.T, tt[None, :])).T  # (m, nx)
+    Xhat = X[0] + h / 2.0 * (I @ F)
+    denom = 1.0 + np.max(np.abs(X), axis=0)
+    e_state = np.max(np.abs(Xhat - X[1:]), axis=0) / denom
+    # state bounds are enforced only at the support points: count a violation between them
+    viol = np.maximum(np.max(X - s_hi, axis=0), np.max(s_lo - X, axis=0))
+    e_state = np.maximum(e_state, np.maximum(viol, 0.0) / denom)
+    if not np.all(np.isfinite(e_state)):
+        e_state = np.full_like(e_state, np.inf)
+    return float(np.max(e_state)), e_state
+
+
+def estimate_error(solution: OptimalControlSolution, *, extra_points: int = 1) -> np.ndarray:
+    """Relative state error of every mesh interval of a solution.
+
+    Parameters
+    ----------
+    solution : OptimalControlSolution
+        A Gauss or Radau solution (of :func:`solve` or one phase of :func:`solve_multiphase`).
+    extra_points : int
+        The dynamics are integrated on ``N + extra_points`` LGR points per interval
+        (``N``: the interval's collocation points); Patterson, Hager & Rao use 1.
+
+    Returns
+    -------
+    (n_intervals,) ndarray
+        ``max_i max_j |X̂_i − X_i| / (1 + max_j |X_i|)`` per interval (dimensionless),
+        or the relative state-bound violation between the support points when larger.
+
+    References
+    ----------
+    Patterson, Hager & Rao, Optim. Control Appl. Meth. 36(4), 2015, eq. 26–29.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve, estimate_error
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> sol = solve(double_integrator_min_energy(), method="radau", mesh=(2, 3))
+    >>> bool(estimate_error(sol).max() < 1e-10)  # cubic state: exact on any mesh
+    True
+    """
+    if not isinstance(solution, OptimalControlSolution):
+        raise InputTypeError(f"solution must be an OptimalControlSolution; got {type(solution).__name__}")
+    extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
+    f_map = _mapper(solution.dynamics_fun)
+    pr = solution.problem
+    lo, hi = pr.control_lower, pr.control_upper
+    return np.array(
+        [_interval_error(p, f_map, lo, hi, pr.state_lower, pr.state_upper, extra)[0] for p in solution.pieces]
+    )
+
+
+def _mapper(f: ca.Function):
+    cache: dict[int, ca.Function] = {}
+
+    def get(m: int) -> ca.Function:
+        if m not in cache:
+            cache[m] = f.map(m)
+        return cache[m]
+
+    return get
+
+
+# ----------------------------------------------------------------------------- refine
+def _legendre_decay(piece) -> float:
+    """Exponential decay rate σ of the Legendre coefficients of the state polynomial,
+    ``|a_k| ≈ c e^{−σ k}`` fitted over ``k >= 1`` (the smallest over the states; +inf when
+    every state is a constant or a line)."""
+    t_a, t_b = float(piece.ts[0]), float(piece.t_end)
+    tau = 2.0 * (piece.ts - t_a) / (t_b - t_a) - 1.0
+    n = tau.size - 1
+    if n < 2:
+        return np.inf
+    a = np.abs(_leg.legfit(tau, piece.xs, n))  # (n+1, nx)
+    sig = np.inf
+    for i in range(a.shape[1]):
+        ai = a[1:, i]
+        floor = 1e-13 * (np.max(np.abs(piece.xs[:, i])) + 1e-300)
+        ok = ai > floor
+        if ok.sum() < 2 or np.max(ai[1:]) <= floor:
+            continue  # (nearly) linear state in this interval
+        k = np.arange(1, n + 1)[ok]
+        slope = np.polyfit(k, np.log(ai[ok]), 1)[0]
+        sig = min(sig, -slope)
+    return float(sig)
+
+
+def _control_jump(piece, lo, hi, threshold: float) -> float | None:
+    """Fraction of the interval (0..1) where a control jumps, or None.
+
+    A jump is a change between consecutive collocation points larger than ``threshold``
+    times the channel's range (its bound span where finite, else its range over the interval),
+    a bang-bang switch or a constraint corner.
+    """
+    uc = piece.uc
+    if uc.shape[0] < 2 or uc.shape[1] == 0:
+        return None
+    span = np.where(np.isfinite(hi - lo), hi - lo, np.ptp(uc, axis=0))
+    span = np.where(span > 0, span, np.inf)
+    d = np.abs(np.diff(uc, axis=0)) / span  # (n-1, nu)
+    k, j = np.unravel_index(np.argmax(d), d.shape)
+    if d[k, j] < threshold:
+        return None
+    t_a, t_b = float(piece.ts[0]), float(piece.t_end)
+    tm = 0.5 * (piece.tc[k] + piece.tc[k + 1])
+    frac = (tm - t_a) / (t_b - t_a)
+    lo_j, hi_j = lo[j], hi[j]
+    if np.isfinite(hi_j - lo_j) and hi_j > lo_j:
+        # a bang-bang switch (first and last collocation values on opposite bounds): place the
+        # break where a single switch gives the same quadrature-weighted mean control as the
+        # collocation solution, ``∫ u dt`` (exact for a control entering linearly)
+        a, b = uc[0, j], uc[-1, j]
+        tol_b = 0.05 * (hi_j - lo_j)
+        first_hi = abs(a - hi_j) <= tol_b and abs(b - lo_j) <= tol_b
+        first_lo = abs(a - lo_j) <= tol_b and abs(b - hi_j) <= tol_b
+        if first_hi or first_lo:
+            tau_c = 2.0 * (piece.tc - t_a) / (t_b - t_a) - 1.0
+            w = _quadrature_weights(tau_c)
+            mean = float(w @ uc[:, j]) / 2.0
+            on_hi = (mean - lo_j) / (hi_j - lo_j)  # fraction of the interval on the upper bound
+            f_sw = on_hi if first_hi else 1.0 - on_hi
+            if 0.0 < f_sw < 1.0:
+                frac = f_sw
+    return float(frac)
+
+
+def _quadrature_weights(tau: np.ndarray) -> np.ndarray:
+    """Interpolatory quadrature weights on ``[-1, 1]`` of the points ``tau``."""
+    n = tau.size
+    V = _leg.legvander(tau, n - 1)
+    rhs = np.zeros(n)
+    rhs[0] = 2.0
+    return np.linalg.solve(V.T, rhs)
+
+
+def refine_mesh(
+    mesh: Mesh,
+    errors,
+    *,
+    tol: float,
+    pieces=None,
+    control_lower=None,
+    control_upper=None,
+    n_min: int = 3,
+    n_max: int = 10,
+    smooth_decay: float = 1.0,
+    jump_threshold: float = 0.5,
+) -> tuple[Mesh, tuple[str, ...]]:
+    """The next mesh of the hp scheme and the action taken per interval.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    errors : (n_intervals,) array_like
+        Relative errors from :func:`estimate_error`.
+    tol : float
+        Target relative error.
+    pieces : sequence, optional
+        The solution's interval pieces (``solution.pieces``); enable the smoothness and
+        control-jump tests. Without them every interval is refined by the ph rule alone.
+    control_lower, control_upper : array_like, optional
+        Control bounds for the jump test.
+    n_min, n_max : int
+        Fewest / most collocation points per interval.
+    smooth_decay : float
+        An interval is smooth when the Legendre coefficients of every state decay at least as
+        ``e^{−smooth_decay k}`` (Liu, Hager & Rao 2018).
+    jump_threshold : float
+        A control jump larger than this fraction of its range between consecutive
+        collocation points marks a nonsmooth interval (Liu, Hager & Rao 2015).
+
+    Returns
+    -------
+    mesh : Mesh
+        The refined mesh (the same mesh when every error is below ``tol``).
+    action : tuple of str
+        ``"keep"``, ``"p"`` (degree raised), ``"h"`` (split into equal parts) or ``"h-jump"``
+        (split at a detected control jump).
+
+    References
+    ----------
+    Patterson, Hager & Rao 2015, eq. 31–32; Liu, Hager & Rao 2015, §3; 2018, §3.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import Mesh, refine_mesh
+    >>> new, action = refine_mesh(Mesh.uniform(2, 4), [1e-3, 1e-9], tol=1e-6)
+    >>> new.nodes, action
+    ((9, 4), ('p', 'keep'))
+    """
+    if not isinstance(mesh, Mesh):
+        raise InputTypeError(f"mesh must be a Mesh; got {type(mesh).__name__}")
+    err = np.asarray(errors, float)
+    if err.shape != (mesh.n_intervals,):
+        raise InputError(f"errors must have shape ({mesh.n_intervals},); got {err.shape}")
+    tol = check_positive("tol", tol)
+    n_min = check_int("n_min", n_min, minimum=1)
+    n_max = check_int("n_max", n_max, minimum=n_min)
+    nodes: list[int] = []
+    fracs: list[float] = []
+    actions = []
+    for r, (n, fr, e) in enumerate(zip(mesh.nodes, mesh.fractions, err, strict=True)):
+        if e <= tol:
+            nodes.append(n)
+            fracs.append(fr)
+            actions.append("keep")
+            continue
+        if np.isfinite(e):
+            P = max(1, math.ceil(math.log(e / tol) / math.log(max(n, 2))))
+        else:
+            P = n_max
+        piece = pieces[r] if pieces is not None else None
+        jump = None
+        smooth = True
+        if piece is not None:
+            lo = np.full(piece.uc.shape[1], -np.inf) if control_lower is None else np.asarray(control_lower, float)
+            hi = np.full(piece.uc.shape[1], np.inf) if control_upper is None else np.asarray(control_upper, float)
+            jump = _control_jump(piece, lo, hi, jump_threshold)
+            smooth = jump is None and _legendre_decay(piece) >= smooth_decay
+        if smooth and n + P <= n_max:
+            nodes.append(n + P)
+            fracs.append(fr)
+            actions.append("p")
+        elif jump is not None and 0.02 < jump < 0.98:
+            nodes += [max(n_min, n), max(n_min, n)]
+            fracs += [fr * jump, fr * (1.0 - jump)]
+            actions.append("h-jump")
+        else:
+            B = max(2, math.ceil((n + P) / n_min)) if np.isfinite(e) else 2
+            B = min(B, 8)
+            nodes += [n_min] * B
+            fracs += [fr / B] * B
+            actions.append("h")
+    fr_arr = np.array(fracs)
+    fr_arr = fr_arr / fr_arr.sum()
+    return Mesh(nodes=tuple(nodes), fractions=tuple(float(v) for v in fr_arr)), tuple(actions)
+
+
+# ----------------------------------------------------------------------------- results
+@compact_repr
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MeshIteration:
+    """One solve of the refinement loop.
+
+    Attributes
+    ----------
+    meshes : tuple of Mesh
+        The mesh of every phase (one for a single-phase problem).
+    n_collocation : int
+        Collocation points over all intervals and phases.
+    max_error : float
+        Largest relative interval error of this solve.
+    objective : float
+    success : bool
+        The NLP solve succeeded.
+    nit : int
+        IPOPT iterations.
+    solve_s : float
+        Wall time of the NLP build and solve (s).
+    warm_start : str
+        How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
+        the new mesh) or ``"primal-dual"`` (see :func:`solve`).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> it = sol.mesh_history[0]
+    >>> it.n_collocation > 0, it.warm_start
+    (True, 'cold')
+    """
+
+    meshes: tuple[Mesh, ...]
+    n_collocation: int
+    max_error: float
+    objective: float
+    success: bool
+    nit: int
+    solve_s: float
+    warm_start: str = "cold"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "nodes": [list(m.nodes) for m in self.meshes],
+            "fractions": [list(m.fractions) for m in self.meshes],
+            "n_collocation": self.n_collocation,
+            "max_error": self.max_error,
+            "objective": self.objective,
+            "success": self.success,
+            "nit": self.nit,
+            "solve_s": self.solve_s,
+            "warm_start": self.warm_start,
+        }
+
+
+@compact_repr
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ErrorCertificate:
+    """Final error statement of an adaptive solve.
+
+    Attributes
+    ----------
+    satisfied : bool
+        The NLP converged and every interval's relative state error is ``<= tol``.
+    tol : float
+    max_error : float
+    worst_phase, worst_interval : int
+        Location of ``max_error``.
+    worst_time : float
+        Mid-time of the worst interval (s).
+    n_collocation : int
+    mesh_iterations : int
+    estimator : str
+        How the error was measured.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> c = sol.certificate
+    >>> c.satisfied, c.tol
+    (True, 1e-06)
+    """
+
+    satisfied: bool
+    tol: float
+    max_error: float
+    worst_phase: int
+    worst_interval: int
+    worst_time: float
+    n_collocation: int
+    mesh_iterations: int
+    estimator: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@compact_repr
+@dataclass(frozen=True, slots=True, kw_only=True)
+class AdaptiveSolution(OptimalControlSolution):
+    """An :class:`OptimalControlSolution` on an error-controlled mesh.
+
+    Attributes
+    ----------
+    max_error : float
+        Largest relative state error over the final mesh's intervals.
+    interval_errors : (n_intervals,) ndarray
+        Relative state error per interval of the final mesh (:func:`estimate_error`).
+    mesh_history : tuple of MeshIteration
+        Every solve of the refinement loop, first to last.
+    certificate : ErrorCertificate
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+
+    >>> sol.success, round(sol.tf, 6), bool(sol.max_error <= 1e-6)
+    (True, 2.0, True)
+    """
+
+    max_error: float
+    interval_errors: np.ndarray
+    mesh_history: tuple[MeshIteration, ...]
+    certificate: ErrorCertificate
+
+    def to_dict(self) -> dict[str, Any]:
+        out = OptimalControlSolution.to_dict(self)
+        out.update(
+            max_error=self.max_error,
+            interval_errors=self.interval_errors,
+            mesh_history=[m.to_dict() for m in self.mesh_history],
+            certificate=self.certificate.to_dict(),
+        )
+        return out
+
+
+# ----------------------------------------------------------------------------- driver
+def _estimator_text(extra: int) -> str:
+    return (
+        f"collocation polynomial vs LGR integration of the dynamics under the interpolated control "
+        f"on N+{extra} points per interval (Patterson, Hager & Rao 2015)"
+    )
+
+
+def _phase_errors(phase_sols, extra):
+    return [estimate_error(s, extra_points=extra) for s in phase_sols]
+
+
+def _certificate(phase_sols, errs, tol, success, n_iter, extra) -> ErrorCertificate:
+    worst = (-1, -1, -np.inf)
+    for i, e in enumerate(errs):
+        if e.size and np.max(e) > worst[2]:
+            worst = (i, int(np.argmax(e)), float(np.max(e)))
+    ip, ir, emax = worst
+    piece = phase_sols[ip].pieces[ir]
+    return ErrorCertificate(
+        satisfied=bool(success and emax <= tol),
+        tol=tol,
+        max_error=emax,
+        worst_phase=ip,
+        worst_interval=ir,
+        worst_time=float(0.5 * (piece.ts[0] + piece.t_end)),
+        n_collocation=int(sum(sum(s.mesh.nodes) for s in phase_sols)),
+        mesh_iterations=n_iter,
+        estimator=_estimator_text(extra),
+    )
+
+
+def solve_adaptive(
+    problem,
+    *,
+    tol: float = 1e-6,
+    method: str = "radau",
+    mesh=None,
+    guess=None,
+    max_iterations: int = 12,
+    n_min: int = 3,
+    n_max: int = 10,
+    max_intervals: int = 400,
+    extra_points: int = 1,
+    ipopt_options: dict[str, Any] | None = None,
+):
+    """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
+
+    Parameters
+    ----------
+    problem : OptimalControlProblem or MultiPhaseProblem
+    tol : float
+        Relative state error required in every mesh interval (:func:`estimate_error`).
+    method : {"radau", "gauss"}
+    mesh : Mesh or (int, int) or sequence of them, optional
+        Initial mesh (one per phase for a multi-phase problem); default 10 intervals of
+        ``n_min + 1`` points, as GPOPS-II starts.
+    guess : Guess, OptimalControlSolution, callable, "linear", optional
+        Initial guess (see :func:`solve` / :func:`solve_multiphase`; a callable
+        ``t -> (x, u)`` is sampled by :func:`guess_from_function`; ``"linear"`` is
+        :func:`default_guess`). Default for a single phase: :func:`symmetry_breaking_guess`,
+        which does not start on the symmetric stationary point (e.g. the eigenaxis slew of
+        the rigid-body reorientation, a KKT point that IPOPT does not leave).
+    max_iterations : int
+        Most NLP solves (the first mesh counts).
+    n_min, n_max : int
+        Fewest / most collocation points per interval.
+    max_intervals : int
+        Refinement stops (``success=False``) rather than exceed this many intervals per phase.
+    extra_points : int
+        Extra LGR points of the error estimate.
+    ipopt_options : dict, optional
+
+    Returns
+    -------
+    AdaptiveSolution or MultiPhaseSolution
+        The usual solution with ``max_error``, ``interval_errors``, ``mesh_history`` and
+        ``certificate``. ``success`` is True only when IPOPT converged *and* the tolerance
+        holds in every interval; otherwise ``message`` says which limit stopped it.
+
+    References
+    ----------
+    Patterson, Hager & Rao 2015 (ph); Liu, Hager & Rao 2015, 2018 (hp).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve_adaptive
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> sol = solve_adaptive(double_integrator_min_time(), tol=1e-6)
+    >>> sol.success, round(sol.tf, 6)  # bang-bang, tf = 2 sqrt(d/a) = 2
+    (True, 2.0)
+    """
+    from adcskit.optimal_control.multiphase import MultiPhaseProblem, solve_multiphase
+
+    multi = isinstance(problem, MultiPhaseProblem)
+    if not multi and not isinstance(problem, OptimalControlProblem):
+        raise InputTypeError(
+            f"problem must be an OptimalControlProblem or MultiPhaseProblem; got {type(problem).__name__}"
+        )
+    tol = check_positive("tol", tol)
+    method = check_choice("method", method, METHODS)
+    max_iterations = check_int("max_iterations", max_iterations, minimum=1)
+    n_min = check_int("n_min", n_min, minimum=1)
+    n_max = check_int("n_max", n_max, minimum=n_min)
+    max_intervals = check_int("max_intervals", max_intervals, minimum=1)
+    extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
+    n_phases = len(problem.phases) if multi else 1
+    meshes = _initial_meshes(mesh, n_phases, n_min)
+    if guess is None and not multi:
+        guess = symmetry_breaking_guess(problem)
+    elif isinstance(guess, str):
+        if guess != "linear":
+            raise InputError(f"guess must be a Guess, a solution, a callable, None or 'linear'; got {guess!r}")
+        guess = None
+    elif callable(guess) and not isinstance(guess, Guess | OptimalControlSolution):
+        if multi:
+            raise InputTypeError("for a multi-phase problem give guess as a MultiPhaseGuess or solution")
+        guess = guess_from_function(guess, problem.t0, problem.tf_guess)
+
+    history: list[MeshIteration] = []
+    message = ""
+    converged = False
+    sol = None
+    errs: list[np.ndarray] = []
+    for it in range(max_iterations):
+        t_start = time.perf_counter()
+        mode = "primal" if multi and hasattr(guess, "phases") and hasattr(guess, "meshes") else "cold"
+        if multi:
+            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options)
+            phase_sols = list(sol.phases)
+        else:
+            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options)
+            phase_sols = [sol]
+        wall = time.perf_counter() - t_start
+        errs = _phase_errors(phase_sols, extra)
+        emax = float(max(np.max(e) for e in errs))
+        history.append(
+            MeshIteration(
+                meshes=tuple(meshes),
+                n_collocation=int(sum(sum(m.nodes) for m in meshes)),
+                max_error=emax,
+                objective=float(sol.objective),
+                success=bool(sol.success),
+                nit=int(sol.nit),
+                solve_s=wall,
+                warm_start=str(getattr(sol, "warm_start", mode)),
+            )
+        )
+        if sol.success:
+            guess = sol  # warm start of the next mesh
+        if sol.success and emax <= tol:
+            converged = True
+            message = f"tolerance {tol:g} met on mesh iteration {it + 1}: max relative error {emax:.3g}"
+            break
+        if it == max_iterations - 1:
+            message = f"max_iterations={max_iterations} reached with max relative error {emax:.3g} > tol {tol:g}"
+            break
+        new_meshes = []
+        for m, ps, e in zip(meshes, phase_sols, errs, strict=True):
+            nm, _ = refine_mesh(
+                m,
+                e,
+                tol=tol,
+                pieces=ps.pieces,
+                control_lower=ps.problem.control_lower,
+                control_upper=ps.problem.control_upper,
+                n_min=n_min,
+                n_max=n_max,
+            )
+            new_meshes.append(nm)
+        if not sol.success and all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
+            # the NLP failed on a mesh whose error estimate is already small: refine uniformly
+            new_meshes = [Mesh(nodes=tuple(min(n + 1, n_max) for n in m.nodes), fractions=m.fractions) for m in meshes]
+        if any(nm.n_intervals > max_intervals for nm in new_meshes):
+            message = (
+                f"max_intervals={max_intervals} would be exceeded; stopped with max relative error {emax:.3g} > tol {tol:g}"
+            )
+            break
+        meshes = new_meshes
+    if not sol.success:
+        message = f"{message}; last NLP: {sol.message}"
+    cert = _certificate(phase_sols, errs, tol, sol.success, len(history), extra)
+    emax = cert.max_error
+    extras = dict(
+        max_error=emax,
+        interval_errors=tuple(errs) if multi else errs[0],
+        mesh_history=tuple(history),
+        certificate=cert,
+    )
+    ok = bool(converged and sol.success)
+    if multi:
+        return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)
+    base = {f.name: getattr(sol, f.name) for f in fields(OptimalControlSolution)}
+    base.update(success=ok, message=f"{message} ({sol.message})")
+    return AdaptiveSolution(**base, **extras)
+
+
+def _initial_meshes(mesh, n_phases: int, n_min: int) -> list[Mesh]:
+    from adcskit.optimal_control.solve import _as_mesh
+
+    if mesh is None:
+        return [Mesh.uniform(10, n_min + 1) for _ in range(n_phases)]
+    if n_phases == 1 and (isinstance(mesh, Mesh) or (isinstance(mesh, tuple) and len(mesh) == 2 and all(isinstance(v, int) for v in mesh))):
+        return [_as_mesh(mesh)]
+    try:
+        items = list(mesh)
+    except TypeError:
+        raise InputTypeError(f"mesh must be a Mesh, (n_intervals, n_nodes) or one per phase; got {mesh!r}") from None
+    if len(items) != n_phases:
+        raise InputError(f"mesh must give {n_phases} meshes (one per phase); got {len(items)}")
+    return [_as_mesh(m) for m in items]
+
+
+def symmetry_breaking_guess(problem: OptimalControlProblem, *, amplitude: float = 0.25) -> Guess:
+    """Straight-line states (:func:`default_guess`) with deterministic, channel-distinct
+    control perturbations.
+
+    ``u_k(t) = u_mid,k + amplitude · r_k · sin(2π (k + 1) s + k)``, ``s = (t − t0)/(tf − t0)``,
+    with ``r_k`` the half-range of finite bounds (else the control scale), clipped to the
+    bounds. A guess with zero controls is symmetric; on problems such as the rigid-body
+    reorientation the symmetric (eigenaxis) trajectory is a KKT point that IPOPT converges
+    to; perturbing each channel differently starts away from it. Deterministic, so results
+    are reproducible.
+
+    Parameters
+    ----------
+    problem : OptimalControlProblem
+    amplitude : float
+        Perturbation as a fraction of the control half-range, in ``[0, 1]``.
+
+    Returns
+    -------
+    Guess
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import symmetry_breaking_guess
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> g = symmetry_breaking_guess(double_integrator_min_time())
+    >>> g.u.shape, bool(abs(g.u).max() <= 1.0)
+    ((21, 1), True)
+    """
+    from adcskit._validation import check_range
+    from adcskit.optimal_control.solve import default_guess
+
+    if not isinstance(problem, OptimalControlProblem):
+        raise InputTypeError(f"problem must be an OptimalControlProblem; got {type(problem).__name__}")
+    amplitude = check_range("amplitude", amplitude, 0.0, 1.0)
+    base = default_guess(problem)
+    t = np.linspace(base.t[0], base.t[-1], 21)
+    s = (t - t[0]) / (t[-1] - t[0])
+    x = base.x[0] + s[:, None] * (base.x[1] - base.x[0])
+    lo, hi = problem.control_lower, problem.control_upper
+    _, su = problem.scales()
+    fin = np.isfinite(lo) & np.isfinite(hi)
+    mid = np.where(fin, 0.5 * (np.where(fin, lo, 0) + np.where(fin, hi, 0)), base.u[0])
+    half = np.where(fin, 0.5 * (np.where(fin, hi, 0) - np.where(fin, lo, 0)), su)
+    k = np.arange(problem.n_controls)
+    u = mid + amplitude * half * np.sin(2 * np.pi * (k + 1) * s[:, None] + k)
+    u = np.clip(u, lo, hi)
+    return Guess(t=t, x=x, u=u, tf=base.tf)
+
+
+def guess_from_function(fun, t0: float, tf: float, *, n_samples: int = 41) -> Guess:
+    """An initial guess sampled from a user function ``fun(t) -> (x, u)``.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(t)`` with ``t`` a time (s) returning the state ``(n_states,)`` and control
+        ``(n_controls,)`` guesses.
+    t0, tf : float
+        Time span (s) of the guess.
+    n_samples : int
+        Samples (linearly interpolated onto the mesh by :func:`solve`).
+
+    Returns
+    -------
+    Guess
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import guess_from_function
+    >>> g = guess_from_function(lambda t: ([t, 1.0], [0.0]), 0.0, 2.0, n_samples=3)
+    >>> g.x[:, 0].tolist(), g.tf
+    ([0.0, 1.0, 2.0], 2.0)
+    """
+    if not callable(fun):
+        raise InputTypeError(f"fun must be callable t -> (x, u); got {fun!r}")
+    n = check_int("n_samples", n_samples, minimum=2)
+    t = np.linspace(float(t0), float(tf), n)
+    xs, us = [], []
+    for tk in t:
+        try:
+            x, u = fun(tk)
+        except (TypeError, ValueError) as exc:
+            raise InputTypeError(f"fun(t) must return (x, u); got an error at t={tk}: {exc}") from None
+        xs.append(np.atleast_1d(np.asarray(x, float)))
+        us.append(np.atleast_1d(np.asarray(u, float)))
+    return Guess(t=t, x=np.vstack(xs), u=np.vstack(us), tf=float(tf))

@@ -1,0 +1,375 @@
+"""Standard optimal-control test problems with published or closed-form optima.
+
+Each function returns the problem; the reference optimum is returned by
+:func:`reference_objective` with its source, so tests and benchmarks compare against it.
+
+* :func:`hypersensitive` — Rao & Mease (2000): ``min ½∫(x² + u²)``, ``ẋ = −x³ + u``,
+  ``x(0) = 1``, ``x(tf) = 1.5``; boundary layers at both ends.
+* :func:`bryson_denham` — Bryson & Ho (1975, §3.11): double integrator, ``min ½∫u²`` with
+  the state inequality ``x <= l``; ``J* = 4 / (9 l)`` for ``l <= 1/6``.
+* :func:`brachistochrone` — minimum-time slide under gravity; the optimum is a cycloid
+  (closed form, :func:`brachistochrone_time`).
+* :func:`rigid_body_reorientation` — minimum-time rest-to-rest reorientation of a rigid body
+  with ``|u_i| <= 1`` (Bilimoria & Wie 1993); for a spherical body (unit inertia) turned
+  180° about a principal axis the optimum (3.243) beats the eigenaxis slew ``2√π``.
+* :func:`goddard_rocket` — the Goddard maximum-altitude rocket as a three-phase problem
+  (full thrust, singular arc, coast) with the singular-arc condition as a path constraint
+  (Bryson 1999, §9.3; GPOPS-II example).
+
+References
+----------
+Rao & Mease, Automatica 36(12), 2000. Bryson & Ho, Applied Optimal Control, 1975, §3.11.
+Bilimoria & Wie, J. Guid. Control Dyn. 16(3), 1993. Bryson, Dynamic Optimization, 1999,
+§9.3. Patterson & Rao, ACM TOMS 41(1), 2014 (GPOPS-II).
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import brentq
+
+from adcskit._validation import check_positive, check_range
+from adcskit.errors import InputError
+from adcskit.optimal_control.multiphase import MultiPhaseProblem, Phase
+from adcskit.optimal_control.problem import OptimalControlProblem
+
+__all__ = [
+    "brachistochrone",
+    "brachistochrone_time",
+    "bryson_denham",
+    "goddard_rocket",
+    "hypersensitive",
+    "reference_objective",
+    "rigid_body_reorientation",
+]
+
+
+# ------------------------------------------------------------------------- hypersensitive
+def _hs_f(x, u, t):
+    return [-x[0] ** 3 + u[0]]
+
+
+def _hs_g(x, u, t):
+    return 0.5 * (x[0] * x[0] + u[0] * u[0])
+
+
+def hypersensitive(tf: float = 10.0) -> OptimalControlProblem:
+    """Rao & Mease's hyper-sensitive problem on ``[0, tf]`` (s).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import hypersensitive
+    >>> hypersensitive(10.0).tf_bounds
+    (10.0, 10.0)
+    """
+    tf = check_positive("tf", tf, unit="s")
+    return OptimalControlProblem(
+        name="hypersensitive",
+        dynamics=_hs_f,
+        n_states=1,
+        n_controls=1,
+        initial_state=[1.0],
+        final_state=[1.5],
+        tf_bounds=(tf, tf),
+        lagrange=_hs_g,
+        state_scale=[1.0],
+        control_scale=[1.0],
+    )
+
+
+# ------------------------------------------------------------------------- Bryson-Denham
+def _bd_f(x, u, t):
+    return [x[1], u[0]]
+
+
+def _bd_g(x, u, t):
+    return 0.5 * u[0] * u[0]
+
+
+def bryson_denham(l: float = 1.0 / 9.0) -> OptimalControlProblem:  # noqa: E741 - Bryson & Ho's symbol
+    """Bryson–Denham problem: ``x(0) = 0, v(0) = 1, x(1) = 0, v(1) = −1``, ``x <= l``.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import bryson_denham
+    >>> float(bryson_denham(1 / 9).state_upper[0]) == 1 / 9
+    True
+    """
+    l = check_positive("l", l, unit="m")  # noqa: E741
+    return OptimalControlProblem(
+        name="bryson-denham",
+        dynamics=_bd_f,
+        n_states=2,
+        n_controls=1,
+        state_names=("x", "v"),
+        control_names=("u",),
+        state_upper=[l, np.inf],
+        initial_state=[0.0, 1.0],
+        final_state=[0.0, -1.0],
+        tf_bounds=(1.0, 1.0),
+        lagrange=_bd_g,
+        state_scale=[l, 1.0],
+        control_scale=[1.0 / l],
+    )
+
+
+# ------------------------------------------------------------------------- brachistochrone
+_G0 = 9.80665
+
+
+def _br_f(x, u, t):
+    v = x[2]
+    return [v * ca.sin(u[0]), -v * ca.cos(u[0]), _G0 * ca.cos(u[0])]
+
+
+def _br_mayer(x0, t0, xf, tf):
+    return tf
+
+
+def brachistochrone(x_final: float = 10.0, drop: float = 5.0) -> OptimalControlProblem:
+    """Minimum-time slide from rest at ``(0, 10)`` m to ``(x_final, 10 − drop)`` m, ``g = 9.80665``.
+
+    States ``(x, y, v)`` (m, m, m/s), control the angle θ from the downward vertical (rad);
+    the dymos example uses ``x_final = 10``, ``drop = 5``.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import brachistochrone, brachistochrone_time
+    >>> round(brachistochrone_time(10.0, 5.0), 4)
+    1.8016
+    """
+    xf = check_positive("x_final", x_final, unit="m")
+    dy = check_positive("drop", drop, unit="m")
+    t_ref = brachistochrone_time(xf, dy)
+    return OptimalControlProblem(
+        name="brachistochrone",
+        dynamics=_br_f,
+        n_states=3,
+        n_controls=1,
+        state_names=("x", "y", "v"),
+        control_names=("theta",),
+        state_lower=[0.0, -np.inf, 0.0],
+        control_lower=[0.0],
+        control_upper=[np.pi],
+        initial_state=[0.0, 10.0, 0.0],
+        final_state=[xf, 10.0 - dy, np.nan],
+        tf_bounds=(0.2 * t_ref, 5.0 * t_ref),
+        tf_guess=2.0 * t_ref,
+        mayer=_br_mayer,
+        state_scale=[xf, 10.0, np.sqrt(2 * _G0 * dy)],
+        control_scale=[1.0],
+    )
+
+
+def brachistochrone_time(x_final: float, drop: float, g: float = _G0) -> float:
+    """Closed-form minimum time (s) of the brachistochrone: the cycloid
+    ``x = R(φ − sin φ)``, ``y = R(1 − cos φ)`` through the end point, ``T = φ_f √(R/g)``.
+
+    Examples
+    --------
+    End at the cycloid's lowest point (x = πR, y = 2R): φ_f = π, T = π √(R/g) = π for R = g = 1.
+
+    >>> import numpy as np
+    >>> round(brachistochrone_time(np.pi, 2.0, g=1.0), 9)
+    3.141592654
+    """
+    xf = check_positive("x_final", x_final, unit="m")
+    dy = check_positive("drop", drop, unit="m")
+    g = check_positive("g", g, unit="m/s^2")
+    ratio = xf / dy
+    phi = brentq(lambda p: (p - np.sin(p)) - ratio * (1.0 - np.cos(p)), 1e-3, 2 * np.pi - 1e-9, xtol=1e-15)
+    R = dy / (1.0 - np.cos(phi))
+    return float(phi * np.sqrt(R / g))
+
+
+# ------------------------------------------------------------------------- rigid body
+def _rb_f(x, u, t):
+    q1, q2, q3, q4, w1, w2, w3 = (x[i] for i in range(7))
+    return [
+        0.5 * (w1 * q4 - w2 * q3 + w3 * q2),
+        0.5 * (w1 * q3 + w2 * q4 - w3 * q1),
+        0.5 * (-w1 * q2 + w2 * q1 + w3 * q4),
+        0.5 * (-w1 * q1 - w2 * q2 - w3 * q3),
+        u[0],
+        u[1],
+        u[2],
+    ]
+
+
+def rigid_body_reorientation(angle_deg: float = 180.0, tf_guess: float | None = None) -> OptimalControlProblem:
+    """Minimum-time rest-to-rest reorientation of a spherical rigid body (unit inertia,
+    ``|u_i| <= 1``) by ``angle_deg`` about the body z axis (Bilimoria & Wie 1993).
+
+    States: quaternion ``(q1, q2, q3, q4)`` (scalar last) and body rates ``ω`` (rad/s, with
+    the inertia and torque normalised to 1); controls: torques ``u`` (normalised).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import rigid_body_reorientation
+    >>> rigid_body_reorientation(180.0).final_state[:4].round(12).tolist()
+    [0.0, 0.0, 1.0, 0.0]
+    """
+    ang = np.deg2rad(check_range("angle_deg", angle_deg, 1e-3, 180.0))
+    t_eig = 2.0 * np.sqrt(ang)  # eigenaxis bang-bang with |u| <= 1
+    return OptimalControlProblem(
+        name="rigid-body-reorientation",
+        dynamics=_rb_f,
+        n_states=7,
+        n_controls=3,
+        state_names=("q1", "q2", "q3", "q4", "w1", "w2", "w3"),
+        control_names=("u1", "u2", "u3"),
+        state_lower=[-1.0] * 4 + [-np.inf] * 3,
+        state_upper=[1.0] * 4 + [np.inf] * 3,
+        control_lower=[-1.0] * 3,
+        control_upper=[1.0] * 3,
+        initial_state=[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        final_state=[0.0, 0.0, np.sin(ang / 2), np.cos(ang / 2), 0.0, 0.0, 0.0],
+        tf_bounds=(0.3 * t_eig, 3.0 * t_eig),
+        tf_guess=t_eig if tf_guess is None else tf_guess,
+        mayer=_br_mayer,
+        state_scale=[1.0] * 4 + [1.0] * 3,
+        control_scale=[1.0] * 3,
+    )
+
+
+# ------------------------------------------------------------------------- Goddard rocket
+# Bryson (1999) §9.3 / GPOPS-II example, English units: ft, s, slug, lbf.
+_GD = {
+    "T_max": 193.044,  # lbf
+    "g": 32.174,  # ft/s^2
+    "sigma": 5.4915e-5,  # slug/ft (drag coefficient D = sigma v^2 exp(-h/h0))
+    "c": 1580.9425,  # ft/s (exhaust velocity)
+    "h0": 23800.0,  # ft (density scale height)
+    "m0": 3.0,  # slug
+    "mf": 1.0,  # slug
+}
+
+
+def _gd_drag(h, v):
+    return _GD["sigma"] * v * v * ca.exp(-h / _GD["h0"])
+
+
+def _gd_f(x, u, t, p):
+    h, v, m = x[0], x[1], x[2]
+    T = u[0]
+    return [v, (T - _gd_drag(h, v)) / m - _GD["g"], -T / _GD["c"]]
+
+
+def _gd_singular(x, u, t, p):
+    """Singular-arc feedback thrust minus the thrust (zero on the singular arc; Bryson 1999,
+    eq. 9.3.15 with a quadratic drag ``D = σ v² e^{−h/h0}``)."""
+    h, v, m = x[0], x[1], x[2]
+    g, c, h0 = _GD["g"], _GD["c"], _GD["h0"]
+    D = _gd_drag(h, v)
+    term = m * g / (1.0 + 4.0 * c / v + 2.0 * c * c / (v * v)) * (
+        c * c / (h0 * g) * (1.0 + v / c) - 1.0 - 2.0 * c / v
+    )
+    return [u[0] - (D + m * g + term)]
+
+
+def _gd_events(ends, p):
+    # on entry to the singular arc the switching function vanishes: m g = (1 + v/c) D
+    x = ends[1].x0
+    h, v, m = x[0], x[1], x[2]
+    return [m * _GD["g"] - (1.0 + v / _GD["c"]) * _gd_drag(h, v)]
+
+
+def _gd_objective(ends, p):
+    return -ends[2].xf[0]
+
+
+def goddard_rocket() -> MultiPhaseProblem:
+    """The Goddard rocket's maximum final altitude as three phases: full thrust, singular
+    arc (thrust from the singular feedback law, a path constraint; its entry fixed by the
+    event ``m g = (1 + v/c) D``), coast with zero thrust to ``v = 0``.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import goddard_rocket
+    >>> [ph.name for ph in goddard_rocket().phases]
+    ['full-thrust', 'singular', 'coast']
+    """
+    T = _GD["T_max"]
+    common = dict(
+        dynamics=_gd_f,
+        n_states=3,
+        n_controls=1,
+        state_names=("h", "v", "m"),
+        control_names=("T",),
+        state_lower=[0.0, 0.0, _GD["mf"]],
+        state_upper=[30000.0, 2000.0, _GD["m0"]],
+        state_scale=[10000.0, 1000.0, 3.0],
+        control_scale=[T],
+    )
+    p1 = Phase(
+        name="full-thrust",
+        control_lower=[T],
+        control_upper=[T],
+        initial_state=[0.0, 0.0, _GD["m0"]],
+        t0_bounds=(0.0, 0.0),
+        tf_bounds=(0.0, 100.0),
+        tf_guess=10.0,
+        **common,
+    )
+    p2 = Phase(
+        name="singular",
+        control_lower=[0.0],
+        control_upper=[T],
+        t0_bounds=(0.0, 100.0),
+        tf_bounds=(0.0, 100.0),
+        t0_guess=10.0,
+        tf_guess=30.0,
+        path=_gd_singular,
+        path_lower=[0.0],
+        path_upper=[0.0],
+        **common,
+    )
+    p3 = Phase(
+        name="coast",
+        control_lower=[0.0],
+        control_upper=[0.0],
+        final_state=[np.nan, 0.0, np.nan],
+        t0_bounds=(0.0, 100.0),
+        tf_bounds=(0.0, 100.0),
+        t0_guess=30.0,
+        tf_guess=45.0,
+        **common,
+    )
+    return MultiPhaseProblem(
+        name="goddard-rocket",
+        phases=[p1, p2, p3],
+        objective=_gd_objective,
+        events=_gd_events,
+        event_lower=[0.0],
+        event_upper=[0.0],
+    )
+
+
+# ------------------------------------------------------------------------- references
+def reference_objective(name: str) -> tuple[float, str]:
+    """Published / closed-form optimum of a standard problem at its default settings.
+
+    Returns
+    -------
+    value : float
+    source : str
+
+    Examples
+    --------
+    >>> reference_objective("bryson-denham")[0]
+    4.0
+    """
+    refs = {
+        # Tomlab PROPT example 51 (Rao & Mease's problem, tf = 10, J = ∫(x²+u²) = 6.723925391),
+        # halved for the ½ of Rao & Mease's cost.
+        "hypersensitive": (6.723925391388357 / 2.0, "Rao & Mease 2000 problem, tf = 10; Tomlab PROPT ex. 51: ∫(x²+u²) = 6.7239254, halved"),
+        "bryson-denham": (4.0, "Bryson & Ho 1975 §3.11: J = 4/(9l), l = 1/9"),
+        "brachistochrone": (brachistochrone_time(10.0, 5.0), "closed-form cycloid, (0,10) → (10,5) m"),
+        "rigid-body-reorientation": (3.243, "Bilimoria & Wie 1993: 180° rest-to-rest, unit inertia and torque, tf = 3.243 (eigenaxis 2√π = 3.545)"),
+        "goddard-rocket": (-18550.872, "GPOPS-II example / Bryson 1999 §9.3: h(tf) = 18550.872 ft"),
+        "launch-ascent": (-7529.712680, "Patterson & Rao 2014 (GPOPS-II) §7.5: final mass 7529.712680 kg"),
+    }
+    if name not in refs:
+        raise InputError(f"name must be one of {sorted(refs)}; got {name!r}")
+    return refs[name]

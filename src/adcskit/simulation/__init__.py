@@ -1,0 +1,46 @@
+"""Closed-loop 3-axis ADCS simulation, batched over Monte-Carlo samples.
+
+The five pieces in one loop: a nonlinear rigid-body plant with gravity-gradient and
+disturbance torques on a circular orbit; thrusters from an S3 layout with S4's lag + delay
+model; sun sensor (with eclipse), magnetometer, Farrenkopf gyro and optional star tracker,
+each at its own rate; per-epoch Wahba determination or the MEKF; hold / step / time-table
+guidance; S4's PID + Schmitt loop per axis or a continuous PID with pulse-width modulation;
+allocation through :mod:`adcskit.thrusters`. All samples advance together in one numba
+kernel (``prange`` over samples).
+
+* :mod:`~adcskit.simulation.scenario` — the scenario as data (frozen dataclasses, TOML);
+* :mod:`~adcskit.simulation.core` — :func:`simulate` and :class:`SimulationResult`;
+* :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews.
+
+Layering: this package composes attitude, dynamics, environment, sensors, determination,
+estimation, thrusters, control and uncertainty; nothing below imports it.
+"""
+
+from adcskit.simulation.core import (
+    METRIC_NAMES,
+    S3_REFERENCE_A,
+    WAHBA_CODES,
+    SimulationResult,
+    reference_profile,
+    simulate,
+)
+from adcskit.simulation.scenario import (
+    ControllerSpec,
+    DispersionSpec,
+    DisturbanceSpec,
+    EstimatorSpec,
+    GuidanceSpec,
+    OrbitSpec,
+    Scenario,
+    SensorSpec,
+    SimSpec,
+    SpacecraftSpec,
+    ThrusterSpec,
+    load_scenario,
+)
+
+__all__ = [
+    "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
+    "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
+    "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
+]

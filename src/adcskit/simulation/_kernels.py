@@ -1,0 +1,776 @@
+"""Private batch kernel of the closed-loop simulator: one sample per parallel lane.
+
+The per-sample step is written as plain functions (design.md "one source, two targets"):
+scalars, ``math`` functions and indexing of arrays passed in; no allocation, no NumPy calls,
+no Python objects inside :func:`sample_loop` and its helpers. Every helper is registered with
+:func:`numba.extending.register_jitable`, so an ``njit`` driver (``prange`` over samples,
+:func:`run_parallel`) or a ``numba.cuda.jit`` kernel can call the same source; the scratch
+memory of a lane is passed in by the driver (:mod:`adcskit.simulation.core` allocates it).
+Only the CPU driver is built here.
+
+Randomness is a counter-free per-sample stream (SplitMix64, Steele, Lea & Flood 2014) seeded
+with one 64-bit integer per sample: a sample's noise depends only on its seed, never on the
+thread, chunk or executor that runs it, so results are bit-identical however a campaign is
+split. Normals by Box-Muller.
+
+Conventions: quaternion scalar last, ``A(q)`` maps reference (ECI) to body; kinematics
+``q' = 1/2 [omega; 0] (x) q`` with Markley's product (``A(p (x) q) = A(p) A(q)``); body
+rates in rad/s; SI units.
+
+Layout of the shared coefficient vector ``C`` and of the per-sample parameter matrix ``P``
+is given by the index constants below; :mod:`adcskit.simulation.core` fills both.
+
+References
+----------
+Markley F. L., Crassidis J. L., *Fundamentals of Spacecraft Attitude Determination and
+Control*, Springer 2014: eq. 3.81 (Euler), 3.20 (kinematics), 3.155 (gravity gradient).
+S3 eq. 5-7 (torque matrix, pulse width, fuel); S4 Fig. 1 (PID + Schmitt loop, thruster lag
+and delay).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from numba.extending import register_jitable
+
+from adcskit.determination._kernels import _solve_one
+from adcskit.estimation import _mekf_kernels as _mk
+
+# The heavy per-sample pieces of other packages are called through their own compiled
+# (and disk-cached) numba dispatchers rather than inlined into this kernel, so numba compiles
+# each of them once. A CUDA build of the loop would bind these names to device compilations
+# of the same sources (the MEKF kernels are plain ``register_jitable`` functions).
+mekf_propagate = _mk.mekf_propagate_jit
+mekf_update_vector = _mk.mekf_update_vector_jit
+mekf_update_quaternion = _mk.mekf_update_quaternion_jit
+mekf_nees = _mk.mekf_nees_jit
+gyro_step = _mk.gyro_step_jit
+_compose_rotvec = njit(cache=True, nogil=True)(_mk._compose_rotvec)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def wahba_one(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
+    """Wahba solve of sample ``i``'s two observations (a non-inlined wrapper of the
+    determination kernel's per-problem solver); returns its status code."""
+    return _solve_one(VB, VR, WW, i, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+
+# ----------------------------------------------------------------- shared coefficients C
+(
+    DT, N_STEPS, H_CTRL, H_GYRO, H_SUN, H_MAG, H_ST,
+    A11, B1, A21, A22, B2, V1, V2, VU,
+    N2ORB, D_OMEGA,
+    SIG_SUN, SIG_MAG, SIG_ST, NOISE_UNIFORM,
+    SIG_V, SIG_U,
+    EST_MODE, WAHBA_METHOD, CTRL_MODE,
+    U_ON, U_OFF, T_S, T_MIN, PULSE_ROUND,
+    KP0, KP1, KP2, KI0, KI1, KI2, KD0, KD1, KD2, TL0, TL1, TL2,
+    K_WIN, SETTLE_BAND, REC_EVERY, K_NEES, BUF_MASK, W_SUN, W_MAG, RPI_EPS,
+) = range(51)
+N_COEFS = 51
+
+EST_TRUTH, EST_WAHBA, EST_MEKF = 0, 1, 2
+CTRL_SCHMITT, CTRL_PWM, CTRL_OPEN = 0, 1, 2
+
+# ----------------------------------------------------------------- per-sample parameters P
+# J (9, row-major), Jinv (9), q0 (4), w0 (3), delay, d0 (3), damp (3), dphase (3),
+# gyro bias (3), q_est0 (4), sig_att0, sig_b0
+(P_J, P_JI, P_Q0, P_W0, P_DELAY, P_D0, P_DAMP, P_DPH, P_BIAS, P_QE0, P_SIGA0, P_SIGB0) = (
+    0, 9, 18, 22, 25, 26, 29, 32, 35, 38, 42, 43)
+N_PARAMS = 44
+
+# ----------------------------------------------------------------- metrics
+(M_MEAN_ERR, M_RMS_ERR, M_MAX_ERR, M_RMS_X, M_RMS_Y, M_RMS_Z, M_SETTLE, M_FINAL_ERR, M_PROP,
+ M_FIRINGS, M_ONTIME, M_KNOW_RMS, M_NEES, M_NEES_N, M_MAX_RATE) = range(15)
+N_METRICS = 15
+METRIC_NAMES = (
+    "mean_error", "rms_error", "max_error", "rms_error_x", "rms_error_y", "rms_error_z",
+    "settling_time", "final_error", "propellant", "firings", "on_time", "knowledge_rms",
+    "nees_mean", "nees_count", "max_rate",
+)
+
+# ----------------------------------------------------------------- trace channels
+(R_EX, R_EY, R_EZ, R_ERR, R_KNOW, R_WX, R_WY, R_WZ, R_NEES, R_PROP) = range(10)
+N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
+
+# ----------------------------------------------------------------- per-sample scratch TS
+# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3)
+N_TS_PER_THR = 6
+N_TS_EXTRA = 15
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+_S30 = np.uint64(30)
+_S27 = np.uint64(27)
+_S31 = np.uint64(31)
+_S11 = np.uint64(11)
+_TWO_M53 = 1.0 / 9007199254740992.0
+_TWO_PI = 2.0 * math.pi
+
+
+@register_jitable
+def _uniform(s):
+    """SplitMix64 step: returns (new state, uniform in (0, 1))."""
+    s = s + _GOLDEN
+    z = s
+    z = (z ^ (z >> _S30)) * _MIX1
+    z = (z ^ (z >> _S27)) * _MIX2
+    z = z ^ (z >> _S31)
+    return s, (float(z >> _S11) + 0.5) * _TWO_M53
+
+
+@register_jitable
+def _normal(s):
+    """(new state, standard normal) by Box-Muller (one of the pair is used)."""
+    s, u1 = _uniform(s)
+    s, u2 = _uniform(s)
+    return s, math.sqrt(-2.0 * math.log(u1)) * math.cos(_TWO_PI * u2)
+
+
+@register_jitable
+def _noise(s, uniform):
+    """(new state, one noise draw): standard normal, or uniform in [-1, 1] (bounded errors)."""
+    if uniform:
+        s, u = _uniform(s)
+        return s, 2.0 * u - 1.0
+    return _normal(s)
+
+
+@register_jitable
+def _rotate(q0, q1, q2, q3, r0, r1, r2):
+    """``A(q) r`` (reference -> body)."""
+    c = q3 * q3 - (q0 * q0 + q1 * q1 + q2 * q2)
+    er = q0 * r0 + q1 * r1 + q2 * r2
+    b0 = c * r0 + 2.0 * q0 * er - 2.0 * q3 * (q1 * r2 - q2 * r1)
+    b1 = c * r1 + 2.0 * q1 * er - 2.0 * q3 * (q2 * r0 - q0 * r2)
+    b2 = c * r2 + 2.0 * q2 * er - 2.0 * q3 * (q0 * r1 - q1 * r0)
+    return b0, b1, b2
+
+
+@register_jitable
+def _qerr(a0, a1, a2, a3, b0, b1, b2, b3):
+    """Rotation vector (rad, body frame) of ``qa (x) qb^-1`` and its angle."""
+    c0, c1, c2, c3 = -b0, -b1, -b2, b3
+    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
+    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
+    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
+    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
+    if d3 < 0.0:
+        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+    ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    ang = 2.0 * math.atan2(ev, d3)
+    if ev > 0.0:
+        f = ang / ev
+    else:
+        f = 2.0
+    return f * d0, f * d1, f * d2, ang
+
+
+@register_jitable
+def _rhs(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2):
+    """Time derivative of (q, omega): q' = 1/2 [w; 0] (x) q ; J w' = tau - w x J w."""
+    dq0 = 0.5 * (q3 * w0 - (w1 * q2 - w2 * q1))
+    dq1 = 0.5 * (q3 * w1 - (w2 * q0 - w0 * q2))
+    dq2 = 0.5 * (q3 * w2 - (w0 * q1 - w1 * q0))
+    dq3 = -0.5 * (w0 * q0 + w1 * q1 + w2 * q2)
+    h0 = J[0] * w0 + J[1] * w1 + J[2] * w2
+    h1 = J[3] * w0 + J[4] * w1 + J[5] * w2
+    h2 = J[6] * w0 + J[7] * w1 + J[8] * w2
+    m0 = t0 - (w1 * h2 - w2 * h1)
+    m1 = t1 - (w2 * h0 - w0 * h2)
+    m2 = t2 - (w0 * h1 - w1 * h0)
+    dw0 = Ji[0] * m0 + Ji[1] * m1 + Ji[2] * m2
+    dw1 = Ji[3] * m0 + Ji[4] * m1 + Ji[5] * m2
+    dw2 = Ji[6] * m0 + Ji[7] * m1 + Ji[8] * m2
+    return dq0, dq1, dq2, dq3, dw0, dw1, dw2
+
+
+@register_jitable
+def rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt):
+    """One classical Runge-Kutta step of the rigid body with the torque held over the step;
+    the quaternion is renormalised (q4 >= 0). Returns the new (q, omega) as 7 scalars."""
+    a0, a1, a2, a3, a4, a5, a6 = _rhs(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2)
+    h = 0.5 * dt
+    b0, b1, b2, b3, b4, b5, b6 = _rhs(q0 + h * a0, q1 + h * a1, q2 + h * a2, q3 + h * a3,
+                                      w0 + h * a4, w1 + h * a5, w2 + h * a6, J, Ji, t0, t1, t2)
+    c0, c1, c2, c3, c4, c5, c6 = _rhs(q0 + h * b0, q1 + h * b1, q2 + h * b2, q3 + h * b3,
+                                      w0 + h * b4, w1 + h * b5, w2 + h * b6, J, Ji, t0, t1, t2)
+    d0, d1, d2, d3, d4, d5, d6 = _rhs(q0 + dt * c0, q1 + dt * c1, q2 + dt * c2, q3 + dt * c3,
+                                      w0 + dt * c4, w1 + dt * c5, w2 + dt * c6, J, Ji, t0, t1, t2)
+    s = dt / 6.0
+    n0 = q0 + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
+    n1 = q1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
+    n2 = q2 + s * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
+    n3 = q3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3)
+    nrm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
+    if n3 < 0.0:
+        nrm = -nrm
+    return (n0 / nrm, n1 / nrm, n2 / nrm, n3 / nrm,
+            w0 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4),
+            w1 + s * (a5 + 2.0 * b5 + 2.0 * c5 + d5),
+            w2 + s * (a6 + 2.0 * b6 + 2.0 * c6 + d6))
+
+
+@register_jitable
+def rpi_allocate(A, m0, m1, m2, fmax, mask, F, free, S, r, y, eps):
+    """Redistributed pseudo-inverse (S3 eq. 12 with Jin 2005's redistribution), no allocation.
+
+    ``F`` (n,) receives forces in ``[0, fmax]``; thrusters with ``mask == 0`` (failed, known
+    to the allocator) stay at 0. Each pass solves ``F_free = A_free^T (A_free A_free^T)^-1 r``
+    for the torque ``r`` left by the fixed thrusters, fixes every free thruster that violates a
+    bound at that bound, and stops when none does. The 3x3 solve is a Cholesky factorisation of
+    ``S + eps tr(S) I`` (``eps`` ~1e-12: the pseudo-inverse's minimum-norm solution when the
+    free columns lose rank). ``S``: (9,), ``r``, ``y``: (3,), ``free``: (n,) scratch.
+    """
+    n = F.shape[0]
+    for j in range(n):
+        F[j] = 0.0
+        free[j] = 1.0 if mask[j] > 0.0 else 0.0
+    for _ in range(n + 1):
+        for a in range(9):
+            S[a] = 0.0
+        r[0] = m0
+        r[1] = m1
+        r[2] = m2
+        nfree = 0
+        for j in range(n):
+            a0 = A[0, j]
+            a1 = A[1, j]
+            a2 = A[2, j]
+            if free[j] > 0.0:
+                nfree += 1
+                S[0] += a0 * a0
+                S[1] += a0 * a1
+                S[2] += a0 * a2
+                S[4] += a1 * a1
+                S[5] += a1 * a2
+                S[8] += a2 * a2
+            else:
+                f = F[j]
+                r[0] -= a0 * f
+                r[1] -= a1 * f
+                r[2] -= a2 * f
+        if nfree == 0:
+            break
+        tr = S[0] + S[4] + S[8]
+        reg = eps * tr + 1e-300
+        l00 = math.sqrt(S[0] + reg)
+        l10 = S[1] / l00
+        l20 = S[2] / l00
+        l11 = math.sqrt(max(S[4] + reg - l10 * l10, reg))
+        l21 = (S[5] - l20 * l10) / l11
+        l22 = math.sqrt(max(S[8] + reg - l20 * l20 - l21 * l21, reg))
+        z0 = r[0] / l00
+        z1 = (r[1] - l10 * z0) / l11
+        z2 = (r[2] - l20 * z0 - l21 * z1) / l22
+        y[2] = z2 / l22
+        y[1] = (z1 - l21 * y[2]) / l11
+        y[0] = (z0 - l10 * y[1] - l20 * y[2]) / l00
+        viol = False
+        for j in range(n):
+            if free[j] > 0.0:
+                f = A[0, j] * y[0] + A[1, j] * y[1] + A[2, j] * y[2]
+                if f < 0.0:
+                    F[j] = 0.0
+                    free[j] = 0.0
+                    viol = True
+                elif f > fmax[j]:
+                    F[j] = fmax[j]
+                    free[j] = 0.0
+                    viol = True
+                else:
+                    F[j] = f
+        if not viol:
+            break
+
+
+@register_jitable
+def _schmitt(s, u, u_on, u_off):
+    """Three-level Schmitt trigger with memory (S4 Fig. 1)."""
+    if s == 0.0:
+        if u >= u_on:
+            return 1.0
+        if u <= -u_on:
+            return -1.0
+        return 0.0
+    if s == 1.0:
+        if u <= -u_on:
+            return -1.0
+        if u < u_off:
+            return 0.0
+        return 1.0
+    if u >= u_on:
+        return 1.0
+    if u > -u_off:
+        return 0.0
+    return -1.0
+
+
+def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
+                SQ, SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT):
+    """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
+
+    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
+    this lane's own memory.
+    """
+    n = POS.shape[0]
+    dt = C[DT]
+    n_steps = int(C[N_STEPS])
+    h_ctrl = int(C[H_CTRL])
+    h_gyro = int(C[H_GYRO])
+    h_sun = int(C[H_SUN])
+    h_mag = int(C[H_MAG])
+    h_st = int(C[H_ST])
+    a11 = C[A11]
+    b1 = C[B1]
+    a21 = C[A21]
+    a22 = C[A22]
+    b2 = C[B2]
+    v1 = C[V1]
+    v2 = C[V2]
+    vu = C[VU]
+    n2orb = C[N2ORB]
+    d_omega = C[D_OMEGA]
+    sig_sun = C[SIG_SUN]
+    sig_mag = C[SIG_MAG]
+    sig_st = C[SIG_ST]
+    uni = C[NOISE_UNIFORM] > 0.0
+    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
+    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
+    sig_v = C[SIG_V]
+    sig_u = C[SIG_U]
+    est_mode = int(C[EST_MODE])
+    wmethod = int(C[WAHBA_METHOD])
+    ctrl_mode = int(C[CTRL_MODE])
+    u_on = C[U_ON]
+    u_off = C[U_OFF]
+    t_s = C[T_S]
+    t_min = C[T_MIN]
+    pround = C[PULSE_ROUND] > 0.0
+    k_win = int(C[K_WIN])
+    band = C[SETTLE_BAND]
+    rec_every = int(C[REC_EVERY])
+    k_nees = int(C[K_NEES])
+    bmask = int(C[BUF_MASK])
+    eps = C[RPI_EPS]
+    dt_g = h_gyro * dt
+    record = REC.shape[0] > 0
+    J = P[i, P_J:P_J + 9]
+    Ji = P[i, P_JI:P_JI + 9]
+    buf = BUF[i]
+    ts = TS[i]
+    x1o = 0
+    x2o = n
+    tpo = 2 * n
+    tppo = 3 * n
+    fo = 4 * n
+    freeo = 5 * n
+    so = 6 * n
+    F = ts[fo:fo + n]
+    free = ts[freeo:freeo + n]
+    Ssc = ts[so:so + 9]
+    rsc = ts[so + 9:so + 12]
+    ysc = ts[so + 12:so + 15]
+    for j in range(6 * n + 15):
+        ts[j] = 0.0
+    for a in range(buf.shape[0]):
+        for j in range(n):
+            buf[a, j] = 0.0
+    # plant state
+    q0 = P[i, P_Q0]
+    q1 = P[i, P_Q0 + 1]
+    q2 = P[i, P_Q0 + 2]
+    q3 = P[i, P_Q0 + 3]
+    w0 = P[i, P_W0]
+    w1 = P[i, P_W0 + 1]
+    w2 = P[i, P_W0 + 2]
+    delay_steps = P[i, P_DELAY] / dt
+    nd = int(math.floor(delay_steps))
+    dfrac = delay_steps - nd
+    s = SEEDS[i]
+    # estimator state
+    qe = QE[i]
+    be = BE[i]
+    Pe = PE[i]
+    wk = WK[i]
+    gy = GY[i]
+    bias = BIAS[i]
+    for a in range(4):
+        qe[a] = P[i, P_QE0 + a]
+    for a in range(3):
+        be[a] = 0.0
+        bias[a] = P[i, P_BIAS + a]
+        gy[a] = 0.0
+        gy[3 + a] = 0.0
+        gy[6 + a] = 0.0
+    for a in range(6):
+        for b in range(6):
+            Pe[a, b] = 0.0
+    sa2 = P[i, P_SIGA0] * P[i, P_SIGA0]
+    sb2 = P[i, P_SIGB0] * P[i, P_SIGB0]
+    for a in range(3):
+        Pe[a, a] = sa2
+        Pe[3 + a, 3 + a] = sb2
+    we0 = 0.0
+    we1 = 0.0
+    we2 = 0.0
+    ws0 = 0.0
+    ws1 = 0.0
+    ws2 = 0.0
+    # controller state
+    sx = 0.0
+    sy = 0.0
+    sz = 0.0
+    ix = 0.0
+    iy = 0.0
+    iz = 0.0
+    kc = 0
+    # metrics
+    acc = 0.0
+    acc2 = 0.0
+    ax2 = 0.0
+    ay2 = 0.0
+    az2 = 0.0
+    emax = 0.0
+    kacc2 = 0.0
+    nkw = 0
+    nwin = 0
+    last_out = -1
+    prop = 0.0
+    firings = 0.0
+    ontime = 0.0
+    nees_sum = 0.0
+    nees_n = 0
+    nees_last = math.nan
+    wmax = 0.0
+    qf0 = QREF[n_steps, 0]
+    qf1 = QREF[n_steps, 1]
+    qf2 = QREF[n_steps, 2]
+    qf3 = QREF[n_steps, 3]
+    ex, ey, ez, err = _qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+    _, _, _, errf = _qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
+    if errf > band:
+        last_out = 0
+    for j in range(n):
+        TOT[i, j] = 0.0
+    if record:
+        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
+                x2o, n)
+    for k in range(n_steps + 1):
+        lit = ENV[k, 9] > 0.5
+        # ---------------------------------------------------------------- sensors + estimation
+        if est_mode == EST_TRUTH:
+            qe[0] = q0
+            qe[1] = q1
+            qe[2] = q2
+            qe[3] = q3
+            we0 = w0
+            we1 = w1
+            we2 = w2
+        elif k % h_gyro == 0:
+            # gyro reading at t_k: Farrenkopf model on the mean true rate over the last
+            # interval (a rate-integrating gyro's delta-angle / dt); the attitude is then
+            # propagated over that interval with it
+            if k > 0:
+                gy[3] = ws0 / h_gyro
+                gy[4] = ws1 / h_gyro
+                gy[5] = ws2 / h_gyro
+            else:
+                gy[3] = w0
+                gy[4] = w1
+                gy[5] = w2
+            ws0 = 0.0
+            ws1 = 0.0
+            ws2 = 0.0
+            s, z0 = _normal(s)
+            s, z1 = _normal(s)
+            s, z2 = _normal(s)
+            gy[6] = z0
+            gy[7] = z1
+            gy[8] = z2
+            s, z0 = _normal(s)
+            s, z1 = _normal(s)
+            s, z2 = _normal(s)
+            gy[9] = z0
+            gy[10] = z1
+            gy[11] = z2
+            gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
+            if k > 0:
+                if est_mode == EST_MEKF:
+                    mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
+                else:
+                    _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
+            # vector sensors at this epoch
+            nobs = 0
+            if h_sun > 0 and k % h_sun == 0 and lit:
+                b0, b1_, b2_ = _rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
+                s, n0 = _noise(s, uni)
+                s, n1 = _noise(s, uni)
+                s, n2 = _noise(s, uni)
+                VB[i, nobs, 0] = b0 + sig_sun * n0
+                VB[i, nobs, 1] = b1_ + sig_sun * n1
+                VB[i, nobs, 2] = b2_ + sig_sun * n2
+                VR[i, nobs, 0] = ENV[k, 3]
+                VR[i, nobs, 1] = ENV[k, 4]
+                VR[i, nobs, 2] = ENV[k, 5]
+                WW[i, nobs] = C[W_SUN]
+                nobs += 1
+                if est_mode == EST_MEKF:
+                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, wk)
+            if h_mag > 0 and k % h_mag == 0:
+                b0, b1_, b2_ = _rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
+                s, n0 = _noise(s, uni)
+                s, n1 = _noise(s, uni)
+                s, n2 = _noise(s, uni)
+                VB[i, nobs, 0] = b0 + sig_mag * n0
+                VB[i, nobs, 1] = b1_ + sig_mag * n1
+                VB[i, nobs, 2] = b2_ + sig_mag * n2
+                VR[i, nobs, 0] = ENV[k, 6]
+                VR[i, nobs, 1] = ENV[k, 7]
+                VR[i, nobs, 2] = ENV[k, 8]
+                WW[i, nobs] = C[W_MAG]
+                if est_mode == EST_MEKF:
+                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, wk)
+                nobs += 1
+            if h_st > 0 and k % h_st == 0:
+                s, n0 = _normal(s)
+                s, n1 = _normal(s)
+                s, n2 = _normal(s)
+                for a in range(4):
+                    SQ[i, a] = 0.0
+                SQ[i, 0] = q0
+                SQ[i, 1] = q1
+                SQ[i, 2] = q2
+                SQ[i, 3] = q3
+                _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
+                if est_mode == EST_MEKF:
+                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
+                else:
+                    for a in range(4):
+                        qe[a] = SQ[i, a]
+            if est_mode == EST_WAHBA and nobs == 2:
+                st = wahba_one(VB, VR, WW, i, wmethod, WQ, WO, WC, SB[i], SR[i], SQP[i, 0:4],
+                               SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
+                if st == 0:
+                    for a in range(4):
+                        qe[a] = WQ[i, a]
+            if est_mode == EST_MEKF:
+                we0 = gy[0] - be[0]
+                we1 = gy[1] - be[1]
+                we2 = gy[2] - be[2]
+                if k >= k_nees:
+                    nees_last = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
+                    if nees_last == nees_last:
+                        nees_sum += nees_last
+                        nees_n += 1
+            else:
+                we0 = gy[0]
+                we1 = gy[1]
+                we2 = gy[2]
+        if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
+            _, _, _, kerr = _qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
+            kacc2 += kerr * kerr
+            nkw += 1
+        if k == n_steps:
+            break
+        # ---------------------------------------------------------------- control
+        if k % h_ctrl == 0:
+            kc = k
+            cx, cy, cz, _ = _qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+                                  QREF[k, 3])
+            exk = -cx
+            eyk = -cy
+            ezk = -cz
+            dx = WREF[k, 0] - we0
+            dy = WREF[k, 1] - we1
+            dz = WREF[k, 2] - we2
+            ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
+            uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
+            uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
+            ix += exk * t_s
+            iy += eyk * t_s
+            iz += ezk * t_s
+            if ctrl_mode == CTRL_SCHMITT:
+                sx = _schmitt(sx, ux, u_on, u_off)
+                sy = _schmitt(sy, uy, u_on, u_off)
+                sz = _schmitt(sz, uz, u_on, u_off)
+                row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
+                for j in range(n):
+                    F[j] = ATAB[row, j]
+            elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
+                row = k // h_ctrl
+                for j in range(n):
+                    F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
+            else:
+                rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                             Ssc, rsc, ysc, eps)
+            for j in range(n):
+                tp = F[j] / FNOM[j] * t_s
+                if tp > t_s:
+                    tp = t_s
+                if tp < t_min:
+                    if pround and tp >= 0.5 * t_min:
+                        tp = t_min
+                    else:
+                        tp = 0.0
+                if AMASK[j] <= 0.0:
+                    tp = 0.0
+                # a new pulse unless the previous one ran to the end of its period
+                if tp > 0.0 and ts[tppo + j] < t_s:
+                    firings += 1.0
+                ts[tppo + j] = tp
+                ts[tpo + j] = tp
+                TOT[i, j] += tp
+                ontime += tp
+        # ---------------------------------------------------------------- thrusters
+        m = k - kc
+        t0 = 0.0
+        t1 = 0.0
+        t2 = 0.0
+        for j in range(n):
+            c = ts[tpo + j] / dt - m
+            if c > 1.0:
+                c = 1.0
+            elif c < 0.0:
+                c = 0.0
+            if FAILED[j] > 0.0:
+                c = 0.0
+            buf[k & bmask, j] = c
+            if k - nd >= 0:
+                ua = buf[(k - nd) & bmask, j]
+            else:
+                ua = 0.0
+            if k - nd - 1 >= 0:
+                ub = buf[(k - nd - 1) & bmask, j]
+            else:
+                ub = 0.0
+            ud = (1.0 - dfrac) * ua + dfrac * ub
+            x1 = ts[x1o + j]
+            x2 = ts[x2o + j]
+            v = v1 * x1 + v2 * x2 + vu * ud
+            ts[x2o + j] = a21 * x1 + a22 * x2 + b2 * ud
+            ts[x1o + j] = a11 * x1 + b1 * ud
+            fav = FLEV[i, j] * v / dt  # mean force over the step (N)
+            prop += MDOT[j] * v
+            d0 = DIRS[i, j, 0]
+            d1 = DIRS[i, j, 1]
+            d2 = DIRS[i, j, 2]
+            r0 = POS[j, 0]
+            r1 = POS[j, 1]
+            r2 = POS[j, 2]
+            t0 += fav * (r1 * d2 - r2 * d1)
+            t1 += fav * (r2 * d0 - r0 * d2)
+            t2 += fav * (r0 * d1 - r1 * d0)
+        # ---------------------------------------------------------------- environment torques
+        tk = k * dt
+        t0 += P[i, P_D0] + P[i, P_DAMP] * math.sin(d_omega * tk + P[i, P_DPH])
+        t1 += P[i, P_D0 + 1] + P[i, P_DAMP + 1] * math.sin(d_omega * tk + P[i, P_DPH + 1])
+        t2 += P[i, P_D0 + 2] + P[i, P_DAMP + 2] * math.sin(d_omega * tk + P[i, P_DPH + 2])
+        if n2orb > 0.0:
+            c0, c1, c2 = _rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
+            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
+            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
+            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+            t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+            t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+            t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+        # ---------------------------------------------------------------- dynamics
+        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt)
+        # mean rate over the step (trapezoid) for the rate-integrating gyro
+        ws0 += 0.5 * (w0 + w0n)
+        ws1 += 0.5 * (w1 + w1n)
+        ws2 += 0.5 * (w2 + w2n)
+        w0 = w0n
+        w1 = w1n
+        w2 = w2n
+        # ---------------------------------------------------------------- metrics at t_{k+1}
+        kk = k + 1
+        ex, ey, ez, err = _qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
+        _, _, _, errf = _qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
+        if errf > band:
+            last_out = kk
+        wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        if wn > wmax:
+            wmax = wn
+        if kk >= k_win:
+            acc += err
+            acc2 += err * err
+            ax2 += ex * ex
+            ay2 += ey * ey
+            az2 += ez * ez
+            if err > emax:
+                emax = err
+            nwin += 1
+        if record and kk % rec_every == 0:
+            _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
+                    nees_last, prop, ts, x2o, n)
+    fw = 1.0 / nwin if nwin > 0 else math.nan
+    OUT[i, M_MEAN_ERR] = acc * fw
+    OUT[i, M_RMS_ERR] = math.sqrt(acc2 * fw)
+    OUT[i, M_MAX_ERR] = emax if nwin > 0 else math.nan
+    OUT[i, M_RMS_X] = math.sqrt(ax2 * fw)
+    OUT[i, M_RMS_Y] = math.sqrt(ay2 * fw)
+    OUT[i, M_RMS_Z] = math.sqrt(az2 * fw)
+    if last_out < 0:
+        OUT[i, M_SETTLE] = 0.0
+    elif last_out >= n_steps:
+        OUT[i, M_SETTLE] = math.nan
+    else:
+        OUT[i, M_SETTLE] = (last_out + 1) * dt
+    OUT[i, M_FINAL_ERR] = err
+    OUT[i, M_PROP] = prop
+    OUT[i, M_FIRINGS] = firings
+    OUT[i, M_ONTIME] = ontime
+    OUT[i, M_KNOW_RMS] = math.sqrt(kacc2 / nkw) if nkw > 0 else math.nan
+    OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
+    OUT[i, M_NEES_N] = nees_n
+    OUT[i, M_MAX_RATE] = wmax
+
+
+@register_jitable
+def _tmp4(buf, q0, q1, q2, q3):
+    """Write a quaternion into a 4-element scratch row and return it (for kernel calls)."""
+    buf[0] = q0
+    buf[1] = q1
+    buf[2] = q2
+    buf[3] = q3
+    return buf
+
+
+@register_jitable
+def _record(REC, i, r, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, nees, prop, ts, x2o, n):
+    REC[i, r, R_EX] = ex
+    REC[i, r, R_EY] = ey
+    REC[i, r, R_EZ] = ez
+    REC[i, r, R_ERR] = err
+    _, _, _, kerr = _qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
+    REC[i, r, R_KNOW] = kerr
+    REC[i, r, R_WX] = w0
+    REC[i, r, R_WY] = w1
+    REC[i, r, R_WZ] = w2
+    REC[i, r, R_NEES] = nees
+    REC[i, r, R_PROP] = prop
+    for j in range(n):
+        REC[i, r, N_REC_FIXED + j] = ts[x2o + j]
+
+
+sample_loop_jit = njit(cache=True, nogil=True)(sample_loop)
+
+
+@njit(parallel=True, cache=True, nogil=True)
+def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
+                 AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
+                 SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT):
+    """CPU driver: every sample in parallel (``prange``), each through :func:`sample_loop`."""
+    for i in prange(P.shape[0]):
+        sample_loop_jit(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+                    FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
+                    SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT)
+
+
+rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
+rk4_step_jit = njit(cache=True, nogil=True)(rk4_step)

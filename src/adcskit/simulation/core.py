@@ -1,0 +1,548 @@
+"""The closed-loop simulator: scenario -> batched numba kernel -> metrics and traces.
+
+:func:`simulate` draws the Monte-Carlo dispersions (:mod:`adcskit.uncertainty`), one 64-bit
+noise seed per sample, precomputes everything the samples share (orbit, sun, eclipse,
+magnetic reference along the orbit; the guidance table; the allocation table), splits the
+samples into chunks and runs them on an executor through
+:func:`adcskit.uncertainty.run_campaign` (resumable with ``directory``). A sample's result
+depends only on its parameters and seed, so every executor and chunking gives bit-identical
+results for the same ``rng``.
+
+Hand-written here: the loop kernel (:mod:`adcskit.simulation._kernels`); no kept library
+simulates a thruster-controlled closed loop with an estimator across thousands of samples
+in compiled code (Basilisk runs one sample per process, in C/C++ modules called from
+Python each step).
+
+References
+----------
+Markley F. L., Crassidis J. L. (2014), ch. 3 (dynamics), ch. 6 (MEKF); S3 eq. 5-7, 12;
+S4 Fig. 1, Table 3.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+from scipy.spatial.transform import Rotation, Slerp
+
+from adcskit._validation import as_rng, check_int
+from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
+from adcskit.errors import InputTypeError
+from adcskit.simulation import _kernels as _k
+from adcskit.simulation.scenario import Scenario
+
+__all__ = [
+    "SimulationResult",
+    "simulate",
+    "METRIC_NAMES",
+    "TRACE_CHANNELS",
+    "S3_REFERENCE_A",
+    "WAHBA_CODES",
+    "reference_profile",
+]
+
+METRIC_NAMES = _k.METRIC_NAMES
+#: Wahba methods usable in the loop -> kernel code.
+WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
+#: S3 §6: reference 6-thruster layout (Servidia & Sanchez Pena 2000), torque matrix as printed.
+S3_REFERENCE_A = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
+
+_DEG = math.pi / 180.0
+_ARCSEC = _DEG / 3600.0
+_MU = 3.986004418e14
+_RE = 6378137.0
+
+
+def _trace_channels(n: int) -> tuple[str, ...]:
+    return ("err_x", "err_y", "err_z", "pointing_error", "knowledge_error", "omega_x", "omega_y",
+            "omega_z", "nees", "propellant") + tuple(f"thrust_{j}" for j in range(n))
+
+
+TRACE_CHANNELS = _trace_channels(0)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SimulationResult:
+    """Outcome of :func:`simulate`.
+
+    Attributes
+    ----------
+    metrics : dict of str to ndarray (N,)
+        Per-sample metrics (:data:`METRIC_NAMES`): pointing error mean / RMS / max and
+        per-axis RMS over the metrics window (rad), ``settling_time`` (s; NaN = not settled
+        by the end; 0 = never outside the band), ``final_error`` (rad), ``propellant`` (kg),
+        ``firings`` (pulses), ``on_time`` (s, commanded, all thrusters), ``knowledge_rms``
+        (rad), ``nees_mean`` (MEKF NEES averaged over its epochs; NaN without MEKF),
+        ``nees_count``, ``max_rate`` (rad/s).
+    on_time_per_thruster : ndarray (N, n), s
+        Commanded on-time of each thruster.
+    t : ndarray (R,) or None, s
+        Trace times (``record=True``).
+    trace : ndarray (N, R, C) or None
+        Time histories, channels :attr:`channels`.
+    channels : tuple of str
+    parameters : dict of str to ndarray
+        The dispersed parameters of every sample (inertia, thrust levels, delay, ...).
+    seeds : ndarray (N,) uint64
+        Per-sample noise seeds.
+    n_samples, n_steps : int
+    sample_steps_per_s : float
+        ``n_samples * n_steps / wall time`` of the kernel runs (excludes set-up).
+    runtime_s : float
+        Wall time of the whole call.
+    n_chunks, n_resumed : int
+        Campaign bookkeeping (chunks resumed from ``directory``).
+    executor : str
+    success : bool
+        Every metric finite where it must be (pointing error, propellant).
+    message : str
+    """
+
+    metrics: dict[str, np.ndarray]
+    on_time_per_thruster: np.ndarray
+    t: np.ndarray | None
+    trace: np.ndarray | None
+    channels: tuple[str, ...]
+    parameters: dict[str, np.ndarray]
+    seeds: np.ndarray
+    n_samples: int
+    n_steps: int
+    sample_steps_per_s: float
+    runtime_s: float
+    n_chunks: int
+    n_resumed: int
+    executor: str
+    success: bool
+    message: str
+
+    def summary(self) -> dict[str, dict[str, float]]:
+        """Mean, std, 5/50/95 % quantiles and NaN count of every metric."""
+        out: dict[str, dict[str, float]] = {}
+        for name, v in self.metrics.items():
+            f = v[np.isfinite(v)]
+            out[name] = {
+                "mean": float(np.mean(f)) if f.size else math.nan,
+                "std": float(np.std(f, ddof=1)) if f.size > 1 else math.nan,
+                "p05": float(np.quantile(f, 0.05)) if f.size else math.nan,
+                "p50": float(np.quantile(f, 0.5)) if f.size else math.nan,
+                "p95": float(np.quantile(f, 0.95)) if f.size else math.nan,
+                "n_nan": int(v.size - f.size),
+            }
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "summary": self.summary(),
+            "n_samples": self.n_samples,
+            "n_steps": self.n_steps,
+            "sample_steps_per_s": self.sample_steps_per_s,
+            "runtime_s": self.runtime_s,
+            "n_chunks": self.n_chunks,
+            "n_resumed": self.n_resumed,
+            "executor": self.executor,
+            "success": self.success,
+            "message": self.message,
+        }
+
+
+# ------------------------------------------------------------------------- preparation
+
+
+def _lag_coefficients(tau: float, dt: float) -> np.ndarray:
+    # states [x1, x2, v, u]: x1' = (u - x1)/tau, x2' = (x1 - x2)/tau, v' = x2, u' = 0 (held)
+    m = np.zeros((4, 4))
+    m[0, 0] = -1.0 / tau
+    m[0, 3] = 1.0 / tau
+    m[1, 0] = 1.0 / tau
+    m[1, 1] = -1.0 / tau
+    m[2, 1] = 1.0
+    phi = scipy.linalg.expm(m * dt)
+    return np.array([phi[0, 0], phi[0, 3], phi[1, 0], phi[1, 1], phi[1, 3], phi[2, 0], phi[2, 1], phi[2, 3]])
+
+
+def _rotvec_quat(rv: np.ndarray) -> np.ndarray:
+    """Quaternion (scalar last) ``[sin(a/2) e, cos(a/2)]`` of rotation vectors (..., 3)."""
+    rv = np.asarray(rv, dtype=float)
+    a = np.linalg.norm(rv, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(a > 1e-12, np.sin(a / 2) / np.where(a > 0, a, 1.0), 0.5)
+    return np.concatenate([s * rv, np.cos(a / 2)], axis=-1)
+
+
+def _qmul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Markley's product ``p (x) q`` (``A(p (x) q) = A(p) A(q)``), batched."""
+    pv, p4 = p[..., :3], p[..., 3:]
+    qv, q4 = q[..., :3], q[..., 3:]
+    v = p4 * qv + q4 * pv - np.cross(pv, qv)
+    s = p4 * q4 - np.sum(pv * qv, axis=-1, keepdims=True)
+    out = np.concatenate([v, s], axis=-1)
+    return out * np.where(out[..., 3:] < 0, -1.0, 1.0)
+
+
+def reference_profile(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Reference attitude and rate on the simulation grid.
+
+    Returns
+    -------
+    t : ndarray (K+1,), s
+    q_ref : ndarray (K+1, 4)
+        Reference quaternions (scalar last, ECI -> reference body).
+    w_ref : ndarray (K+1, 3), rad/s
+        Reference body rates.
+    """
+    g = scenario.guidance
+    n_steps = int(round(scenario.sim.t_final / scenario.sim.dt))
+    t = np.arange(n_steps + 1) * scenario.sim.dt
+    q = np.zeros((n_steps + 1, 4))
+    q[:, 3] = 1.0
+    w = np.zeros((n_steps + 1, 3))
+    if g.kind == "step":
+        qt = _rotvec_quat(np.asarray(g.target_rotvec_deg) * _DEG)
+        q[t >= g.t_step] = qt
+    elif g.kind == "table":
+        tt = np.asarray(g.table_t, float)
+        qq = np.asarray(g.table_q, float)
+        qq = qq / np.linalg.norm(qq, axis=1, keepdims=True)
+        # scipy's from_quat(q) has matrix A(q)^T: interpolate the inverse rotations consistently
+        rots = Rotation.from_quat(qq)
+        tc = np.clip(t, tt[0], tt[-1])
+        qi = Slerp(tt, rots)(tc).as_quat()
+        qi *= np.where(qi[:, 3:] < 0, -1.0, 1.0)
+        q = qi
+        if len(g.table_w):
+            ww = np.asarray(g.table_w, float)
+            w = np.stack([np.interp(t, tt, ww[:, j], left=0.0, right=0.0) for j in range(3)], axis=1)
+            w[(t < tt[0]) | (t > tt[-1])] = 0.0
+        else:
+            for a in range(len(tt) - 1):
+                m = (t >= tt[a]) & (t < tt[a + 1])
+                d = _qmul(qq[a + 1], qq[a] * np.array([-1, -1, -1, 1.0]))
+                ang = 2 * np.arctan2(np.linalg.norm(d[:3]), d[3])
+                nv = np.linalg.norm(d[:3])
+                axis = d[:3] / nv if nv > 0 else np.zeros(3)
+                w[m] = axis * ang / (tt[a + 1] - tt[a])
+    return t, q, w
+
+
+def _environment(scenario: Scenario, n_steps: int, h_env: int) -> tuple[np.ndarray, float, float]:
+    """ENV (K+1, 10) = [r_hat (3), sun (3), mag_hat (3), lit], n^2 (1/s^2), orbit rate."""
+    from adcskit.environment import circular_orbit, in_shadow, magnetic_field, sun_direction
+
+    o = scenario.orbit
+    dt = scenario.sim.dt
+    t = np.arange(n_steps + 1) * dt
+    alt = o.altitude_km * 1e3
+    st = circular_orbit(alt, o.inclination_deg * _DEG, o.raan_deg * _DEG, o.arg_lat0_deg * _DEG, t,
+                        epoch=np.datetime64(o.epoch))
+    r = np.asarray(st.r)
+    env = np.zeros((n_steps + 1, 10))
+    env[:, 0:3] = r / np.linalg.norm(r, axis=1, keepdims=True)
+    idx = np.unique(np.r_[np.arange(0, n_steps + 1, max(1, h_env)), n_steps])
+    times = st.times
+    sun = sun_direction(times[idx])
+    lit = ~np.asarray(in_shadow(r[idx], times[idx]), dtype=bool)
+    mag = np.asarray(magnetic_field(r[idx], times[idx], model=o.magnetic_model))
+    mag = mag / np.linalg.norm(mag, axis=1, keepdims=True)
+    for j in range(3):
+        env[:, 3 + j] = np.interp(t, t[idx], sun[:, j])
+        env[:, 6 + j] = np.interp(t, t[idx], mag[:, j])
+    env[:, 3:6] /= np.linalg.norm(env[:, 3:6], axis=1, keepdims=True)
+    env[:, 6:9] /= np.linalg.norm(env[:, 6:9], axis=1, keepdims=True)
+    env[:, 9] = np.interp(t, t[idx], lit.astype(float)) > 0.5
+    rad = _RE + alt
+    n_orb = math.sqrt(_MU / rad**3)
+    return env, n_orb * n_orb, n_orb
+
+
+def _allocation_table(scenario: Scenario, A: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Forces (27, n) for the Schmitt demands ``T * (sx, sy, sz)``, row ``9(sx+1)+3(sy+1)+(sz+1)``."""
+    from adcskit.thrusters import allocate
+
+    c = scenario.controller
+    n = A.shape[1]
+    levels = np.array([-1.0, 0.0, 1.0])
+    D = np.array([[sx, sy, sz] for sx in levels for sy in levels for sz in levels]) * np.asarray(c.torque_level)
+    table = np.zeros((27, n))
+    cols = np.flatnonzero(mask > 0)
+    if cols.size:
+        res = allocate(A[:, cols], D, method=c.allocation, f_max=scenario.thrusters.f_max)
+        table[:, cols] = res.x
+    return table
+
+
+def _draw(scenario: Scenario, n: int, gen: np.random.Generator) -> dict[str, np.ndarray]:
+    """Per-sample dispersed parameters through :mod:`adcskit.uncertainty`."""
+    from adcskit.uncertainty import Gaussian, TruncatedGaussian, latin_hypercube
+
+    d = scenario.dispersions
+    nt = scenario.thrusters.n
+    dists: dict[str, Any] = {}
+    for a in range(3):
+        dists[f"inertia_{a}"] = TruncatedGaussian(mean=1.0, std=d.inertia_rel, low=0.1, high=1.9)
+    for j in range(nt):
+        dists[f"thrust_{j}"] = TruncatedGaussian(mean=1.0, std=d.thrust_rel, low=0.0, high=2.0)
+        for a in range(3):
+            dists[f"mis_{j}_{a}"] = Gaussian(mean=0.0, std=d.misalignment_deg * _DEG)
+    dists["delay"] = TruncatedGaussian(mean=scenario.thrusters.delay, std=d.delay_std_s, low=0.0,
+                                       high=scenario.thrusters.delay + 10 * max(d.delay_std_s, 1e-12))
+    dists["disturbance"] = TruncatedGaussian(mean=1.0, std=d.disturbance_rel, low=0.0, high=3.0)
+    sens = scenario.sensors
+    for a in range(3):
+        dists[f"att_{a}"] = Gaussian(mean=0.0, std=d.initial_attitude_deg * _DEG)
+        dists[f"rate_{a}"] = Gaussian(mean=scenario.initial_rate_deg_s[a] * _DEG, std=d.initial_rate_deg_s * _DEG)
+        dists[f"bias_{a}"] = Gaussian(mean=0.0, std=sens.gyro_bias0_deg_h * _DEG / 3600.0)
+        dists[f"kerr_{a}"] = Gaussian(mean=0.0, std=scenario.estimator.init_error_deg * _DEG)
+    if d.sampling == "lhs":
+        draws = latin_hypercube(dists, n, gen)
+    else:
+        from scipy.stats import qmc  # noqa: F401 (same ppf path as the LHS)
+
+        u = gen.random((n, len(dists)))
+        u = np.clip(u, 1e-12, 1 - 1e-12)
+        draws = {k: np.asarray(v.ppf(u[:, j]), float) for j, (k, v) in enumerate(dists.items())}
+    return draws
+
+
+def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    sc = scenario
+    dt = sc.sim.dt
+    n_steps = int(round(sc.sim.t_final / dt))
+    th = sc.thrusters
+    nt = th.n
+    hc = int(round(sc.controller.period_s / dt))
+    hg = int(round(1.0 / (sc.sensors.gyro_rate_hz * dt)))
+
+    def hrate(rate: float) -> int:
+        return 0 if rate <= 0 else int(round(1.0 / (rate * dt)))
+
+    hs = hrate(sc.sensors.sun_rate_hz)
+    hm = hrate(sc.sensors.mag_rate_hz)
+    hst = hrate(sc.sensors.star_tracker_rate_hz)
+    h_env = min([h for h in (hs, hm, hg) if h > 0])
+    env, n2, n_orb = _environment(sc, n_steps, h_env)
+    _, qref, wref = reference_profile(sc)
+    draws = _draw(sc, n, gen)
+    # --- per-sample parameters
+    J0 = sc.spacecraft.matrix()
+    scale = np.stack([draws[f"inertia_{a}"] for a in range(3)], axis=1)  # (n, 3)
+    J = J0[None] * np.sqrt(scale[:, :, None] * scale[:, None, :])  # keeps symmetry and PD
+    P = np.zeros((n, _k.N_PARAMS))
+    P[:, _k.P_J:_k.P_J + 9] = J.reshape(n, 9)
+    P[:, _k.P_JI:_k.P_JI + 9] = np.linalg.inv(J).reshape(n, 9)
+    att = np.stack([draws[f"att_{a}"] for a in range(3)], axis=1)
+    q0 = _qmul(_rotvec_quat(att), np.broadcast_to(_rotvec_quat(np.asarray(sc.initial_rotvec_deg) * _DEG), (n, 4)))
+    P[:, _k.P_Q0:_k.P_Q0 + 4] = q0
+    P[:, _k.P_W0:_k.P_W0 + 3] = np.stack([draws[f"rate_{a}"] for a in range(3)], axis=1)
+    P[:, _k.P_DELAY] = draws["delay"]
+    dsc = draws["disturbance"][:, None]
+    P[:, _k.P_D0:_k.P_D0 + 3] = np.asarray(sc.disturbance.constant)[None] * dsc
+    P[:, _k.P_DAMP:_k.P_DAMP + 3] = np.asarray(sc.disturbance.amplitude)[None] * dsc
+    P[:, _k.P_DPH:_k.P_DPH + 3] = np.asarray(sc.disturbance.phase_deg)[None] * _DEG
+    P[:, _k.P_BIAS:_k.P_BIAS + 3] = np.stack([draws[f"bias_{a}"] for a in range(3)], axis=1)
+    kerr = np.stack([draws[f"kerr_{a}"] for a in range(3)], axis=1)
+    P[:, _k.P_QE0:_k.P_QE0 + 4] = _qmul(_rotvec_quat(kerr), q0)
+    P[:, _k.P_SIGA0] = max(sc.estimator.init_error_deg * _DEG, 1e-9)
+    P[:, _k.P_SIGB0] = max(sc.sensors.gyro_bias0_deg_h * _DEG / 3600.0, 1e-12)
+    # thrusters: dispersed directions and force levels
+    dirs0 = np.asarray(th.directions)
+    mis = np.stack([np.stack([draws[f"mis_{j}_{a}"] for a in range(3)], axis=1) for j in range(nt)], axis=1)
+    R = Rotation.from_rotvec(mis.reshape(-1, 3)).as_matrix().reshape(n, nt, 3, 3)
+    dirs = np.einsum("sjab,jb->sja", R, dirs0)
+    flev = th.f_max * np.stack([draws[f"thrust_{j}"] for j in range(nt)], axis=1)
+    pos = np.asarray(th.positions) - np.asarray(th.com)
+    failed = np.zeros(nt)
+    failed[list(th.failed)] = 1.0
+    amask = np.ones(nt)
+    if th.failure_known:
+        amask[list(th.failed)] = 0.0
+    A_nom = np.cross(pos, dirs0).T.copy()
+    if sc.controller.kind == "schmitt":
+        atab = _allocation_table(sc, A_nom, amask)
+    elif sc.controller.kind == "open-loop":
+        atab = np.ascontiguousarray(np.asarray(sc.controller.on_times, dtype=float))
+    else:
+        atab = np.zeros((27, nt))
+    # --- shared coefficients
+    C = np.zeros(_k.N_COEFS)
+    C[_k.DT] = dt
+    C[_k.N_STEPS] = n_steps
+    C[_k.H_CTRL] = hc
+    C[_k.H_GYRO] = hg
+    C[_k.H_SUN] = hs
+    C[_k.H_MAG] = hm
+    C[_k.H_ST] = hst
+    C[_k.A11:_k.VU + 1] = _lag_coefficients(th.tau, dt)
+    C[_k.N2ORB] = n2 if sc.orbit.gravity_gradient else 0.0
+    per = sc.disturbance.period_s if sc.disturbance.period_s > 0 else 2 * math.pi / n_orb
+    C[_k.D_OMEGA] = 2 * math.pi / per
+    s_sun = sc.sensors.sun_noise_deg * _DEG
+    s_mag = sc.sensors.mag_noise_deg * _DEG
+    C[_k.SIG_SUN] = s_sun
+    C[_k.SIG_MAG] = s_mag
+    C[_k.SIG_ST] = sc.sensors.star_tracker_noise_arcsec * _ARCSEC
+    uni = sc.sensors.noise == "uniform"
+    C[_k.NOISE_UNIFORM] = 1.0 if uni else 0.0
+    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
+    C[_k.W_SUN] = 1.0 / max(s_sun * fil, 1e-12) ** 2
+    C[_k.W_MAG] = 1.0 / max(s_mag * fil, 1e-12) ** 2
+    C[_k.SIG_V] = sc.sensors.gyro_arw
+    C[_k.SIG_U] = sc.sensors.gyro_rrw
+    C[_k.EST_MODE] = {"truth": _k.EST_TRUTH, "wahba": _k.EST_WAHBA, "mekf": _k.EST_MEKF}[sc.estimator.kind]
+    C[_k.WAHBA_METHOD] = WAHBA_CODES[sc.estimator.wahba_method]
+    c = sc.controller
+    C[_k.CTRL_MODE] = {"schmitt": _k.CTRL_SCHMITT, "pwm": _k.CTRL_PWM, "open-loop": _k.CTRL_OPEN}[c.kind]
+    C[_k.U_ON] = c.u_on
+    C[_k.U_OFF] = c.u_on * c.off_ratio
+    C[_k.T_S] = c.period_s
+    C[_k.T_MIN] = th.t_min
+    C[_k.PULSE_ROUND] = 1.0 if c.min_on_time == "round" else 0.0
+    C[_k.KP0:_k.KP2 + 1] = c.kp
+    C[_k.KI0:_k.KI2 + 1] = c.ki
+    C[_k.KD0:_k.KD2 + 1] = c.kd
+    C[_k.TL0:_k.TL2 + 1] = (1.0, 1.0, 1.0) if c.kind == "pwm" else c.torque_level
+    C[_k.K_WIN] = int(math.ceil(sc.sim.metrics_from_s / dt - 1e-9))
+    C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * _DEG
+    C[_k.REC_EVERY] = sc.sim.record_every
+    C[_k.K_NEES] = int(math.ceil(sc.sim.nees_from_s / dt - 1e-9))
+    max_delay = float(np.max(draws["delay"])) if n else th.delay
+    buf_len = 1 << max(2, int(math.ceil(math.log2(max_delay / dt + 3))))
+    C[_k.BUF_MASK] = buf_len - 1
+    C[_k.RPI_EPS] = 1e-12
+    shared = dict(C=C, POS=np.ascontiguousarray(pos), MDOT=np.full(nt, th.mdot), FAILED=failed,
+                  ENV=env, QREF=np.ascontiguousarray(qref), WREF=np.ascontiguousarray(wref),
+                  ATAB=atab, ANOM=A_nom, FNOM=np.full(nt, th.f_max), AMASK=amask, buf_len=buf_len,
+                  n_steps=n_steps)
+    per_sample = dict(P=P, DIRS=np.ascontiguousarray(dirs), FLEV=np.ascontiguousarray(flev))
+    params = {
+        "inertia": J, "thrust": flev, "directions": dirs, "delay": draws["delay"],
+        "initial_quaternion": q0, "initial_rate": P[:, _k.P_W0:_k.P_W0 + 3].copy(),
+        "gyro_bias": P[:, _k.P_BIAS:_k.P_BIAS + 3].copy(), "disturbance_scale": draws["disturbance"],
+    }
+    return {"shared": shared, "per_sample": per_sample}, params
+
+
+def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bool]) -> dict[str, Any]:
+    """Run one block of samples through the kernel (module level: picklable for executors)."""
+    shared, ps, seeds, record = task
+    C = shared["C"]
+    n = ps["P"].shape[0]
+    nt = shared["POS"].shape[0]
+    n_steps = shared["n_steps"]
+    rec_every = int(C[_k.REC_EVERY])
+    n_rec = n_steps // rec_every + 1
+    OUT = np.empty((n, _k.N_METRICS))
+    TOT = np.empty((n, nt))
+    REC = np.full((n, n_rec, _k.N_REC_FIXED + nt), np.nan) if record else np.empty((0, 0, _k.N_REC_FIXED + nt))
+    e = np.empty
+    t0 = time.perf_counter()
+    _k.run_parallel(
+        ps["P"], C, seeds, ps["DIRS"], ps["FLEV"], shared["POS"], shared["MDOT"], shared["FAILED"],
+        shared["ENV"], shared["QREF"], shared["WREF"], shared["ATAB"], shared["ANOM"], shared["FNOM"],
+        shared["AMASK"], np.zeros((n, shared["buf_len"], nt)), np.zeros((n, _k.N_TS_PER_THR * nt + _k.N_TS_EXTRA)),
+        e((n, 4)), e((n, 3)), e((n, 6, 6)), e((n, 48)), e((n, 12)), e((n, 3)),
+        np.zeros((n, 2, 3)), np.zeros((n, 2, 3)), np.ones((n, 2)), e((n, 4)), e((n, 3)), e((1, 0, 0)),
+        e((n, 2, 3)), e((n, 2, 3)), e((n, 4)), e((n, 3, 3)), e((n, 3, 3)), e((n, 4, 4)), e((n, 3, 3)),
+        e((n, 3, 3)), e((n, 8)), OUT, REC, TOT,
+    )
+    wall = time.perf_counter() - t0
+    return {"out": OUT, "tot": TOT, "rec": REC if record else None, "wall": wall}
+
+
+def simulate(
+    scenario: Scenario,
+    n_samples: int = 1,
+    rng: Any = None,
+    executor: Any = None,
+    *,
+    record: bool = False,
+    chunk_size: int | None = None,
+    directory: Any = None,
+) -> SimulationResult:
+    """Run ``n_samples`` Monte-Carlo samples of a closed-loop scenario.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The closed loop (see :mod:`adcskit.simulation.scenario`).
+    n_samples : int
+        Number of samples (dispersed parameters and independent noise per sample).
+    rng : Generator or int, optional
+        Randomness of the dispersions and per-sample seeds (``None`` -> seed 0). The same
+        ``rng`` gives bit-identical results on every executor and chunking.
+    executor : spec or Executor, optional
+        ``serial`` (default: one process, all cores through numba's ``prange``),
+        ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``.
+    record : bool
+        Return time histories (decimated by ``scenario.sim.record_every``).
+    chunk_size : int, optional
+        Samples per kernel call (default: all samples in 8 chunks at most, >= 64 each).
+    directory : path, optional
+        Campaign directory: finished chunks are kept and a re-run resumes.
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> from adcskit.simulation import Scenario, SimSpec, simulate
+    >>> sc = Scenario(sim=SimSpec(dt=0.02, t_final=2.0, metrics_from_s=1.0))
+    >>> res = simulate(sc, n_samples=4, rng=1)
+    >>> res.metrics["propellant"].shape
+    (4,)
+
+    References
+    ----------
+    S3 eq. 5-7, 12 (allocation, pulse width, fuel); S4 Fig. 1 (loop); Markley & Crassidis
+    (2014) §6.2 (MEKF), eq. 3.155 (gravity gradient).
+    """
+    if not isinstance(scenario, Scenario):
+        raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
+    n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
+    if not isinstance(record, bool):
+        raise InputTypeError(f"record must be a bool; got {record!r}")
+    gen = as_rng(rng)
+    t_start = time.perf_counter()
+    prep, params = _prepare(scenario, n_samples, gen)
+    seeds = np.random.SeedSequence(int(gen.integers(2**63))).generate_state(n_samples, dtype=np.uint64)
+    if chunk_size is None:
+        chunk_size = max(64, -(-n_samples // 8))
+    chunk_size = check_int("chunk_size", chunk_size, minimum=1)
+    shared = prep["shared"]
+    ps = prep["per_sample"]
+    tasks = []
+    for lo in range(0, n_samples, chunk_size):
+        hi = min(n_samples, lo + chunk_size)
+        tasks.append((shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi], record))
+    from adcskit.uncertainty import run_campaign
+
+    camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                        description="closed-loop samples")
+    blocks = camp.values
+    out = np.concatenate([b["out"] for b in blocks], axis=0)
+    tot = np.concatenate([b["tot"] for b in blocks], axis=0)
+    wall = sum(b["wall"] for b in blocks)
+    n_steps = shared["n_steps"]
+    nt = scenario.thrusters.n
+    if record:
+        trace = np.concatenate([b["rec"] for b in blocks], axis=0)
+        t = np.arange(trace.shape[1]) * scenario.sim.record_every * scenario.sim.dt
+    else:
+        trace = None
+        t = None
+    metrics = {name: out[:, j].copy() for j, name in enumerate(METRIC_NAMES)}
+    ok = bool(np.all(np.isfinite(metrics["rms_error"])) and np.all(np.isfinite(metrics["propellant"])))
+    msg = (f"{n_samples} samples x {n_steps} steps; {camp.n_chunks} chunk(s), {camp.n_resumed} resumed"
+           + ("" if ok else "; some samples produced non-finite metrics"))
+    return SimulationResult(
+        metrics=metrics, on_time_per_thruster=tot, t=t, trace=trace, channels=_trace_channels(nt),
+        parameters=params, seeds=seeds, n_samples=n_samples, n_steps=n_steps,
+        sample_steps_per_s=n_samples * n_steps / wall if wall > 0 else math.inf,
+        runtime_s=time.perf_counter() - t_start, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed,
+        executor=camp.executor, success=ok, message=msg,
+    )

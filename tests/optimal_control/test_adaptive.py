@@ -1,0 +1,156 @@
+"""hp mesh refinement: error estimate, refinement rules, adaptive solves (quick settings)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from adcskit.errors import InputError, InputTypeError
+from adcskit.optimal_control import (
+    AdaptiveSolution,
+    Mesh,
+    OptimalControlSolution,
+    bang_bang,
+    estimate_error,
+    guess_from_function,
+    refine_mesh,
+    solve,
+    solve_adaptive,
+    symmetry_breaking_guess,
+)
+from adcskit.optimal_control.adaptive import _lgr_integration
+from adcskit.optimal_control.problems import (
+    double_integrator_min_energy,
+    double_integrator_min_time,
+    hypersensitive,
+)
+
+
+@settings(max_examples=20, deadline=None)
+@given(m=st.integers(2, 12), deg=st.integers(0, 11), seed=st.integers(0, 1000))
+def test_lgr_integration_matrix_is_exact_for_polynomials(m, deg, seed):
+    # ∫_{-1}^{e_j} p is exact for deg(p) <= m - 1 (m interpolation points)
+    deg = min(deg, m - 1)
+    c = np.random.default_rng(seed).normal(size=deg + 1)
+    s, I = _lgr_integration(m)
+    ends = np.concatenate((s[1:], [1.0]))
+    exact = np.polynomial.polynomial.polyval(ends, np.polynomial.polynomial.polyint(c, lbnd=-1.0))
+    assert np.allclose(I @ np.polynomial.polynomial.polyval(s, c), exact, atol=1e-12)
+
+
+def test_error_estimate_zero_for_polynomial_solution_and_large_across_a_switch():
+    # minimum energy: the state is a cubic, represented exactly by 3 LGR points + end point
+    sol = solve(double_integrator_min_energy(), method="radau", mesh=(2, 3))
+    assert estimate_error(sol).max() < 1e-10
+    # minimum time is bang-bang with the switch at tf/2 = 1: on a 3-interval mesh the switch
+    # falls inside the middle interval, whose error must dominate
+    sol = solve(double_integrator_min_time(), method="radau", mesh=(3, 4))
+    err = estimate_error(sol)
+    assert err.argmax() == 1 and err[1] > 1e-3 and max(err[0], err[2]) < 1e-8
+
+
+def test_refine_mesh_rules():
+    mesh = Mesh.uniform(3, 4)
+    # ph rule (Patterson, Hager & Rao 2015 eq. 31): P = ceil(log(e/tol)/log N) = ceil(log(1e3)/log 4) = 5
+    new, act = refine_mesh(mesh, [1e-3, 1e-9, 1e-9], tol=1e-6)
+    assert act == ("p", "keep", "keep") and new.nodes == (9, 4, 4)
+    # beyond n_max: split into B = ceil((N+P)/n_min) = ceil(9/3) = 3 equal parts (eq. 32)
+    new, act = refine_mesh(mesh, [1e-3, 1e-9, 1e-9], tol=1e-6, n_max=8)
+    assert act[0] == "h" and new.nodes == (3, 3, 3, 4, 4)
+    assert np.allclose(new.fractions[:3], 1 / 9)
+    # a control jump splits at the jump
+    sol = solve(double_integrator_min_time(), method="radau", mesh=(3, 4))
+    new, act = refine_mesh(
+        sol.mesh, estimate_error(sol), tol=1e-6, pieces=sol.pieces,
+        control_lower=sol.problem.control_lower, control_upper=sol.problem.control_upper,
+    )
+    assert act[1] == "h-jump" and new.n_intervals == 4
+    t_break = new.breaks[2] * sol.tf
+    assert abs(t_break - 1.0) < 0.2  # the switch time is tf/2 = 1 s (Bryson & Ho §7.3)
+    with pytest.raises(InputError):
+        refine_mesh(mesh, [1.0], tol=1e-6)
+
+
+@pytest.mark.parametrize("method", ["radau", "gauss"])
+def test_solve_adaptive_bang_bang_meets_tolerance(method):
+    # Bryson & Ho §7.3: tf = 2 sqrt(d/a) = 2, switch at 1, costate λ_x = -2/(a tf) = -1
+    # 3 equal intervals: the switch (t = 1) lies inside the middle one and must be resolved
+    sol = solve_adaptive(double_integrator_min_time(), tol=1e-7, method=method, mesh=(3, 4))
+    assert isinstance(sol, AdaptiveSolution) and isinstance(sol, OptimalControlSolution)
+    assert sol.success and sol.certificate.satisfied
+    assert sol.max_error <= 1e-7 and np.all(sol.interval_errors <= 1e-7)
+    assert sol.interval_errors.shape == (sol.mesh.n_intervals,)
+    assert abs(sol.tf - 2.0) < 1e-6
+    assert np.allclose(sol.state_at(1.0), [0.5, 1.0], atol=1e-5)  # x(1) = a/2, v(1) = a
+    # the refinement put a mesh break on the switch (quadrature-mean placement, exact for a
+    # control entering linearly)
+    assert np.min(np.abs(sol.mesh.breaks * sol.tf - 1.0)) < 1e-6
+    if method == "gauss":  # switching-function zero from the (exact) Gauss costates
+        assert abs(bang_bang(sol).switch_times[0][0] - 1.0) < 1e-3
+    assert len(sol.mesh_history) >= 2 and sol.mesh_history[-1].max_error == sol.max_error
+    if method == "gauss":  # Gauss costates are exact here to solver tolerance (test_solve.py)
+        assert np.allclose(sol.costate[:, 0], -1.0, atol=1e-5)
+    d = sol.to_dict()
+    assert d["certificate"]["satisfied"] and len(d["mesh_history"]) == len(sol.mesh_history)
+
+
+def test_hp_needs_fewer_points_than_uniform_on_hypersensitive():
+    # hypersensitive (Rao & Mease 2000), tf = 10, quick tolerance 1e-4
+    prob = hypersensitive(10.0)
+    hp = solve_adaptive(prob, tol=1e-4)
+    assert hp.success
+    n_hp = sum(hp.mesh.nodes)
+    # uniform refinement: the fewest equal 4-point intervals meeting the same tolerance
+    n_uniform = None
+    for k in (10, 20, 40, 80, 160):
+        s = solve(prob, method="radau", mesh=(k, 4))
+        if s.success and estimate_error(s).max() <= 1e-4:
+            n_uniform = 4 * k
+            break
+    assert n_uniform is not None and n_hp < n_uniform
+
+
+def test_limits_give_success_false_with_message():
+    sol = solve_adaptive(hypersensitive(10.0), tol=1e-10, max_iterations=2)
+    assert not sol.success and not sol.certificate.satisfied
+    assert "max_iterations=2" in sol.message
+    sol = solve_adaptive(hypersensitive(10.0), tol=1e-10, max_intervals=12)
+    assert not sol.success and "max_intervals=12" in sol.message
+
+
+def test_guess_options():
+    prob = double_integrator_min_time()
+    g = guess_from_function(lambda t: ([t / 2, 0.5], [0.0]), 0.0, 2.0)
+    a = solve_adaptive(prob, tol=1e-6, guess=g)
+    b = solve_adaptive(prob, tol=1e-6, guess=lambda t: ([t / 2, 0.5], [0.0]))
+    c = solve_adaptive(prob, tol=1e-6, guess="linear")
+    for s in (a, b, c):
+        assert s.success and abs(s.tf - 2.0) < 1e-6
+    sb = symmetry_breaking_guess(prob)
+    assert np.all(np.abs(sb.u) <= 1.0) and np.ptp(sb.u) > 0.1
+    with pytest.raises(InputError):
+        solve_adaptive(prob, guess="zeros")
+
+
+def test_input_validation():
+    prob = double_integrator_min_time()
+    with pytest.raises(InputError):
+        solve_adaptive(prob, tol=-1.0)
+    with pytest.raises(InputError):
+        solve_adaptive(prob, method="euler")
+    with pytest.raises(InputTypeError):
+        solve_adaptive("problem")
+    with pytest.raises(InputError):
+        solve_adaptive(prob, n_min=5, n_max=3)
+    with pytest.raises(InputTypeError):
+        estimate_error(prob)
+
+
+def test_refinements_are_warm_started():
+    sol = solve_adaptive(hypersensitive(10.0), tol=1e-5)
+    modes = [m.warm_start for m in sol.mesh_history]
+    assert modes[0] == "cold" and all(m in ("primal", "primal-dual") for m in modes[1:])
+    # warm-started refinements need few IPOPT iterations (the first, cold solve needs more)
+    assert max(m.nit for m in sol.mesh_history[1:]) < sol.mesh_history[0].nit
