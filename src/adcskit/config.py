@@ -22,8 +22,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
-from adcskit._validation import check_mapping, check_path
-from adcskit.errors import ConfigError
+from adcskit._validation import check_mapping, check_path, short_repr
+from adcskit.errors import ConfigError, InputTypeError
 
 __all__ = ["load_config", "config_to_dict", "config_help", "dump_toml", "read_toml", "merge_mappings"]
 
@@ -317,6 +317,8 @@ def config_help(cls: type) -> dict[str, str]:
     >>> config_help(get_study("wahba-table1").config_cls)["noise_bound"]
     'float: Uniform noise bound as a fraction of each component (S0: 0.2).'
     """
+    if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
+        raise InputTypeError(f"cls must be a config dataclass (a class); got {short_repr(cls)}")
     hints = get_type_hints(cls)
     doc = _doc_attributes(cls)
     out: dict[str, str] = {}

@@ -48,7 +48,7 @@ import numpy as np
 from scipy import stats
 
 from adcskit._results import compact_repr
-from adcskit._validation import as_array, check_finite, check_positive, short_repr
+from adcskit._validation import as_array, check_finite, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import _mekf_kernels as _mk
 
@@ -60,10 +60,10 @@ __all__ = ["MEKFResult", "MultiplicativeEKF", "mekf_filter", "chi2_band"]
 
 def _quat(name: str, value: Any) -> np.ndarray:
     q = as_array(name, value, shape=(4,))
-    n = float(np.linalg.norm(q))
-    if n == 0.0:
+    if not np.any(q):
         raise InputError(f"{name} must be a non-zero quaternion (scalar last); got {short_repr(q)}")
-    q = q / n
+    q = q / np.max(np.abs(q))  # rescale first: the norm of a 1e-300 quaternion underflows
+    q = q / np.linalg.norm(q)
     return -q if q[3] < 0 else q
 
 
@@ -71,7 +71,26 @@ def _vec3(name: str, value: Any, *, nonzero: bool = False) -> np.ndarray:
     v = as_array(name, value, shape=(3,))
     if nonzero and not np.any(v):
         raise InputError(f"{name} must be a non-zero 3-vector; got {short_repr(v)}")
+    if nonzero:  # a direction: rescale so that the kernel's normalisation cannot underflow
+        v = v / np.max(np.abs(v))
     return v
+
+
+#: Smallest measurement noise accepted [rad]: 1/σ² must stay finite in the gain.
+MIN_SIGMA = 1e-100
+
+
+def _sigma(name: str, value: Any) -> float:
+    return check_positive(name, value, unit="rad", min_value=MIN_SIGMA)
+
+
+def _rows_rescaled(a: np.ndarray) -> np.ndarray:
+    """Each last-axis row divided by its largest magnitude (direction kept, no underflow in the
+    kernel's normalisation); zero and NaN rows are left as they are."""
+    with np.errstate(invalid="ignore"):
+        m = np.max(np.abs(a), axis=-1, keepdims=True)
+    m = np.where(np.isfinite(m) & (m > 0), m, 1.0)
+    return a / m
 
 
 def _covariance(name: str, value: Any, lead: tuple[int, ...] = ()) -> np.ndarray:
@@ -121,15 +140,14 @@ def chi2_band(dof: int, n_runs: int, alpha: float = 0.05) -> tuple[float, float]
     >>> round(lo, 2), round(hi, 2)
     (5.53, 6.49)
     """
-    if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or dof < 1:
-        raise InputError(f"dof must be an integer >= 1; got {short_repr(dof)}")
-    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
-        raise InputError(f"n_runs must be an integer >= 1; got {short_repr(n_runs)}")
+    dof = check_int("dof", dof, minimum=1, maximum=10**9)
+    n_runs = check_int("n_runs", n_runs, minimum=1, maximum=10**9)
     a = check_finite("alpha", alpha)
     if not 0.0 < a < 1.0:
         raise InputError(f"alpha must be in (0, 1); got {a:g}")
-    k = int(dof) * int(n_runs)
-    return float(stats.chi2.ppf(a / 2, k) / n_runs), float(stats.chi2.ppf(1 - a / 2, k) / n_runs)
+    k = dof * n_runs
+    # isf for the upper end: ppf(1 - a/2) rounds to ppf(1) = inf for a tiny alpha
+    return float(stats.chi2.ppf(a / 2, k) / n_runs), float(stats.chi2.isf(a / 2, k) / n_runs)
 
 
 # ------------------------------------------------------------------------- stepping class
@@ -241,7 +259,7 @@ class MultiplicativeEKF:
         v_ref : array_like, shape (3,)
             The same direction in the reference frame (normalised here).
         sigma : float, rad
-            Measurement noise per axis, > 0 (``R = σ² I``).
+            Measurement noise per axis, >= 1e-100 (``R = σ² I``).
 
         Returns
         -------
@@ -255,7 +273,7 @@ class MultiplicativeEKF:
         """
         vb = _vec3("v_body", v_body, nonzero=True)
         vr = _vec3("v_ref", v_ref, nonzero=True)
-        s = check_positive("sigma", sigma, unit="rad")
+        s = _sigma("sigma", sigma)
         return float(_mk.mekf_update_vector_jit(self._q, self._b, self._P, vb, vr, s, self._work))
 
     def update_quaternion(self, q_meas: Any, sigma: float) -> float:
@@ -274,7 +292,7 @@ class MultiplicativeEKF:
             NIS (about χ²(3)).
         """
         qm = _quat("q_meas", q_meas)
-        s = check_positive("sigma", sigma, unit="rad")
+        s = _sigma("sigma", sigma)
         return float(_mk.mekf_update_quaternion_jit(self._q, self._b, self._P, qm, s, self._work))
 
     def nees(self, q_true: Any, b_true: Any) -> float:
@@ -494,10 +512,10 @@ def mekf_filter(
         raise InputError("gyro must hold at least one sample (N >= 1)")
     g = g.reshape(n, T, 3)
     q0a = _per_sample("q0", q0, (4,), n)
-    nq = np.linalg.norm(q0a, axis=-1)
-    if np.any(nq == 0):
+    if np.any((q0a == 0).all(axis=-1)):
         raise InputError("q0 must be non-zero quaternions (scalar last)")
-    q0a = q0a / nq[:, None]
+    q0a = _rows_rescaled(q0a)
+    q0a = q0a / np.linalg.norm(q0a, axis=-1)[:, None]
     q0a *= np.where(q0a[:, 3:] < 0, -1.0, 1.0)
     b0a = _per_sample("b0", b0, (3,), n)
     P0a = _covariance("P0", P0, (n,))
@@ -533,8 +551,9 @@ def mekf_filter(
         if np.any((vr == 0).all(axis=-1)):
             raise InputError("vectors_ref must be non-zero vectors")
         sg = as_array("sigmas", sigmas, shape=(m,))
-        if np.any(sg <= 0):
-            raise InputError(f"sigmas must be > 0 rad; got {sg[sg <= 0][0]:g}")
+        if np.any(sg < MIN_SIGMA):
+            raise InputError(f"sigmas must be >= {MIN_SIGMA:g} rad; got {sg[sg < MIN_SIGMA][0]:g}")
+        vb, vr = _rows_rescaled(vb), _rows_rescaled(vr)
     else:
         m = 0
         vb = np.zeros((n, T, 0, 3))
@@ -551,7 +570,8 @@ def mekf_filter(
             raise InputError("q_star must be finite, or a whole row of NaN for 'no measurement'")
         if np.any((qs == 0).all(axis=-1)):
             raise InputError("q_star must be non-zero quaternions")
-        ss = check_positive("sigma_star", sigma_star, unit="rad")
+        ss = _sigma("sigma_star", sigma_star)
+        qs = _rows_rescaled(qs)
     else:
         qs = np.zeros((0, T, 4))
         ss = 1.0
@@ -564,6 +584,7 @@ def mekf_filter(
         if np.any((qt == 0).all(axis=-1)):
             raise InputError("q_true must be non-zero quaternions")
         bt = _series("b_true", b_true, (3,), N, T)
+        qt = _rows_rescaled(qt)
     else:
         qt = np.zeros((0, T, 4))
         bt = np.zeros((0, T, 3))

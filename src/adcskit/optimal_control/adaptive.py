@@ -52,7 +52,7 @@ import numpy as np
 from numpy.polynomial import legendre as _leg
 
 from adcskit._results import compact_repr
-from adcskit._validation import check_choice, check_int, check_positive
+from adcskit._validation import as_array, check_choice, check_finite, check_int, check_positive
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
@@ -299,7 +299,9 @@ def refine_mesh(
     """
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh must be a Mesh; got {type(mesh).__name__}")
-    err = np.asarray(errors, float)
+    err = as_array("errors", errors, max_abs=None)
+    check_finite("smooth_decay", smooth_decay)
+    check_finite("jump_threshold", jump_threshold)
     if err.shape != (mesh.n_intervals,):
         raise InputError(f"errors must have shape ({mesh.n_intervals},); got {err.shape}")
     tol = check_positive("tol", tol)
@@ -779,8 +781,12 @@ def guess_from_function(fun, t0: float, tf: float, *, n_samples: int = 41) -> Gu
     """
     if not callable(fun):
         raise InputTypeError(f"fun must be callable t -> (x, u); got {fun!r}")
-    n = check_int("n_samples", n_samples, minimum=2)
-    t = np.linspace(float(t0), float(tf), n)
+    n = check_int("n_samples", n_samples, minimum=2, maximum=1_000_000)
+    a = check_finite("t0", t0)
+    b = check_finite("tf", tf)
+    if not b > a:
+        raise InputError(f"tf must be > t0 (s); got t0 = {a:g}, tf = {b:g}")
+    t = np.linspace(a, b, n)
     xs, us = [], []
     for tk in t:
         try:

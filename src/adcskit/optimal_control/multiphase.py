@@ -39,7 +39,7 @@ import casadi as ca
 import numpy as np
 
 from adcskit._results import compact_repr
-from adcskit._validation import as_array, check_choice, check_int
+from adcskit._validation import as_array, check_choice, check_flag, check_int
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import gauss_differentiation_matrix, radau_differentiation_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, _default_scale, _vec
@@ -66,10 +66,7 @@ __all__ = [
 
 
 def _pair(name: str, value) -> tuple[float, float]:
-    try:
-        lo, hi = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise InputTypeError(f"{name} must be two numbers (lower, upper); got {value!r}") from None
+    lo, hi = as_array(name, value, shape=(2,), finite=False, max_abs=None).tolist()
     if np.isnan(lo) or np.isnan(hi) or lo > hi:
         raise InputError(f"{name} must satisfy lower <= upper; got ({lo}, {hi})")
     return lo, hi
@@ -155,8 +152,8 @@ class Phase:
     def __post_init__(self) -> None:
         if not callable(self.dynamics):
             raise InputTypeError(f"dynamics must be callable f(x, u, t, p); got {self.dynamics!r}")
-        nx = check_int("n_states", self.n_states, minimum=1)
-        nu = check_int("n_controls", self.n_controls, minimum=0)
+        nx = check_int("n_states", self.n_states, minimum=1, maximum=100_000)
+        nu = check_int("n_controls", self.n_controls, minimum=0, maximum=100_000)
         s = object.__setattr__
         s(self, "state_names", tuple(self.state_names) or tuple(f"x{i}" for i in range(nx)))
         s(self, "control_names", tuple(self.control_names) or tuple(f"u{i}" for i in range(nu)))
@@ -173,8 +170,10 @@ class Phase:
             ("control_scale", nu, np.nan),
         ):
             s(self, nm, _vec(nm, getattr(self, nm), n, d))
-        if np.any(self.state_lower > self.state_upper) or np.any(self.control_lower > self.control_upper):
-            raise InputError("state/control lower bounds must be <= upper bounds")
+        if np.any(self.state_lower > self.state_upper):
+            raise InputError("state_lower must be <= state_upper")
+        if np.any(self.control_lower > self.control_upper):
+            raise InputError("control_lower must be <= control_upper")
         for nm in ("t0_bounds", "tf_bounds", "duration_bounds"):
             s(self, nm, _pair(nm, getattr(self, nm)))
         if not np.isfinite(self.t0_bounds[0]) or not np.isfinite(self.t0_bounds[1]):
@@ -242,6 +241,12 @@ class Link:
     states: tuple[int, ...] | None = None
     jump: Any = 0.0
     time: bool = True
+
+    def __post_init__(self) -> None:
+        check_int("a", self.a, minimum=0)
+        check_int("b", self.b, minimum=0)
+        as_array("jump", self.jump)
+        check_flag("time", self.time)
 
 
 @dataclass(slots=True)
@@ -340,7 +345,7 @@ class MultiPhaseProblem:
         if not phases or not all(isinstance(p, Phase) for p in phases):
             raise InputTypeError(f"phases must be a non-empty sequence of Phase; got {self.phases!r}")
         s(self, "phases", phases)
-        npar = check_int("n_parameters", self.n_parameters, minimum=0)
+        npar = check_int("n_parameters", self.n_parameters, minimum=0, maximum=100_000)
         s(self, "parameter_names", tuple(self.parameter_names) or tuple(f"p{i}" for i in range(npar)))
         if len(self.parameter_names) != npar:
             raise InputError(f"parameter_names must have {npar} entries")
@@ -424,7 +429,7 @@ class MultiPhaseGuess:
     parameters: np.ndarray
 
     def __post_init__(self) -> None:
-        if not all(isinstance(g, Guess) for g in self.phases):
+        if not isinstance(self.phases, Sequence) or not all(isinstance(g, Guess) for g in self.phases):
             raise InputTypeError("MultiPhaseGuess.phases must hold Guess objects")
         object.__setattr__(self, "phases", tuple(self.phases))
         object.__setattr__(self, "parameters", as_array("parameters", self.parameters, ndim=1, nonempty=False))
@@ -452,6 +457,8 @@ def default_multiphase_guess(problem: MultiPhaseProblem) -> MultiPhaseGuess:
     >>> len(g.phases)
     2
     """
+    if not isinstance(problem, MultiPhaseProblem):
+        raise InputTypeError(f"problem must be a MultiPhaseProblem; got {type(problem).__name__}")
     out = []
     t_prev = None
     x_prev = None

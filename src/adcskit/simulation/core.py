@@ -195,6 +195,8 @@ def reference_profile(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.nd
     w_ref : ndarray (K+1, 3), rad/s
         Reference body rates.
     """
+    if not isinstance(scenario, Scenario):
+        raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
     g = scenario.guidance
     n_steps = int(round(scenario.sim.t_final / scenario.sim.dt))
     t = np.arange(n_steps + 1) * scenario.sim.dt

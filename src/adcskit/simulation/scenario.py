@@ -24,7 +24,14 @@ from typing import Any, Literal
 
 import numpy as np
 
-from adcskit._validation import check_choice, check_positive
+from adcskit._validation import (
+    as_array,
+    check_choice,
+    check_finite,
+    check_int,
+    check_positive,
+    check_range,
+)
 from adcskit.errors import InputError
 
 __all__ = [
@@ -46,11 +53,8 @@ Vec3 = tuple[float, float, float]
 
 
 def _vec(name: str, v: Any, n: int = 3) -> tuple[float, ...]:
-    try:
-        a = np.asarray(v, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be {n} numbers; got {v!r}") from None
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
+    a = as_array(name, v).reshape(-1)  # real, finite, |x| <= 1e150: names the field otherwise
+    if a.shape != (n,):
         raise InputError(f"{name} must be {n} finite numbers; got {v!r}")
     return tuple(float(x) for x in a)
 
@@ -94,7 +98,7 @@ class SpacecraftSpec(_Spec):
     inertia: tuple[float, ...] = (1218.6, 442.2, 1429.4)
 
     def __post_init__(self) -> None:
-        a = np.asarray(self.inertia, dtype=float).reshape(-1)
+        a = as_array("inertia", self.inertia).reshape(-1)
         if a.size == 3:
             J = np.diag(a)
         elif a.size == 9:
@@ -141,8 +145,9 @@ class OrbitSpec(_Spec):
 
     def __post_init__(self) -> None:
         check_positive("altitude_km", self.altitude_km, unit="km")
-        if not 0.0 <= float(self.inclination_deg) <= 180.0:
-            raise InputError(f"inclination_deg must be in [0, 180] deg; got {self.inclination_deg!r}")
+        check_range("inclination_deg", self.inclination_deg, 0.0, 180.0, unit="deg")
+        check_finite("raan_deg", self.raan_deg)
+        check_finite("arg_lat0_deg", self.arg_lat0_deg)
         check_choice("magnetic_model", self.magnetic_model, ("dipole", "igrf"))
 
 
@@ -212,8 +217,8 @@ class ThrusterSpec(_Spec):
     failure_known: bool = True
 
     def __post_init__(self) -> None:
-        pos = np.asarray(self.positions, dtype=float)
-        d = np.asarray(self.directions, dtype=float)
+        pos = as_array("positions", self.positions)
+        d = as_array("directions", self.directions)
         if pos.ndim != 2 or pos.shape[1] != 3 or pos.shape[0] < 1:
             raise InputError(f"positions must be a list of n >= 1 3-vectors (m); got shape {pos.shape}")
         if d.shape != pos.shape:
@@ -436,8 +441,7 @@ class ControllerSpec(_Spec):
         for name in ("kp", "ki", "kd", "torque_level"):
             object.__setattr__(self, name, _vec(name, getattr(self, name)))
         check_positive("u_on", self.u_on)
-        if not 0.0 <= float(self.off_ratio) <= 1.0:
-            raise InputError(f"off_ratio must be in [0, 1]; got {self.off_ratio!r}")
+        check_range("off_ratio", self.off_ratio, 0.0, 1.0)
         if any(t <= 0 for t in self.torque_level):
             raise InputError(f"torque_level must be > 0 N m per axis; got {self.torque_level!r}")
         from adcskit.thrusters import ALLOCATION_METHODS
@@ -523,12 +527,11 @@ class SimSpec(_Spec):
         check_positive("t_final", self.t_final, unit="s")
         if self.t_final / self.dt > 1e7:
             raise InputError(f"t_final/dt must be <= 1e7 steps; got {self.t_final / self.dt:g}")
-        if not 0.0 <= self.metrics_from_s < self.t_final:
+        if not 0.0 <= check_finite("metrics_from_s", self.metrics_from_s) < self.t_final:
             raise InputError(f"metrics_from_s must be in [0, t_final) s; got {self.metrics_from_s!r}")
         check_positive("settle_band_deg", self.settle_band_deg, unit="deg")
         _nonneg("nees_from_s", self.nees_from_s, "s")
-        if int(self.record_every) != self.record_every or self.record_every < 1:
-            raise InputError(f"record_every must be an integer >= 1; got {self.record_every!r}")
+        check_int("record_every", self.record_every, minimum=1)
 
 
 def _default_thrusters() -> ThrusterSpec:

@@ -45,7 +45,15 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._validation import check_choice
+from adcskit._validation import (
+    as_array,
+    check_callable,
+    check_choice,
+    check_finite,
+    check_flag,
+    check_mapping,
+    check_range,
+)
 
 __all__ = [
     "OUTCOMES",
@@ -113,12 +121,14 @@ def mean_interval(values: Sequence[float], confidence: float = 0.95) -> tuple[fl
     v = np.asarray([x for x in values if x is not None and math.isfinite(float(x))], dtype=float)
     if v.size == 0:
         return (math.nan, math.nan)
+    scale = float(np.max(np.abs(v))) or 1.0  # in units of the largest value: no overflow
+    v = v / scale
     m = float(v.mean())
     if v.size == 1:
-        return (m, m)
+        return (m * scale, m * scale)
     se = float(v.std(ddof=1)) / math.sqrt(v.size)
     h = float(student_t.ppf(0.5 + confidence / 2, v.size - 1)) * se
-    return (m - h, m + h)
+    return ((m - h) * scale, (m + h) * scale)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -299,11 +309,15 @@ def decide(
     'does not hold'
     """
     check_choice("better", better, ("above", "below"))
+    stochastic = check_flag("stochastic", stochastic)
+    confidence = check_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     vals: tuple[float, ...] = ()
     if values is not None:
         if threshold is None:
             raise ValueError("decide: values need a threshold")
-        vals = tuple(float(v) for v in values)
+        threshold = check_finite("threshold", threshold, max_abs=None)
+        # NaN / inf values are allowed: a failed seed, decided as not supporting the claim
+        vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
         ok = [math.isfinite(v) and (v > threshold if better == "above" else v < threshold) for v in vals]
         if held is not None:  # both given: a seed holds only if both say so
             ok = [a and bool(b) for a, b in zip(ok, held, strict=True)]
@@ -411,6 +425,16 @@ class ClaimSpec:
 
     _cls = Claim
 
+    def __post_init__(self) -> None:
+        check_callable("value", self.value, allow_none=True)
+        check_callable("held", self.held, allow_none=True)
+        check_choice("better", self.better, ("above", "below"))
+        check_flag("stochastic", self.stochastic)
+        if self.threshold is not None:
+            object.__setattr__(self, "threshold", check_finite("threshold", self.threshold, max_abs=None))
+        if self.value is not None and self.threshold is None:
+            raise ValueError(f"claim {self.id!r}: value needs a threshold")
+
     def _reading(self, name: str, runs: Sequence[Mapping[str, Any]]) -> Reading:
         vals = [float(self.value(m)) for m in runs] if self.value is not None else None
         held = [bool(self.held(m)) for m in runs] if self.held is not None else None
@@ -428,6 +452,7 @@ class ClaimSpec:
 
         ``runs`` must hold ``default`` and every name in :attr:`readings`.
         """
+        check_mapping("runs", runs)
         names = list(dict.fromkeys([default, *self.readings])) if self.readings else [default]
         missing = [n for n in names if n not in runs]
         if missing:

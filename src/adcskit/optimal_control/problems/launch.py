@@ -19,6 +19,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from adcskit.errors import InputTypeError
 from adcskit.optimal_control.multiphase import Link, MultiPhaseGuess, MultiPhaseProblem, Phase
 from adcskit.optimal_control.problem import Guess
 
@@ -179,6 +180,8 @@ def launch_ascent_guess(problem: MultiPhaseProblem) -> MultiPhaseGuess:
     the target orbit's perigee (straight line in direction, radius interpolated so that it
     stays above the surface); masses linear at the burn rates; thrust along the local
     vertical."""
+    if not isinstance(problem, MultiPhaseProblem):
+        raise InputTypeError(f"problem must be a MultiPhaseProblem; got {type(problem).__name__}")
     L = LAUNCH
     out = []
     x_end = None

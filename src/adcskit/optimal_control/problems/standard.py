@@ -96,7 +96,7 @@ def bryson_denham(l: float = 1.0 / 9.0) -> OptimalControlProblem:  # noqa: E741 
     >>> float(bryson_denham(1 / 9).state_upper[0]) == 1 / 9
     True
     """
-    l = check_positive("l", l, unit="m")  # noqa: E741
+    l = check_positive("l", l, unit="m", min_value=1e-6)  # noqa: E741 (control scale ~ 1/l)
     return OptimalControlProblem(
         name="bryson-denham",
         dynamics=_bd_f,
@@ -141,6 +141,7 @@ def brachistochrone(x_final: float = 10.0, drop: float = 5.0) -> OptimalControlP
     """
     xf = check_positive("x_final", x_final, unit="m")
     dy = check_positive("drop", drop, unit="m")
+    _check_ratio(xf, dy)
     t_ref = brachistochrone_time(xf, dy)
     return OptimalControlProblem(
         name="brachistochrone",
@@ -162,6 +163,13 @@ def brachistochrone(x_final: float = 10.0, drop: float = 5.0) -> OptimalControlP
     )
 
 
+def _check_ratio(xf: float, dy: float) -> None:
+    # the cycloid's angle is bracketed in [1e-3, 2 pi): x_final / drop must lie in its range
+    if not 1e-3 <= xf / dy <= 1e12:
+        raise InputError(f"x_final / drop must be in [1e-3, 1e12] (a cycloid through the end point); "
+                         f"got x_final = {xf:g} m, drop = {dy:g} m")
+
+
 def brachistochrone_time(x_final: float, drop: float, g: float = _G0) -> float:
     """Closed-form minimum time (s) of the brachistochrone: the cycloid
     ``x = R(φ − sin φ)``, ``y = R(1 − cos φ)`` through the end point, ``T = φ_f √(R/g)``.
@@ -176,6 +184,7 @@ def brachistochrone_time(x_final: float, drop: float, g: float = _G0) -> float:
     """
     xf = check_positive("x_final", x_final, unit="m")
     dy = check_positive("drop", drop, unit="m")
+    _check_ratio(xf, dy)
     g = check_positive("g", g, unit="m/s^2")
     ratio = xf / dy
     phi = brentq(lambda p: (p - np.sin(p)) - ratio * (1.0 - np.cos(p)), 1e-3, 2 * np.pi - 1e-9, xtol=1e-15)
