@@ -124,7 +124,11 @@ def _write_api_pages() -> None:
         ]
         if constants:
             lines += ["Constants", "---------", ""]
-            lines += [f"``{n}``\n    ``{getattr(module, n)!r}``\n" for n in constants if not n.startswith("_")]
+            for n in constants:
+                if n.startswith("_"):
+                    continue
+                text = " ".join(repr(getattr(module, n)).split())  # one line: inline literals cannot wrap
+                lines.append(f"``{n}``\n    ``{text}``\n")
         del first
         text = "\n".join(lines)
         page = api / f"{short}.rst"

@@ -45,8 +45,8 @@ def test_quick_overrides_yield_to_user_values():
 @pytest.mark.parametrize(
     ("data", "fragment"),
     [
-        ({"n_trail": 5}, "unknown config key n_trail = 5; allowed keys: enabled, inner, n_trials, noise, pair, scale"),
-        ({"inner": {"bund": 1}}, "unknown config key inner.bund = 1; allowed keys in inner: bound, methods"),
+        ({"n_trail": 5}, "unknown config key n_trail = 5 (did you mean 'n_trials'?); allowed keys: enabled, inner, n_trials, noise, pair, scale"),
+        ({"inner": {"bund": 1}}, "unknown config key inner.bund = 1 (did you mean 'bound'?); allowed keys in inner: bound, methods"),
         ({"n_trials": 2.5}, "n_trials must be an integer; got 2.5"),
         ({"n_trials": True}, "n_trials must be an integer; got True"),
         ({"noise": "laplace"}, "noise must be one of 'uniform', 'gaussian'; got 'laplace'"),

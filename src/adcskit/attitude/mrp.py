@@ -58,6 +58,7 @@ def mrp_to_dcm(sigma: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from adcskit.attitude import euler_to_dcm
     >>> import numpy as np
     >>> np.allclose(mrp_to_dcm([0.0, 0.0, np.tan(np.pi / 8)]), euler_to_dcm([np.pi / 2, 0, 0], "ZYX"))
     True
@@ -71,6 +72,7 @@ def dcm_to_mrp(A: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from adcskit.attitude import euler_to_dcm
     >>> import numpy as np
     >>> A = euler_to_dcm([np.pi / 2, 0.0, 0.0], "ZYX")   # 90 deg about z
     >>> dcm_to_mrp(A).round(6)                            # tan(90 deg / 4) about z

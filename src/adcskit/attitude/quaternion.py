@@ -141,6 +141,7 @@ def dcm_to_quat(A: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from adcskit.attitude import euler_to_dcm
     >>> import numpy as np
     >>> dcm_to_quat(np.eye(3))
     array([0., 0., 0., 1.])
@@ -200,6 +201,7 @@ def error_angle(q1: Any, q2: Any) -> np.ndarray | float:
 
     Examples
     --------
+    >>> from adcskit.attitude import euler_to_dcm
     >>> import numpy as np
     >>> q = dcm_to_quat(euler_to_dcm([np.radians(10.0), 0.0, 0.0], "ZYX"))
     >>> round(float(np.degrees(error_angle(q, [0.0, 0.0, 0.0, 1.0]))), 9)

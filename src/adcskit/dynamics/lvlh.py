@@ -67,6 +67,7 @@ def lvlh_second_order(inertia: Any, orbit_rate: float, *, printed: bool = False)
 
     Examples
     --------
+    >>> from adcskit.dynamics import orbit_rate
     >>> M, N, L = lvlh_second_order([10.0, 12.0, 8.0], orbit_rate(800e3))
     >>> M.round(6)
     array([[10.,  0.,  0.],
@@ -105,6 +106,7 @@ def lvlh_attitude_model(inertia: Any, orbit_rate: float, printed: bool = False) 
 
     Examples
     --------
+    >>> from adcskit.dynamics import orbit_rate
     >>> A, B = lvlh_attitude_model([10.0, 12.0, 8.0], orbit_rate(800e3))
     >>> A.shape, B.shape
     ((6, 6), (6, 3))

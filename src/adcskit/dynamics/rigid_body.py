@@ -179,6 +179,7 @@ def propagate_attitude(
 
     Examples
     --------
+    >>> from adcskit.attitude import error_angle
     >>> import numpy as np
     >>> t = np.linspace(0.0, 60.0, 7)
     >>> traj = propagate_attitude([0, 0, 0, 1], [0.0, 0.0, 0.1], [10.0, 12.0, 8.0], t)

@@ -450,8 +450,6 @@ def solve(
     >>> b.warm_start, abs(b.tf - a.tf) < 1e-7, b.nit <= 3
     ('primal-dual', True, True)
 
-    Examples
-    --------
     >>> from adcskit.optimal_control import solve
     >>> from adcskit.optimal_control.problems import double_integrator_min_energy
     >>> ocp = double_integrator_min_energy(distance=1.0, duration=1.0)
@@ -734,8 +732,6 @@ def solve_mesh_sequence(
     >>> r.converged, r.on_branch, round(r.final.tf, 6)
     (True, True, 4.0)
 
-    Examples
-    --------
     >>> from adcskit.optimal_control import solve_mesh_sequence
     >>> from adcskit.optimal_control.problems import double_integrator_min_energy
     >>> meshes = [(2, 3), (4, 3), (8, 3)]

@@ -648,8 +648,6 @@ def design_layout(
     >>> bool(abs(r.thrusters.force_matrix().sum(axis=1)).max() < 1e-12)  # couples: no net force
     True
 
-    Examples
-    --------
     >>> import numpy as np
     >>> from adcskit.thrusters import design_layout
     >>> demands = np.array([[5.0, 0.0, 0.0], [0.0, -5.0, 2.0], [0.0, 0.0, 5.0]])   # N m
