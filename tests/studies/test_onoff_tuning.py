@@ -86,3 +86,38 @@ def test_config_and_paper_scale_options():
         Config(penalty_readings=("sample", "max"))
     with pytest.raises(ValueError, match="n_seeds"):
         Config(n_seeds=0)
+
+
+def test_front_dominated_by_paper_point_is_said_in_summary():
+    """Issue 16 §3: a quick run whose front is dominated by S4's Table 4 point says so."""
+    import numpy as np
+
+    from adcskit.studies.onoff_tuning import _front_note, _front_vs_paper
+
+    F = np.array([[0.01, 30.0], [0.02, 20.0], [0.05, 12.0]])  # (error °, fuel N m s), sorted by error
+    rows = [
+        {"order": "kp_kd_ki", "entry": "table4_min_error", "error_deg": 0.015, "fuel": 19.0, "feasible": True},
+        {"order": "kp_kd_ki", "entry": "table4_min_fuel", "error_deg": 0.2, "fuel": 5.0, "feasible": False},
+        {"order": "kp_ki_kd", "entry": "table4_min_error", "error_deg": 0.001, "fuel": 1.0, "feasible": True},
+        {"order": "kp_kd_ki", "entry": "table6_all", "error_deg": 0.001, "fuel": 1.0, "feasible": True},
+    ]
+    got = _front_vs_paper(F, rows, "kp_kd_ki")
+    # (0.015°, 19) dominates only (0.02°, 20); an infeasible point (overshoot > 10 %) dominates nothing
+    assert got["min_error"]["front_points_dominated"] == 1
+    assert got["min_fuel"]["front_points_dominated"] == 0 and set(got) == {"min_error", "min_fuel"}
+    note = _front_note(got, 3, quick=True)
+    assert note.startswith("Quick run: our NSGA-II Pareto front is dominated by the paper's point")
+    assert "dominate 1 of its 3 points" in note and "run the full settings" in note
+    assert _front_note(got, 3, quick=False).startswith("Our NSGA-II Pareto front is dominated")
+    # a point on the front (equal in both objectives) or behind it contradicts nothing
+    rows[0].update(error_deg=0.02, fuel=20.0)
+    assert _front_note(_front_vs_paper(F, rows, "kp_kd_ki"), 3, quick=True) == ""
+    assert _front_vs_paper(np.empty((0, 2)), rows, "kp_kd_ki")["min_error"]["front_points_dominated"] == 0
+
+
+def test_quick_summary_matches_front_vs_paper(quick):
+    d, _ = quick
+    vs = d["measured"]["pareto_vs_paper"]
+    assert set(vs) == {"min_error", "min_fuel"}
+    dominated = any(v["front_points_dominated"] for v in vs.values())
+    assert d["summary"].startswith("Quick run: our NSGA-II Pareto front is dominated") == dominated

@@ -68,20 +68,20 @@ class Config:
         Independent seeds of the whole pipeline per finding (>= 5 at full settings).
     n_samples : int
         Monte-Carlo samples per configuration and seed.
-    geo_dt, geo_t_final : float, s
+    geo_dt_s, geo_t_final_s : float, s
         GEO step and duration (questions 1 and 4).
-    geo_slew_deg : float
+    geo_slew_deg : float, deg
         Question 1: step about the (1, 1, 1) axis, then hold.
-    geo_torque_level_nm : float
+    geo_torque_level_nm : float, N m
         Schmitt torque level per axis on the GEO spacecraft.
-    geo_srp_torque_nm : float
+    geo_srp_torque_nm : float, N m
         Amplitude of the solar-pressure-like torque (constant + orbit-periodic part; S3
         names the torques but prints no value).
     layout_pop, layout_gens : int
         Differential evolution for the S3-optimised 6-thruster layout (S3 eq. 18).
-    leo_dt, leo_t_final, leo_window_s : float, s
+    leo_dt_s, leo_t_final_s, leo_window_s : float, s
         Question 2 (S0 LEO); pointing statistics over the last ``leo_window_s``.
-    s4_dt, s4_t_final : float, s
+    s4_dt_s, s4_t_final_s : float, s
         Question 3 (S4's 30 s step, statistics over the last 10 s).
     switch_tc_s : float, s
         GEO and LEO: S4's Schmitt loop keeps Table 4's ``K_p`` and ``K_i`` with
@@ -92,27 +92,29 @@ class Config:
         GEO and LEO command (sample-and-hold) period of the Schmitt loop: S4's 50 Hz. At S3's
         t_s = 0.2 s a held pulse changes ``K_d omega`` by more than the Schmitt hysteresis on
         the low-inertia y axis and the loop chatters between opposite thrusters.
-    slew_deg, slew_accel_fraction : float
-        Question 4: slew about the body z axis; the optimal profile uses this fraction of
-        the torque level's angular acceleration.
+    slew_deg : float, deg
+        Question 4: slew about the body z axis.
+    slew_accel_fraction : float
+        Question 4: the optimal profile uses this fraction of the torque level's angular
+        acceleration.
     record_samples : int
         Samples whose time histories are kept for the figures.
     """
 
     n_seeds: int = 5
     n_samples: int = 1000
-    geo_dt: float = 0.02
-    geo_t_final: float = 45.0
+    geo_dt_s: float = 0.02
+    geo_t_final_s: float = 45.0
     geo_slew_deg: float = 5.0
     geo_torque_level_nm: float = 10.0
     geo_srp_torque_nm: float = 5e-5
     layout_pop: int = 30
     layout_gens: int = 150
-    leo_dt: float = 0.02
-    leo_t_final: float = 60.0
+    leo_dt_s: float = 0.02
+    leo_t_final_s: float = 60.0
     leo_window_s: float = 30.0
-    s4_dt: float = 0.005
-    s4_t_final: float = 30.0
+    s4_dt_s: float = 0.005
+    s4_t_final_s: float = 30.0
     switch_tc_s: float = 5.0
     command_period_s: float = 0.02
     slew_deg: float = 20.0
@@ -122,16 +124,16 @@ class Config:
     def __post_init__(self) -> None:
         if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:
             raise ConfigError("n_seeds must be >= 1, n_samples >= 2, record_samples >= 1")
-        for name in ("geo_dt", "geo_t_final", "geo_slew_deg", "geo_torque_level_nm", "leo_dt", "leo_t_final",
-                     "leo_window_s", "s4_dt", "s4_t_final", "slew_deg", "switch_tc_s", "command_period_s"):
+        for name in ("geo_dt_s", "geo_t_final_s", "geo_slew_deg", "geo_torque_level_nm", "leo_dt_s", "leo_t_final_s",
+                     "leo_window_s", "s4_dt_s", "s4_t_final_s", "slew_deg", "switch_tc_s", "command_period_s"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
         if not 0 < self.slew_accel_fraction <= 1:
             raise ConfigError(f"slew_accel_fraction must be in (0, 1]; got {self.slew_accel_fraction!r}")
-        if self.leo_window_s >= self.leo_t_final:
-            raise ConfigError("leo_window_s must be < leo_t_final")
-        if self.s4_t_final <= 10.0:
-            raise ConfigError("s4_t_final must exceed S4's 10 s statistics window")
+        if self.leo_window_s >= self.leo_t_final_s:
+            raise ConfigError("leo_window_s must be < leo_t_final_s")
+        if self.s4_t_final_s <= 10.0:
+            raise ConfigError("s4_t_final_s must exceed S4's 10 s statistics window")
 
 
 # ----------------------------------------------------------------------------- scenarios
@@ -158,8 +160,8 @@ def _geo_base(cfg: Config, thrusters: ThrusterSpec, allocation: str) -> Scenario
         dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.05, misalignment_deg=0.5, delay_std_s=0.005,
                                    initial_attitude_deg=0.1, initial_rate_deg_s=0.005),
         guidance=GuidanceSpec(kind="step", target_rotvec_deg=tuple(cfg.geo_slew_deg / math.sqrt(3) * np.ones(3))),
-        sim=SimSpec(dt=cfg.geo_dt, t_final=cfg.geo_t_final, metrics_from_s=0.75 * cfg.geo_t_final,
-                    settle_band_deg=0.2, record_every=max(1, int(round(0.2 / cfg.geo_dt)))),
+        sim=SimSpec(dt=cfg.geo_dt_s, t_final=cfg.geo_t_final_s, metrics_from_s=0.75 * cfg.geo_t_final_s,
+                    settle_band_deg=0.2, record_every=max(1, int(round(0.2 / cfg.geo_dt_s)))),
     )
 
 
@@ -180,8 +182,8 @@ def _leo_base(cfg: Config, kind: str, noise: str) -> Scenario:
                                    initial_attitude_deg=0.5, initial_rate_deg_s=0.01),
         guidance=GuidanceSpec(kind="hold"),
         initial_rotvec_deg=(0.0, 0.0, 5.0),  # S0: initial Euler angles (0, 0, 5 deg)
-        sim=SimSpec(dt=cfg.leo_dt, t_final=cfg.leo_t_final, metrics_from_s=cfg.leo_t_final - cfg.leo_window_s,
-                    nees_from_s=10.0, record_every=max(1, int(round(0.5 / cfg.leo_dt)))),
+        sim=SimSpec(dt=cfg.leo_dt_s, t_final=cfg.leo_t_final_s, metrics_from_s=cfg.leo_t_final_s - cfg.leo_window_s,
+                    nees_from_s=10.0, record_every=max(1, int(round(0.5 / cfg.leo_dt_s)))),
     )
 
 
@@ -200,8 +202,8 @@ def _s4_base(cfg: Config, gains: tuple[float, float, float]) -> Scenario:
         # S4 Table 5: J std 2/10, thrust std 0.2/1, disturbance std 0.05/0.05, delay std 0.01 s
         dispersions=DispersionSpec(inertia_rel=0.2, thrust_rel=0.2, disturbance_rel=1.0, delay_std_s=0.01),
         guidance=GuidanceSpec(kind="step", target_rotvec_deg=(15.0, 0.0, 0.0)),  # S4: 15 deg step
-        sim=SimSpec(dt=cfg.s4_dt, t_final=cfg.s4_t_final, metrics_from_s=cfg.s4_t_final - 10.0,
-                    settle_band_deg=0.3, record_every=max(1, int(round(0.05 / cfg.s4_dt)))),
+        sim=SimSpec(dt=cfg.s4_dt_s, t_final=cfg.s4_t_final_s, metrics_from_s=cfg.s4_t_final_s - 10.0,
+                    settle_band_deg=0.3, record_every=max(1, int(round(0.05 / cfg.s4_dt_s)))),
     )
 
 
@@ -396,8 +398,8 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
     q4b: list[dict[str, float]] = []
     q4_rows = []
     base4 = _geo_base(cfg, ref_layout, "pinv-redistribute").replace(
-        sim=SimSpec(dt=cfg.geo_dt, t_final=cfg.geo_t_final + 20.0, metrics_from_s=cfg.geo_t_final,
-                    settle_band_deg=0.2, record_every=max(1, int(round(0.2 / cfg.geo_dt)))))
+        sim=SimSpec(dt=cfg.geo_dt_s, t_final=cfg.geo_t_final_s + 20.0, metrics_from_s=cfg.geo_t_final_s,
+                    settle_band_deg=0.2, record_every=max(1, int(round(0.2 / cfg.geo_dt_s)))))
     for s_i, seq in enumerate(seeds):
         sub = seq.spawn(1)
         rs = sim(base4.replace(guidance=step), sub[0])
@@ -525,6 +527,6 @@ STUDY = Study(
     config_cls=Config,
     run=run,
     quick={"n_seeds": 2, "n_samples": 48, "layout_pop": 16, "layout_gens": 25, "record_samples": 8,
-           "geo_t_final": 40.0, "leo_t_final": 40.0, "leo_window_s": 20.0, "s4_t_final": 20.0},
+           "geo_t_final_s": 40.0, "leo_t_final_s": 40.0, "leo_window_s": 20.0, "s4_t_final_s": 20.0},
     doc="docs/studies/closed-loop.md",
 )

@@ -42,6 +42,49 @@ class Config:
     Gains are in the order (K_p, K_i, K_d); the default is S4 Table 4's minimum-error point
     read as (K_p, K_d, K_i) = (56.24, 49.99, 0.02) — the reading the ``onoff-tuning`` study
     finds consistent with the paper (the other one diverges).
+
+    Attributes
+    ----------
+    kp : float, 1/rad
+        Proportional gain ``K_p`` (S4 Table 4).
+    ki : float, 1/(rad s)
+        Integral gain ``K_i`` (S4 Table 4), >= 0.
+    kd : float, s/rad
+        Derivative gain ``K_d`` (S4 Table 4).
+    u_on : float
+        Schmitt on threshold on the (dimensionless) PID output (S4 Table 3: 0.15).
+    off_ratio : float
+        ``U_off / U_on`` in [0, 1] (S4 Table 3: 0.5).
+    inertia_kgm2 : float, kg m²
+        Moment of inertia ``J`` (S4 Table 3: 10).
+    torque_nm : float, N m
+        Torque level ``T`` of the thruster pair (S4 Table 3: 1).
+    delay_s : float, s
+        Pure thruster delay ``τ`` (S4 Table 3: 0.02), >= 0.
+    tau_thruster_s : float, s
+        Time constant of each of the thruster's two first-order lags (S4: 0.01).
+    tau_deriv_s : float, s
+        Time constant of the PID's derivative filter (S4 nomenclature: 0.01).
+    disturbance_nm : float, N m
+        Constant disturbance torque ``T_d`` (S4 Table 3: 0.05).
+    step_deg : float, deg
+        Commanded attitude step (S4: 15°).
+    command_rate_hz : float, Hz
+        Rate at which the Schmitt trigger is evaluated (sample and hold; S4: 50 Hz).
+    dt_s : float, s
+        Fixed integration step (S4 prints none).
+    t_final_s : float, s
+        Simulated duration (S4: 30 s).
+    t_window_s : float, s
+        Pointing statistics over the last ``t_window_s`` of the run (S4: 10 s).
+    accuracy_claim_deg : float, deg
+        Pointing accuracy the paper claims (S4: 0.25°).
+    sweep_u_on : (float, float)
+        Range of ``u_on`` of the threshold sweep (Table 2 / Figs 6-8).
+    sweep_ratio : (float, float)
+        Range of ``off_ratio`` of the threshold sweep, within [0, 1].
+    n_u_on, n_ratio : int
+        Grid points of the sweep along ``u_on`` and ``off_ratio``.
     """
 
     kp: float = 56.24
@@ -49,17 +92,17 @@ class Config:
     kd: float = 49.99
     u_on: float = 0.15
     off_ratio: float = 0.5
-    inertia: float = 10.0
-    torque: float = 1.0
-    delay: float = 0.02
-    tau_thruster: float = 0.01
-    tau_deriv: float = 0.01
-    disturbance: float = 0.05
+    inertia_kgm2: float = 10.0
+    torque_nm: float = 1.0
+    delay_s: float = 0.02
+    tau_thruster_s: float = 0.01
+    tau_deriv_s: float = 0.01
+    disturbance_nm: float = 0.05
     step_deg: float = 15.0
     command_rate_hz: float = 50.0
-    dt: float = 1e-3
-    t_final: float = 30.0
-    t_window: float = 10.0
+    dt_s: float = 1e-3
+    t_final_s: float = 30.0
+    t_window_s: float = 10.0
     accuracy_claim_deg: float = 0.25
     sweep_u_on: tuple[float, float] = (0.02, 1.0)
     sweep_ratio: tuple[float, float] = (0.05, 0.95)
@@ -67,12 +110,12 @@ class Config:
     n_ratio: int = 37
 
     def __post_init__(self) -> None:
-        for name in ("kp", "kd", "u_on", "inertia", "torque", "dt", "t_final", "t_window",
-                     "tau_thruster", "tau_deriv", "command_rate_hz", "accuracy_claim_deg"):
+        for name in ("kp", "kd", "u_on", "inertia_kgm2", "torque_nm", "dt_s", "t_final_s", "t_window_s",
+                     "tau_thruster_s", "tau_deriv_s", "command_rate_hz", "accuracy_claim_deg"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be > 0; got {getattr(self, name)!r}")
-        if self.ki < 0 or self.delay < 0:
-            raise ValueError(f"ki and delay must be >= 0; got ki={self.ki!r}, delay={self.delay!r}")
+        if self.ki < 0 or self.delay_s < 0:
+            raise ValueError(f"ki and delay_s must be >= 0; got ki={self.ki!r}, delay_s={self.delay_s!r}")
         if not 0 <= self.off_ratio <= 1:
             raise ValueError(f"off_ratio must be in [0, 1]; got {self.off_ratio!r}")
         lo, hi = self.sweep_u_on
@@ -86,11 +129,11 @@ class Config:
 
     def settings(self) -> LoopSettings:
         return LoopSettings(
-            dt=self.dt,
-            t_final=self.t_final,
-            t_window=self.t_window,
-            tau_thruster=self.tau_thruster,
-            tau_deriv=self.tau_deriv,
+            dt=self.dt_s,
+            t_final=self.t_final_s,
+            t_window=self.t_window_s,
+            tau_thruster=self.tau_thruster_s,
+            tau_deriv=self.tau_deriv_s,
             command_rate_hz=self.command_rate_hz,
         )
 
@@ -101,10 +144,10 @@ class Config:
             kd=self.kd,
             u_on=self.u_on,
             off_ratio=self.off_ratio,
-            inertia=self.inertia,
-            torque=self.torque,
-            delay=self.delay,
-            disturbance=self.disturbance,
+            inertia=self.inertia_kgm2,
+            torque=self.torque_nm,
+            delay=self.delay_s,
+            disturbance=self.disturbance_nm,
             theta_ref=math.radians(self.step_deg),
         )
         return p.replace(**changes) if changes else p
@@ -186,7 +229,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     axes[0].plot(trace.t, np.degrees(trace.theta), lw=1)
     axes[0].axhline(config.step_deg, color="k", ls=":", lw=0.8)
     axes[0].set_ylabel("θ [deg]")
-    axes[0].set_title(f"Step response to {config.step_deg:g}° with T_d = {config.disturbance} N m (S4 Fig. 5)", fontsize=9)
+    axes[0].set_title(f"Step response to {config.step_deg:g}° with T_d = {config.disturbance_nm} N m (S4 Fig. 5)", fontsize=9)
     axes[1].plot(trace.t, np.degrees(step - trace.theta), lw=0.8)
     ylim = max(1.3 * config.accuracy_claim_deg, 4 * nominal["max_abs_err_last10_deg"])
     axes[1].set_ylim(-ylim, ylim)
@@ -207,7 +250,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     figures["fig6_thruster_history"] = fig
 
     fig, ax = new_figure(figsize=(5.6, 4.4))
-    tail = trace.t >= config.t_final - config.t_window
+    tail = trace.t >= config.t_final_s - config.t_window_s
     ax.plot(np.degrees(step - trace.theta[tail]), np.degrees(trace.omega[tail]), lw=0.6)
     ax.set_xlabel("error θ_ref − θ [deg]")
     ax.set_ylabel("ω [deg/s]")
@@ -235,7 +278,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             statement="the attitude control system reaches a pointing accuracy of 0.25° under the constant "
                       "0.05 N m disturbance",
             where="§3, text with Figs. 5-7",
-            quantity=f"|error| over the last {config.t_window:g} s of the nominal run (Table 3, Table 4 gains); holds "
+            quantity=f"|error| over the last {config.t_window_s:g} s of the nominal run (Table 3, Table 4 gains); holds "
                      f"below {config.accuracy_claim_deg:g}°",
             value=lambda m: m["e"], threshold=config.accuracy_claim_deg, better="below", unit="deg",
             paper=config.accuracy_claim_deg, stochastic=False, readings=("mean |error|",),
@@ -278,8 +321,8 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         ),
         Check(
             name="fuel covers at least the disturbance impulse",
-            passed=nominal["fuel"] >= abs(config.disturbance) * config.t_window,
-            detail=f"fuel {nominal['fuel']:.3f} N m s vs |T_d|·t_window = {abs(config.disturbance) * config.t_window:.3f}",
+            passed=nominal["fuel"] >= abs(config.disturbance_nm) * config.t_window_s,
+            detail=f"fuel {nominal['fuel']:.3f} N m s vs |T_d|·t_window = {abs(config.disturbance_nm) * config.t_window_s:.3f}",
             kind="check",
         ),
         Check(
@@ -350,7 +393,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             "reading (see onoff-tuning for why).",
             "Fuel is the delivered angular impulse ∫|T_c| dt [N m s]; S4 calls its fuel measure ΔV without a "
             "formula.",
-            f"Simulated {config.t_final:g} s with a {config.dt * 1e3:g} ms fixed step (S4 prints neither).",
+            f"Simulated {config.t_final_s:g} s with a {config.dt_s * 1e3:g} ms fixed step (S4 prints neither).",
         ],
         figures=figures,
         tables={"schmitt_sweep": table},

@@ -64,6 +64,9 @@ _CASE_PARAMS = {
     "delay": ("delay",),
     "all": ("inertia", "torque", "disturbance", "delay"),
 }
+# config key holding the Table 5 standard deviation of each uncertain loop input
+_STD_KEYS = {"inertia": "std_inertia_kgm2", "torque": "std_torque_nm", "disturbance": "std_disturbance_nm",
+             "delay": "std_delay_s"}
 _INPUT_UNITS = {"inertia": "kg m²", "torque": "N m", "disturbance": "N m", "delay": "s"}
 
 
@@ -93,39 +96,128 @@ class Config:
     :mod:`adcskit.uncertainty.tuning`) after printing a time estimate (issue 14's timed
     probe, :func:`~adcskit.uncertainty.tuning.estimate_tuning_time`); days on two CPU cores,
     meant for ``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
+
+    Attributes
+    ----------
+    u_on : float
+        Schmitt on threshold on the (dimensionless) PID output (S4 Table 3: 0.15).
+    off_ratio : float
+        ``U_off / U_on`` in [0, 1] (S4 Table 3: 0.5).
+    inertia_kgm2 : float, kg m²
+        Mean moment of inertia ``J`` (S4 Table 3: 10).
+    torque_nm : float, N m
+        Mean torque level ``T`` of the thruster pair (S4 Table 3: 1).
+    delay_s : float, s
+        Mean pure thruster delay ``τ`` (S4 Table 3: 0.02), >= 0.
+    disturbance_nm : float, N m
+        Mean constant disturbance torque ``T_d`` (S4 Table 3: 0.05).
+    tau_thruster_s : float, s
+        Time constant of each of the thruster's two first-order lags (S4: 0.01).
+    tau_deriv_s : float, s
+        Time constant of the PID's derivative filter (S4 nomenclature: 0.01).
+    step_deg : float, deg
+        Commanded attitude step (S4: 15°).
+    command_rate_hz : float, Hz
+        Rate at which the Schmitt trigger is evaluated (sample and hold; S4: 50 Hz).
+    dt_s : float, s
+        Fixed integration step (S4 prints none).
+    t_final_s : float, s
+        Simulated duration (S4: 30 s).
+    t_window_s : float, s
+        The error objective is the mean |error| over the last ``t_window_s`` (S4: 10 s).
+    overshoot_max_pct : float, %
+        Overshoot constraint of both optimisations (S4: 10 %).
+    gain_max : float
+        Upper search bound of every gain, each in its own unit (``K_p`` 1/rad, ``K_i``
+        1/(rad s), ``K_d`` s/rad); the lower bound is 1e-3.
+    std_inertia_kgm2 : float, kg m²
+        Standard deviation of the inertia (S4 Table 5: 2).
+    std_torque_nm : float, N m
+        Standard deviation of the torque level (S4 Table 5: 0.2).
+    std_disturbance_nm : float, N m
+        Standard deviation of the disturbance torque (S4 Table 5: 0.05).
+    std_delay_s : float, s
+        Standard deviation of the delay (S4 Table 5: 0.01).
+    nsga_pop, nsga_gen : int
+        NSGA-II population and generations of the deterministic front (S4 prints neither).
+    ga_pop, ga_max_gen : int
+        Robust GA population (S4: 70) and generation cap (S4: 1000).
+    ga_tol_deg : float, deg
+        S4's stopping rule: change of the best objective below this over ``ga_window``.
+    ga_window : int
+        Generations of the stopping rule (S4: 10).
+    n_lhs : int
+        LHS training samples per candidate of the robust GA (S4 prints none).
+    penalty_weight_deg_per_pct : float, deg/%
+        Weight of the overshoot penalty added to eq. 10 per % of excess over
+        ``overshoot_max_pct`` (S4 prints no penalty).
+    ratio_inertia, ratio_thrust, ratio_disturbance, ratio_delay, ratio_all : float
+        Weight ratio ``w2/w1`` of eq. 10 per uncertainty case (S4 Table 6).
+    sweep_ratios : tuple of float
+        ``w2/w1`` values of the all-four ratio sweep (Figs 10-11).
+    sweep_max_gen : int
+        Generation cap of the GA of that sweep.
+    sweep_cases_max_gen, sweep_cases_n_lhs : int
+        Generation cap and LHS samples of the single-uncertainty ratio sweep (Figs 12-13).
+    sweep_cases_ratios : tuple of float
+        ``w2/w1`` values of the single-uncertainty ratio sweep.
+    n_mc_ratio_cases : int
+        Monte-Carlo runs evaluating each gain set of the single-uncertainty sweep.
+    n_mc : int
+        Monte-Carlo runs (fresh samples) evaluating the deterministic and robust gains.
+    std_factors : tuple of float
+        Multiples of the Table 5 standard deviations of the spread sweep.
+    n_mc_sweep : int
+        Monte-Carlo runs per point of the ratio and spread sweeps.
+    command_rates_hz : tuple of float, Hz
+        Schmitt evaluation rates of the command-rate check.
+    n_mc_rate, n_mc_order : int
+        Monte-Carlo runs of the command-rate and gain-order checks.
+    task_size : int
+        Samples per task handed to the executor.
+    campaign_dir : str
+        Directory for resumable Monte-Carlo campaigns ("" = in memory).
+    n_seeds : int
+        Independent repetitions of the whole pipeline that decide every claim.
+    penalty_readings : tuple of {"sample", "mean"}
+        Readings of the overshoot penalty, the default first.
+    paper_scale : bool
+        Run the claim GAs at S4's protocol (``PAPER_SCALE``).
+    backend : str
+        ``"cpu"``, ``"cuda"`` or ``"auto"`` for the batch simulations.
     """
 
     # loop (S4 Table 3)
     u_on: float = 0.15
     off_ratio: float = 0.5
-    inertia: float = 10.0
-    torque: float = 1.0
-    delay: float = 0.02
-    disturbance: float = 0.05
-    tau_thruster: float = 0.01
-    tau_deriv: float = 0.01
+    inertia_kgm2: float = 10.0
+    torque_nm: float = 1.0
+    delay_s: float = 0.02
+    disturbance_nm: float = 0.05
+    tau_thruster_s: float = 0.01
+    tau_deriv_s: float = 0.01
     step_deg: float = 15.0
     command_rate_hz: float = 50.0
-    dt: float = 1e-3
-    t_final: float = 30.0
-    t_window: float = 10.0
+    dt_s: float = 1e-3
+    t_final_s: float = 30.0
+    t_window_s: float = 10.0
     overshoot_max_pct: float = 10.0
     gain_max: float = 100.0
     # uncertainty (S4 Table 5)
-    std_inertia: float = 2.0
-    std_torque: float = 0.2
-    std_disturbance: float = 0.05
-    std_delay: float = 0.01
+    std_inertia_kgm2: float = 2.0
+    std_torque_nm: float = 0.2
+    std_disturbance_nm: float = 0.05
+    std_delay_s: float = 0.01
     # deterministic NSGA-II (S4 prints no population/generations)
     nsga_pop: int = 60
     nsga_gen: int = 60
     # robust GA (S4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10)
     ga_pop: int = 70
     ga_max_gen: int = 30
-    ga_tol: float = 1e-7
+    ga_tol_deg: float = 1e-7
     ga_window: int = 10
     n_lhs: int = 40
-    penalty_weight: float = 1.0
+    penalty_weight_deg_per_pct: float = 1.0
     ratio_inertia: float = 25.0
     ratio_thrust: float = 22.0
     ratio_disturbance: float = 15.0
@@ -154,17 +246,17 @@ class Config:
     backend: str = "cpu"
 
     def __post_init__(self) -> None:
-        pos = ("u_on", "inertia", "torque", "tau_thruster", "tau_deriv", "step_deg", "command_rate_hz",
-               "dt", "t_final", "t_window", "overshoot_max_pct", "gain_max", "std_inertia", "std_torque",
-               "std_disturbance", "std_delay", "ga_tol", "ratio_inertia", "ratio_thrust",
+        pos = ("u_on", "inertia_kgm2", "torque_nm", "tau_thruster_s", "tau_deriv_s", "step_deg", "command_rate_hz",
+               "dt_s", "t_final_s", "t_window_s", "overshoot_max_pct", "gain_max", "std_inertia_kgm2", "std_torque_nm",
+               "std_disturbance_nm", "std_delay_s", "ga_tol_deg", "ratio_inertia", "ratio_thrust",
                "ratio_disturbance", "ratio_delay", "ratio_all")
         for name in pos:
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be > 0; got {getattr(self, name)!r}")
         if not 0 <= self.off_ratio <= 1:
             raise ValueError(f"off_ratio must be in [0, 1]; got {self.off_ratio!r}")
-        if self.delay < 0:
-            raise ValueError(f"delay must be >= 0; got {self.delay!r}")
+        if self.delay_s < 0:
+            raise ValueError(f"delay_s must be >= 0; got {self.delay_s!r}")
         ints = {"nsga_pop": 4, "nsga_gen": 1, "ga_pop": 4, "ga_max_gen": 1, "ga_window": 1, "n_lhs": 2,
                 "sweep_max_gen": 1, "sweep_cases_max_gen": 1, "sweep_cases_n_lhs": 2,
                 "n_mc_ratio_cases": 2, "n_mc": 2, "n_mc_sweep": 2, "n_mc_rate": 2, "n_mc_order": 2,
@@ -190,14 +282,14 @@ class Config:
 
     def settings(self, command_rate_hz: float | None = None) -> LoopSettings:
         return LoopSettings(
-            dt=self.dt, t_final=self.t_final, t_window=self.t_window, tau_thruster=self.tau_thruster,
-            tau_deriv=self.tau_deriv, command_rate_hz=command_rate_hz or self.command_rate_hz,
+            dt=self.dt_s, t_final=self.t_final_s, t_window=self.t_window_s, tau_thruster=self.tau_thruster_s,
+            tau_deriv=self.tau_deriv_s, command_rate_hz=command_rate_hz or self.command_rate_hz,
         )
 
     def base(self) -> LoopParams:
         return LoopParams(
-            u_on=self.u_on, off_ratio=self.off_ratio, inertia=self.inertia, torque=self.torque,
-            delay=self.delay, disturbance=self.disturbance, theta_ref=math.radians(self.step_deg),
+            u_on=self.u_on, off_ratio=self.off_ratio, inertia=self.inertia_kgm2, torque=self.torque_nm,
+            delay=self.delay_s, disturbance=self.disturbance_nm, theta_ref=math.radians(self.step_deg),
         )
 
     def ratio(self, case: str) -> float:
@@ -205,15 +297,15 @@ class Config:
 
     def dists(self, case: str, factor: float = 1.0) -> dict[str, Any]:
         table5 = {
-            "inertia": TruncatedGaussian(mean=self.inertia, std=factor * self.std_inertia, low=1e-3 * self.inertia),
-            "torque": TruncatedGaussian(mean=self.torque, std=factor * self.std_torque, low=1e-3 * self.torque),
-            "disturbance": Gaussian(mean=self.disturbance, std=factor * self.std_disturbance),
-            "delay": TruncatedGaussian(mean=self.delay, std=factor * self.std_delay, low=0.0),
+            "inertia": TruncatedGaussian(mean=self.inertia_kgm2, std=factor * self.std_inertia_kgm2, low=1e-3 * self.inertia_kgm2),
+            "torque": TruncatedGaussian(mean=self.torque_nm, std=factor * self.std_torque_nm, low=1e-3 * self.torque_nm),
+            "disturbance": Gaussian(mean=self.disturbance_nm, std=factor * self.std_disturbance_nm),
+            "delay": TruncatedGaussian(mean=self.delay_s, std=factor * self.std_delay_s, low=0.0),
         }
         return {k: table5[k] for k in _CASE_PARAMS[case]}
 
     def input_std(self, case: str) -> float:
-        return float(getattr(self, f"std_{_CASE_PARAMS[case][0]}")) if case != "all" else 1.0
+        return float(getattr(self, _STD_KEYS[_CASE_PARAMS[case][0]])) if case != "all" else 1.0
 
 
 def _seeds(rng: np.random.Generator, n: int) -> list[int]:
@@ -253,6 +345,39 @@ def _deterministic(config: Config, base, settings, bounds, seed):
     return pareto, det_gains, minfuel_gains, minfuel_settled
 
 
+def _front_vs_paper(F: np.ndarray, order_rows: list[dict], order: str) -> dict[str, dict[str, Any]]:
+    """How many points of our Pareto front each feasible S4 Table 4 point dominates.
+
+    ``F`` is the front's (error °, fuel N m s) per point; ``order_rows`` holds the Table 4
+    entries simulated in our loop under each printed-gain reading. A front point dominated by
+    a feasible paper point (error and fuel no larger, one smaller) is no Pareto point: the
+    NSGA-II front has not converged there.
+    """
+    out: dict[str, dict[str, Any]] = {}
+    for r in order_rows:
+        if r["order"] != order or not r["entry"].startswith("table4_"):
+            continue
+        e, f = r["error_deg"], r["fuel"]
+        n = 0
+        if r["feasible"] and F.size:
+            n = int(np.count_nonzero((e <= F[:, 0]) & (f <= F[:, 1]) & ((e < F[:, 0]) | (f < F[:, 1]))))
+        out[r["entry"].removeprefix("table4_")] = {"error_deg": e, "fuel": f, "feasible": r["feasible"],
+                                                    "front_points_dominated": n}
+    return out
+
+
+def _front_note(vs_paper: dict[str, dict[str, Any]], n_front: int, quick: bool) -> str:
+    """Summary sentence when the paper's point dominates part of our front ("" otherwise)."""
+    dom = {k: v for k, v in vs_paper.items() if v["front_points_dominated"]}
+    if not dom:
+        return ""
+    what = "; ".join(f"S4 Table 4 {k.replace('_', '-')} gains (error {v['error_deg']:.4f}°, fuel {v['fuel']:.2f} "
+                     f"N m s) dominate {v['front_points_dominated']} of its {n_front} points" for k, v in dom.items())
+    head = "Quick run: our" if quick else "Our"
+    tail = "run the full settings." if quick else "raise nsga_pop / nsga_gen."
+    return f"{head} NSGA-II Pareto front is dominated by the paper's point ({what}), so it is not converged; {tail} "
+
+
 def _ga_settings(config: Config) -> dict[str, Any]:
     """GA population, generation cap, LHS training samples and evaluation runs (paper-scale aware)."""
     if config.paper_scale:
@@ -270,7 +395,7 @@ def _eq10(config: Config, case: str, err_deg: np.ndarray, os_pct: np.ndarray, pe
     core = float(w1 * a.mean() + w2 * a.std())
     total = float(robust_objective(err_deg[None], os_pct[None], w1=w1, w2=w2,
                                    overshoot_max_pct=config.overshoot_max_pct,
-                                   penalty_weight=config.penalty_weight, penalty_on=penalty_on)[0])
+                                   penalty_weight=config.penalty_weight_deg_per_pct, penalty_on=penalty_on)[0])
     return {"eq10": total, "eq10_core": core, "eq10_penalty": total - core}
 
 
@@ -286,7 +411,7 @@ def _estimate(config: Config, ga: dict[str, Any], settings) -> tuple[int, float,
     n_eval = config.n_seeds * (len(CASES) * 3 + 1 + n_pen) * ga["n_mc"]
     est = estimate_tuning_time(
         RobustTuningScale(pop_size=ga["pop"], max_gen=ga["max_gen"], n_samples=ga["n_lhs"], n_eval=n_eval,
-                          tol=config.ga_tol, window=config.ga_window),
+                          tol=config.ga_tol_deg, window=config.ga_window),
         settings=settings, backend=config.backend,
     )
     total = n_ga * est.max_tuning_s + est.evaluation_s
@@ -317,8 +442,8 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
         ci = CASES.index(case)
         res = tune_robust(
             config.dists(case), ratio=config.ratio(case), n_samples=ga["n_lhs"], base=base, settings=settings,
-            pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol, window=config.ga_window, bounds=bounds,
-            overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight,
+            pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
+            overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
             rng=kids[1 + ci] if pen == config.penalty_readings[0] else kids[11], penalty_on=pen,
             backend=config.backend,
         )
@@ -415,6 +540,8 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     feasible = {o: sum(r["feasible"] for r in order_rows if r["order"] == o) for o in ("kp_kd_ki", "kp_ki_kd")}
     n_entries = len(order_rows) // 2
     consistent_order = max(feasible, key=feasible.get)
+    front_vs_paper = _front_vs_paper(pareto.F if pareto.success else np.empty((0, 2)), order_rows,
+                                     consistent_order)
 
     # ---- 3-4. robust GA per case and seed; 10 000-run evaluations on fresh samples -------
     seeds_out = []
@@ -453,8 +580,8 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             status(f"onoff-tuning: ratio sweep w2/w1 = {r:g}")
             res = tune_robust(
                 config.dists("all"), ratio=r, n_samples=config.n_lhs, base=base, settings=settings,
-                pop_size=config.ga_pop, max_gen=config.sweep_max_gen, tol=config.ga_tol, window=config.ga_window,
-                bounds=bounds, overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight,
+                pop_size=config.ga_pop, max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window,
+                bounds=bounds, overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
                 rng=_seeds(rng, 1)[0], backend=config.backend,
             )
         ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=_seeds(rng, 1)[0],
@@ -498,9 +625,9 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             status(f"onoff-tuning: ratio sweep, {case}, w2/w1 = {r:g}")
             res = tune_robust(
                 config.dists(case), ratio=r, n_samples=config.sweep_cases_n_lhs, base=base, settings=settings,
-                pop_size=config.ga_pop, max_gen=config.sweep_cases_max_gen, tol=config.ga_tol,
+                pop_size=config.ga_pop, max_gen=config.sweep_cases_max_gen, tol=config.ga_tol_deg,
                 window=config.ga_window, bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
-                penalty_weight=config.penalty_weight, rng=_seeds(rng, 1)[0], backend=config.backend,
+                penalty_weight=config.penalty_weight_deg_per_pct, rng=_seeds(rng, 1)[0], backend=config.backend,
             )
             ev = monte_carlo(res.x, config.dists(case), config.n_mc_ratio_cases, settings=settings,
                              rng=_seeds(rng, 1)[0], directory=_campaign_dir(config, f"sweep_{case}_{r:g}"), **mc_kw)
@@ -514,10 +641,10 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     R_T4 = "deterministic = S4 Table 4 gains"
     R_PEN = {"mean": "penalty on E[overshoot]", "sample": "penalty per sample"}
     R_DEF = f"deterministic = our min-error Pareto point, penalty {'per sample' if pen0 == 'sample' else 'on E[overshoot]'}"
-    proto = ("ga_pop", "ga_max_gen", "ga_tol", "ga_window", "n_lhs", "n_mc", "penalty_weight", "penalty_readings",
-             "overshoot_max_pct", "nsga_pop", "nsga_gen", "paper_scale", "u_on", "off_ratio", "inertia", "torque",
-             "delay", "disturbance", "tau_thruster", "tau_deriv", "step_deg", "command_rate_hz", "dt", "t_final",
-             "t_window", "std_inertia", "std_torque", "std_disturbance", "std_delay")
+    proto = ("ga_pop", "ga_max_gen", "ga_tol_deg", "ga_window", "n_lhs", "n_mc", "penalty_weight_deg_per_pct", "penalty_readings",
+             "overshoot_max_pct", "nsga_pop", "nsga_gen", "paper_scale", "u_on", "off_ratio", "inertia_kgm2", "torque_nm",
+             "delay_s", "disturbance_nm", "tau_thruster_s", "tau_deriv_s", "step_deg", "command_rate_hz", "dt_s", "t_final_s",
+             "t_window_s", "std_inertia_kgm2", "std_torque_nm", "std_disturbance_nm", "std_delay_s")
     claims, findings = [], []
 
     def _cases(case):
@@ -540,7 +667,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                           f"({'all four uncertainties' if case == 'all' else case + ' uncertainty'}, "
                           f"w2/w1 = {config.ratio(case):g})",
                 where=f"§5, Table 6, {where}",
-                quantity=f"per seed, {what} of |error| (mean over the last {config.t_window:g} s) of the robust gains / "
+                quantity=f"per seed, {what} of |error| (mean over the last {config.t_window_s:g} s) of the robust gains / "
                          f"of the deterministic gains on the same {ga['n_mc']} fresh LHS samples; holds "
                          + ("below 1" if what == "std" else "above 1 ('slightly' is not quantified)"),
                 value=lambda m: m["r"], threshold=1.0, better=better, unit="-",
@@ -646,7 +773,8 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         study="onoff-tuning",
         title=STUDY.title,
         summary=(
-            (f"Pareto front of {len(pareto_list)} points (error {pareto.F[0, 0]:.4f}-{pareto.F[-1, 0]:.3f}°). "
+            _front_note(front_vs_paper, len(pareto_list), quick)
+            + (f"Pareto front of {len(pareto_list)} points (error {pareto.F[0, 0]:.4f}-{pareto.F[-1, 0]:.3f}°). "
              if pareto.success else "NSGA-II found no feasible gains; S4 Table 4 used instead. ")
             + f"{config.n_seeds} independent pipeline seeds (NSGA-II, GA training draw and seed, fresh "
             f"{ga['n_mc']}-run evaluation); robust GA population {ga['pop']}, cap {ga['max_gen']} generations, "
@@ -673,6 +801,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                                     "min_fuel_settled": minfuel_settled},
             "robust": robust,
             "gain_order": {"consistent": consistent_order, "feasible_entries": feasible, "rows": order_rows},
+            "pareto_vs_paper": front_vs_paper,
             "per_seed": seed_rows,
             "command_rate_per_seed": [so["rate"] for so in seeds_out],
             "ga_settings": ga,
@@ -695,7 +824,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
             f"{ga['n_lhs']} LHS samples per robust-objective evaluation (S4 does not print the number), the same "
             "samples for every candidate (common random numbers), a fresh draw per seed.",
             "Weights normalised to w1 + w2 = 1 at the printed ratio w2/w1; σ is the population std (ddof=0); the "
-            f"overshoot constraint (S4 prints no penalty) enters as {config.penalty_weight:g}° per % of excess, "
+            f"overshoot constraint (S4 prints no penalty) enters as {config.penalty_weight_deg_per_pct:g}° per % of excess, "
             f"per sample by default ({', '.join(config.penalty_readings)} run; see the readings).",
             "Deterministic reference gains for the comparisons = the minimum-error point of our Pareto front "
             "(S4 uses a 'square point' of Fig. 9 that it does not identify).",
@@ -752,16 +881,16 @@ def _figures(config, pareto, det_gains, minfuel_gains, robust_runs, mc_results, 
     figures["fig10_step_responses"] = fig
     # Fig 11: LHS of the inertia
     fig, axes = new_figure(1, 2, figsize=(8.0, 3.4))
-    s = latin_hypercube({"inertia": Gaussian(mean=config.inertia, std=config.std_inertia)}, 1000, rng)["inertia"]
+    s = latin_hypercube({"inertia": Gaussian(mean=config.inertia_kgm2, std=config.std_inertia_kgm2)}, 1000, rng)["inertia"]
     axes[0].hist(s, bins=30, density=True, alpha=0.7, label="LHS, 1000 samples")
     xs = np.linspace(s.min(), s.max(), 200)
     from scipy import stats
 
-    axes[0].plot(xs, stats.norm.pdf(xs, config.inertia, config.std_inertia), "k", lw=1, label="N(10, 2²)")
+    axes[0].plot(xs, stats.norm.pdf(xs, config.inertia_kgm2, config.std_inertia_kgm2), "k", lw=1, label="N(10, 2²)")
     axes[0].set_xlabel("J [kg m²]")
     axes[0].legend(fontsize=7)
     axes[1].plot(np.sort(s), np.arange(1, s.size + 1) / s.size, lw=1, label="empirical CDF")
-    axes[1].plot(xs, stats.norm.cdf(xs, config.inertia, config.std_inertia), "k--", lw=1, label="Gaussian CDF")
+    axes[1].plot(xs, stats.norm.cdf(xs, config.inertia_kgm2, config.std_inertia_kgm2), "k--", lw=1, label="Gaussian CDF")
     axes[1].legend(fontsize=7)
     axes[1].set_xlabel("J [kg m²]")
     fig.suptitle("Latin-hypercube sampling of the inertia (S4 Fig. 11)", fontsize=9)

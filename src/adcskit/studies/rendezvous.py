@@ -61,7 +61,7 @@ class Config:
 
     Attributes
     ----------
-    rows : tuple of (3,) tuples
+    rows_m : tuple of (3,) tuples, m
         Initial relative positions in LVLH (m), S2 Table 4.
     readings : tuple of {"paper", "full"}
         Readings of the rotational dynamics, the default first: eq. 2 as printed, or the
@@ -81,12 +81,12 @@ class Config:
         Starts per row on the paper mesh (start 0 is the straight-line guess, the rest random).
     distinct_rtol : float
         Two 20×3 optima closer than this (relative) are the same.
-    match_atol : float
+    match_atol_s : float, s
         A paper value equals one of ours within half a unit of its last printed digit plus
         this (s): the solver's accuracy on ``tf`` (re-solves agree to ~1e-6 s).
     """
 
-    rows: tuple[tuple[float, float, float], ...] = tuple(r[0] for r in PAPER_ROWS)
+    rows_m: tuple[tuple[float, float, float], ...] = tuple(r[0] for r in PAPER_ROWS)
     readings: tuple[str, ...] = ("paper", "full")
     method: str = "gauss"
     paper_mesh: tuple[int, int] = (20, 3)
@@ -95,12 +95,12 @@ class Config:
     jump_factor: float = 100.0
     n_starts: int = 16
     distinct_rtol: float = 1e-4
-    match_atol: float = 1e-5
+    match_atol_s: float = 1e-5
 
     def __post_init__(self) -> None:
-        if not self.rows:
+        if not self.rows_m:
             raise ValueError("rows must list at least one initial position (m)")
-        for r in self.rows:
+        for r in self.rows_m:
             if len(r) != 3 or not all(math.isfinite(float(v)) for v in r):
                 raise ValueError(f"each row must be 3 finite numbers (m); got {r!r}")
         if (
@@ -123,8 +123,8 @@ class Config:
                 raise ValueError(f"{name} must be in (0, 1); got {getattr(self, name)}")
         if not self.jump_factor > 1:
             raise ValueError(f"jump_factor must be > 1; got {self.jump_factor}")
-        if not self.match_atol >= 0:
-            raise ValueError(f"match_atol must be >= 0 (s); got {self.match_atol}")
+        if not self.match_atol_s >= 0:
+            raise ValueError(f"match_atol_s must be >= 0; got {self.match_atol_s}")
 
 
 def _paper_row(s0):
@@ -228,7 +228,7 @@ def _row_measure(res, reading: str, cfg: Config) -> dict[str, Any]:
 
 
 def _match_tol(decimals: int, cfg: Config) -> float:
-    return 0.5 * 10.0**-decimals + cfg.match_atol
+    return 0.5 * 10.0**-decimals + cfg.match_atol_s
 
 
 def _identify(value: float, row: dict, cfg: Config, *, converged: bool) -> int | None:
@@ -301,7 +301,7 @@ def _tf_claim(
         statement=statement,
         where=where,
         quantity=f"|{value} - our best 20x3 optimum over the documented starts| in units of the reading's "
-        f"tolerance (holds below 1): 'printed digits' = half a unit of the 4th decimal + match_atol "
+        f"tolerance (holds below 1): 'printed digits' = half a unit of the 4th decimal + match_atol_s "
         f"({_match_tol(_GPM_DECIMALS, cfg):.1e} s); 'same optimum' = half the distance from our best 20x3 "
         "optimum to the nearest other value of ours (its mesh-converged value, the other optima)",
         value=lambda m, i=i, v=value: _tf_distance(m, i, v, cfg),
@@ -310,7 +310,7 @@ def _tf_claim(
         paper=value,
         stochastic=False,
         readings=readings,
-        protocol_keys=("rows", "method", "paper_mesh", "readings", "n_starts", "match_atol"),
+        protocol_keys=("rows_m", "method", "paper_mesh", "readings", "n_starts", "match_atol_s"),
     )
 
 
@@ -341,7 +341,7 @@ def _claim_specs(cfg: Config, rows_present: list[int]) -> list[tuple[ClaimSpec, 
     rd = readings if len(readings) > 1 else ()
     rd_tf = tuple(_reading_name(d, p) for d in cfg.readings for p in (_DIGITS, _OPTIMUM))
     d_tf, d_dyn = _reading_name(first, _DIGITS), READING_NAMES[first]
-    proto = ("rows", "method", "paper_mesh", "readings")
+    proto = ("rows_m", "method", "paper_mesh", "readings")
     specs: list[tuple[ClaimSpec, str]] = []
     if 0 in rows_present:
         specs.append(
@@ -616,9 +616,9 @@ def _decide(meas: dict[str, dict], cfg: Config, rows_present: list[int]):
 def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> StudyResult:
     rng = np.random.default_rng(0) if rng is None else rng
     cfg = config
-    seeds = [int(s) for s in rng.integers(0, 2**31 - 1, size=len(cfg.rows))]
+    seeds = [int(s) for s in rng.integers(0, 2**31 - 1, size=len(cfg.rows_m))]
     results = []
-    for s0, seed in track(list(zip(cfg.rows, seeds, strict=True)), "rendezvous rows"):
+    for s0, seed in track(list(zip(cfg.rows_m, seeds, strict=True)), "rendezvous rows"):
         status(f"rendezvous row s0={s0}")
         results.append(_solve_row(tuple(float(v) for v in s0), cfg, seed))
     rows_present = sorted(
@@ -1037,7 +1037,7 @@ STUDY = Study(
     config_cls=Config,
     run=run,
     quick={
-        "rows": ((20.0, 0.0, 0.0), (20.0, 4.0, 4.0)),
+        "rows_m": ((20.0, 0.0, 0.0), (20.0, 4.0, 4.0)),
         "n_starts": 4,
         "refine_meshes": ((40, 4),),
         "rtol": 1e-3,
