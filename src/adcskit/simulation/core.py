@@ -101,6 +101,13 @@ class SimulationResult:
     success : bool
         Every metric finite where it must be (pointing error, propellant).
     message : str
+
+    Examples
+    --------
+    >>> from adcskit.simulation import Scenario, SimSpec, simulate
+    >>> res = simulate(Scenario(sim=SimSpec(dt=0.02, t_final=2.0, metrics_from_s=1.0)), n_samples=4, rng=1)
+    >>> res.success, res.n_samples, res.metrics["rms_error"].shape
+    (True, 4, (4,))
     """
 
     metrics: dict[str, np.ndarray]
@@ -194,6 +201,13 @@ def reference_profile(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.nd
         Reference quaternions (scalar last, ECI -> reference body).
     w_ref : ndarray (K+1, 3), rad/s
         Reference body rates.
+
+    Examples
+    --------
+    >>> from adcskit.simulation import Scenario, SimSpec, reference_profile
+    >>> t, q, w = reference_profile(Scenario(sim=SimSpec(dt=0.02, t_final=2.0, metrics_from_s=1.0)))
+    >>> t.shape, q.shape, w.shape
+    ((101,), (101, 4), (101, 3))
     """
     if not isinstance(scenario, Scenario):
         raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")

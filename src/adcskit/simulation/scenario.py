@@ -93,6 +93,12 @@ class SpacecraftSpec(_Spec):
     inertia : tuple of 3 or 9 floats, kg m^2
         Principal moments (diagonal) or the full row-major matrix (symmetric positive
         definite). Default: S3's GEO satellite, diag(1218.6, 442.2, 1429.4).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import Scenario, SpacecraftSpec
+    >>> Scenario(spacecraft=SpacecraftSpec(inertia=(10.0, 12.0, 8.0))).spacecraft.inertia
+    (10.0, 12.0, 8.0)
     """
 
     inertia: tuple[float, ...] = (1218.6, 442.2, 1429.4)
@@ -133,6 +139,13 @@ class OrbitSpec(_Spec):
         Apply the gravity-gradient torque ``3 n^2 c x J c`` (Markley & Crassidis eq. 3.155).
     magnetic_model : {"dipole", "igrf"}
         Reference field for the magnetometer (:func:`adcskit.environment.magnetic_field`).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import OrbitSpec
+    >>> leo = OrbitSpec(altitude_km=800.0, inclination_deg=98.6, magnetic_model="dipole")
+    >>> leo.altitude_km, leo.gravity_gradient
+    (800.0, True)
     """
 
     altitude_km: float = 35786.0
@@ -162,6 +175,13 @@ class DisturbanceSpec(_Spec):
     period_s : float, s
         Period of the sinusoid; 0 means one orbit period (solar-pressure-like, S3 §2).
     phase_deg : 3 floats, deg
+
+    Examples
+    --------
+    >>> from adcskit.simulation import DisturbanceSpec
+    >>> d = DisturbanceSpec(constant=(1e-5, 0.0, 0.0), amplitude=(0.0, 2e-5, 0.0), period_s=86164.0)
+    >>> d.period_s
+    86164.0
     """
 
     constant: Vec3 = (0.0, 0.0, 0.0)
@@ -203,6 +223,15 @@ class ThrusterSpec(_Spec):
     failure_known : bool
         The allocator knows the failures and re-allocates without them (else it keeps
         commanding the failed thrusters, which do not fire).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import ThrusterSpec
+    >>> pos = ((1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0))
+    >>> dirs = ((0.0, 1.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0))
+    >>> ts = ThrusterSpec(positions=pos, directions=dirs, f_max=10.0, failed=(2,))   # thruster 2 stuck off
+    >>> len(ts.positions), ts.failed
+    (6, (2,))
     """
 
     positions: tuple[Vec3, ...]
@@ -299,6 +328,13 @@ class SensorSpec(_Spec):
 
     Rates must be whole fractions of the gyro rate, and the gyro rate a whole fraction of
     ``1/dt``.
+
+    Examples
+    --------
+    >>> from adcskit.simulation import SensorSpec
+    >>> s = SensorSpec(sun_noise_deg=0.005, mag_noise_deg=0.5, noise="uniform")   # S0's bounded errors
+    >>> s.noise, s.gyro_rate_hz
+    ('uniform', 10.0)
     """
 
     sun_rate_hz: float = 1.0
@@ -337,6 +373,12 @@ class EstimatorSpec(_Spec):
         ``esoq2``, ``svd``, ``foam``, ``triad``, ``two-vector``).
     init_error_deg : float
         Std of the initial knowledge error per axis (also the MEKF's initial sigma).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import EstimatorSpec
+    >>> EstimatorSpec(kind="wahba", wahba_method="q-method").kind
+    'wahba'
     """
 
     kind: Literal["truth", "wahba", "mekf"] = "mekf"
@@ -369,6 +411,13 @@ class GuidanceSpec(_Spec):
         ``table``: quaternions (scalar last), slerp-interpolated.
     table_w : tuple of 3-vectors, rad/s
         ``table``: reference body rates (linear interpolation); empty: from the slerp.
+
+    Examples
+    --------
+    >>> from adcskit.simulation import GuidanceSpec
+    >>> g = GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 20.0), t_step=1.0)
+    >>> g.kind, g.t_step
+    ('step', 1.0)
     """
 
     kind: Literal["hold", "step", "table"] = "hold"
@@ -415,6 +464,13 @@ class ControllerSpec(_Spec):
     by any :data:`adcskit.thrusters.ALLOCATION_METHODS` entry (``pinv-redistribute``,
     ``nnls``, ``lp-min-fuel``); ``pwm`` demands are allocated inside the kernel by the
     redistributed pseudo-inverse (``pinv-redistribute`` only).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import ControllerSpec
+    >>> c = ControllerSpec(kind="pwm", period_s=0.2)      # continuous PID + pulse-width modulation
+    >>> c.kind, c.allocation
+    ('pwm', 'pinv-redistribute')
     """
 
     kind: Literal["schmitt", "pwm", "open-loop"] = "schmitt"
@@ -477,6 +533,13 @@ class DispersionSpec(_Spec):
     initial_rate_deg_s : float
         Std per axis of the initial rate.
     sampling : {"lhs", "random"}
+
+    Examples
+    --------
+    >>> from adcskit.simulation import DispersionSpec
+    >>> d = DispersionSpec(inertia_rel=0.1, thrust_rel=0.05, misalignment_deg=0.5)
+    >>> d.sampling
+    'lhs'
     """
 
     inertia_rel: float = 0.0
@@ -513,6 +576,13 @@ class SimSpec(_Spec):
         NEES averaged over the MEKF epochs from this time.
     record_every : int
         Trace decimation (steps) when traces are requested.
+
+    Examples
+    --------
+    >>> from adcskit.simulation import SimSpec
+    >>> s = SimSpec(dt=0.02, t_final=60.0, metrics_from_s=30.0)
+    >>> round(s.t_final / s.dt)                          # steps per sample
+    3000
     """
 
     dt: float = 0.02
@@ -554,6 +624,13 @@ class Scenario(_Spec):
         Nominal initial attitude (rotation vector from the identity).
     initial_rate_deg_s : 3 floats, deg/s
         Nominal initial body rate.
+
+    Examples
+    --------
+    >>> from adcskit.simulation import Scenario, GuidanceSpec
+    >>> sc = Scenario(guidance=GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 10.0)))
+    >>> sc.guidance.kind, sc.spacecraft.inertia      # S3's GEO inertia by default, kg m^2
+    ('step', (1218.6, 442.2, 1429.4))
     """
 
     spacecraft: SpacecraftSpec = field(default_factory=SpacecraftSpec)

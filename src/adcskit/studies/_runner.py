@@ -37,8 +37,8 @@ def resolve_config(name: str, config: Mapping[str, Any] | str | Path | None = No
 
     Examples
     --------
-    >>> resolve_config("wahba-table1", {"n_trials": 10}).n_trials
-    10
+    >>> resolve_config("wahba-table1", {"n_trials": 50}).n_trials
+    50
     """
     study = get_study(name)
     return load_config(study.config_cls, config, overrides=study.quick if quick else None)
