@@ -41,7 +41,6 @@ import numpy as np
 from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_choice, check_flag, check_int
 from adcskit.errors import InputError, InputTypeError
-from adcskit.optimal_control.nodes import gauss_differentiation_matrix, radau_differentiation_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, _default_scale, _vec
 from adcskit.optimal_control.solve import (
     OptimalControlSolution,
@@ -52,7 +51,7 @@ from adcskit.optimal_control.solve import (
     _solution_funs,
     ipopt_status_code,
 )
-from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar
+from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar, interval_layout
 
 __all__ = [
     "Endpoint",
@@ -497,23 +496,6 @@ def default_multiphase_guess(problem: MultiPhaseProblem) -> MultiPhaseGuess:
 
 # ----------------------------------------------------------------------------- transcription
 @dataclass(slots=True)
-class _Iv:
-    n: int
-    D: np.ndarray
-    tau: np.ndarray
-    w: np.ndarray
-    support: np.ndarray
-    a: float
-    b: float
-    xs: slice
-    us: slice
-    xe: slice | None
-    g_def: slice
-    g_quad: slice | None
-    g_link: slice | None
-
-
-@dataclass(slots=True)
 class _PhaseLayout:
     intervals: list
     i_t0: int
@@ -536,35 +518,7 @@ class _MultiTranscription:
         layouts: list[_PhaseLayout] = []
         for ph, mesh in zip(problem.phases, meshes, strict=True):
             nx, nu = ph.n_states, ph.n_controls
-            ivs = []
-            P = mesh.n_intervals
-            br = mesh.breaks
-            for r, n in enumerate(mesh.nodes):
-                if method == "gauss":
-                    D, tau, w = gauss_differentiation_matrix(n)
-                    support = np.concatenate(([-1.0], tau))
-                else:
-                    D, tau, w = radau_differentiation_matrix(n)
-                    support = np.concatenate((tau, [1.0]))
-                xs = slice(iz, iz + (n + 1) * nx)
-                iz = xs.stop
-                us = slice(iz, iz + n * nu)
-                iz = us.stop
-                xe = None
-                if method == "gauss":
-                    xe = slice(iz, iz + nx)
-                    iz = xe.stop
-                g_def = slice(ig, ig + n * nx)
-                ig = g_def.stop
-                g_quad = None
-                if method == "gauss":
-                    g_quad = slice(ig, ig + nx)
-                    ig = g_quad.stop
-                g_link = None
-                if r < P - 1:
-                    g_link = slice(ig, ig + nx)
-                    ig = g_link.stop
-                ivs.append(_Iv(n, D, tau, w, support, br[r], br[r + 1], xs, us, xe, g_def, g_quad, g_link))
+            ivs, iz, ig = interval_layout(method, mesh, nx, nu, iz, ig)
             i_t0, i_tf = iz, iz + 1
             iz += 2
             g_path = slice(ig, ig + ph.n_path * sum(mesh.nodes))

@@ -84,6 +84,44 @@ class _Interval:
     g_link: slice | None
 
 
+def interval_layout(method: str, mesh: Mesh, nx: int, nu: int, iz: int, ig: int) -> tuple[list[_Interval], int, int]:
+    """Per-interval nodes, weights and the slices of ``z`` / ``g`` they own, from offsets ``iz``/``ig``.
+
+    Shared by the single-phase and the multi-phase transcriptions; returns the intervals and the
+    offsets after them.
+    """
+    breaks = mesh.breaks
+    P = mesh.n_intervals
+    out: list[_Interval] = []
+    for r, n in enumerate(mesh.nodes):
+        if method == "gauss":
+            D, tau, w = gauss_differentiation_matrix(n)
+            support = np.concatenate(([-1.0], tau))
+        else:
+            D, tau, w = radau_differentiation_matrix(n)
+            support = np.concatenate((tau, [1.0]))
+        xs = slice(iz, iz + (n + 1) * nx)
+        iz = xs.stop
+        us = slice(iz, iz + n * nu)
+        iz = us.stop
+        xe = None
+        if method == "gauss":
+            xe = slice(iz, iz + nx)
+            iz = xe.stop
+        g_def = slice(ig, ig + n * nx)
+        ig = g_def.stop
+        g_quad = None
+        if method == "gauss":
+            g_quad = slice(ig, ig + nx)
+            ig = g_quad.stop
+        g_link = None
+        if r < P - 1:
+            g_link = slice(ig, ig + nx)
+            ig = g_link.stop
+        out.append(_Interval(n, D, tau, w, support, breaks[r], breaks[r + 1], xs, us, xe, g_def, g_quad, g_link))
+    return out, iz, ig
+
+
 class _Transcription:
     """The compiled NLP of one problem structure on one mesh."""
 
@@ -109,39 +147,7 @@ class _Transcription:
             self.c_fun = ca.Function("C", [x, u, t], [cx])
 
         # ---------------- layout
-        breaks = mesh.breaks
-        self.intervals: list[_Interval] = []
-        iz = 0
-        ig = 0
-        P = mesh.n_intervals
-        for r, n in enumerate(mesh.nodes):
-            if method == "gauss":
-                D, tau, w = gauss_differentiation_matrix(n)
-                support = np.concatenate(([-1.0], tau))
-            else:
-                D, tau, w = radau_differentiation_matrix(n)
-                support = np.concatenate((tau, [1.0]))
-            xs = slice(iz, iz + (n + 1) * nx)
-            iz = xs.stop
-            us = slice(iz, iz + n * nu)
-            iz = us.stop
-            xe = None
-            if method == "gauss":
-                xe = slice(iz, iz + nx)
-                iz = xe.stop
-            g_def = slice(ig, ig + n * nx)
-            ig = g_def.stop
-            g_quad = None
-            if method == "gauss":
-                g_quad = slice(ig, ig + nx)
-                ig = g_quad.stop
-            g_link = None
-            if r < P - 1:
-                g_link = slice(ig, ig + nx)
-                ig = g_link.stop
-            self.intervals.append(
-                _Interval(n, D, tau, w, support, breaks[r], breaks[r + 1], xs, us, xe, g_def, g_quad, g_link)
-            )
+        self.intervals, iz, ig = interval_layout(method, mesh, nx, nu, 0, 0)
         self.g_path = slice(ig, ig + npath * sum(mesh.nodes))
         ig = self.g_path.stop
         self.i_tf = iz
