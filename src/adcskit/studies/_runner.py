@@ -70,6 +70,12 @@ def config_changes(name: str, config: Any, *, quick: bool = False) -> dict[str, 
 
 
 def _mark_comparable(claims, changes: Mapping[str, Any]):
+    """``claims`` (or findings) with ``comparable`` false where a changed key is one of their protocol keys.
+
+    A claim is compared with the paper; a finding with the answer at the study's documented
+    settings (the doc page's full run). Both are judged by the same rule: ``protocol_keys``
+    None means that any changed key makes it not comparable.
+    """
     from dataclasses import replace
 
     changed = set(changes)
@@ -216,6 +222,7 @@ def run_study(
         config=config_to_dict(cfg),
         config_changes=changes,
         claims=_mark_comparable(result.claims, changes),
+        findings=_mark_comparable(result.findings, changes),
         seed=seed,
         quick=quick,
         runtime_s=runtime,
