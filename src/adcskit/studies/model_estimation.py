@@ -101,8 +101,11 @@ class Config:
     dt_s : float, s
         Sample time of the 3-DOF model (S1: ``dt = 1``; the 1-DOF model is S1 eq. 3 as printed,
         whose step is fixed at 1 s).
-    cases, methods : tuple of str
-        Subsets of :data:`CASES` and :data:`METHODS`.
+    cases : tuple of str
+        Scenarios to run, a subset of :data:`CASES` (S1: 1-DOF random and step input, 3-DOF
+        random and sinusoidal input).
+    methods : tuple of str
+        Estimators to run, a subset of :data:`METHODS` (S1's seven and our baselines).
     noise_std : float
         Measurement-noise standard deviation on every state, in each state's own unit (S1
         eq. 2: ``v ~ N(0, 1)``; S1 gives the states no physical scale, so the key has no
@@ -126,8 +129,10 @@ class Config:
         Stopping tolerance of the standard Krylov solvers (normal equations).
     alpha0 : float
         Search half-width of the online adaptive GMRES (S1 Alg. 21; not stated in S1).
-    rls_forgetting, rls_delta : float
-        RLS forgetting factor and initial covariance scale.
+    rls_forgetting : float
+        RLS forgetting factor, in (0, 1].
+    rls_delta : float
+        Scale of the RLS initial covariance ``P0 = rls_delta * I``.
     ridge_rule : {"gcv", "discrepancy"}
         How the ridge weight is chosen (never from the truth).
     step_level_nm : float, N m
