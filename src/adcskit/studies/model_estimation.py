@@ -108,8 +108,8 @@ class Config:
         Estimators to run, a subset of :data:`METHODS` (S1's seven and our baselines).
     noise_std : float
         Measurement-noise standard deviation on every state, in each state's own unit (S1
-        eq. 2: ``v ~ N(0, 1)``; S1 gives the states no physical scale, so the key has no
-        unit suffix).
+        eq. 2: ``v ~ N(0, 1)``): one number for angles and rates alike (rad and rad/s in the
+        3-DOF model), so the key has no unit suffix.
     noise_std_low : float
         Second, realistic level, in the same units (0 disables it).
     inertia_kgm2 : tuple of 3 float, kg m^2
