@@ -7,11 +7,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
-from adcskit.studies._verdict import ClaimSpec
+from adcskit.studies._verdict import ClaimSpec, FindingSpec
 
 NEAR_ZERO = ClaimSpec(
     id="near-zero", statement="the mean is near zero", where="nowhere", quantity="|mean| < 0.2",
     held=lambda m: abs(m["mean"]) < 0.2, protocol_keys=("n_tasks",),
+)
+
+#: Our own questions: one depends on the campaign size, one only on whether the study fails.
+SMALL_SPREAD = FindingSpec(
+    id="small-spread", statement="the task means are within 0.5 of zero", quantity="max |mean| < 0.5",
+    value=lambda m: abs(m["mean"]), threshold=0.5, better="below", protocol_keys=("n_tasks",),
+)
+FINITE = FindingSpec(
+    id="finite", statement="every task mean is finite", quantity="finite", held=lambda m: np.isfinite(m["mean"]),
+    protocol_keys=("fail",),
 )
 
 
@@ -46,6 +56,7 @@ def run(config: Config, *, quick=False, rng=None, executor=None) -> StudyResult:
         measured={"mean": m, "means": means, "nan_value": float("nan")},
         claims=[NEAR_ZERO.evaluate({"default": [{"mean": v} for v in means]})],
         checks=[Check(name="ran", passed=True, detail="", kind="check")],
+        findings=[spec.evaluate({"default": [{"mean": v} for v in means]}) for spec in (SMALL_SPREAD, FINITE)],
         comparison=[Comparison(quantity="mean", paper=0.0, measured=m, unit="-", note="toy")],
         differences=["It is fake."],
         figures={"means": fig},

@@ -77,3 +77,101 @@ def test_bad_toml_and_missing_file(tmp_path):
         load_config(Outer, bad)
     with pytest.raises(ConfigError, match="not found"):
         load_config(Outer, tmp_path / "missing.toml")
+
+
+# --- issue 16 §4: config keys carry their unit, consistently across studies ------------------
+
+#: Unit suffix of a config key -> the unit its documentation (``adcskit config`` comment) states.
+SUFFIX_UNITS = {
+    "_deg_per_pct": {"deg/%"},
+    "_nm_per_rad": {"N m/rad"},
+    "_rad_s": {"rad/s"},
+    "_kg_s": {"kg/s"},
+    "_kgm2": {"kg m²", "kg m^2"},
+    "_nm": {"N m"},
+    "_pct": {"%"},
+    "_deg": {"deg"},
+    "_hz": {"Hz"},
+    "_km": {"km"},
+    "_s": {"s"},
+    "_m": {"m"},
+    "_n": {"N"},
+}
+
+
+def _documented_unit(help_line: str) -> str | None:
+    """``"float, N m: meaning"`` -> ``"N m"``; None without a unit after the type."""
+    head = help_line.split(": ", 1)[0]
+    if head.startswith("(") or "," not in head:
+        head = head.rsplit(")", 1)[-1]
+    _, sep, unit = head.rpartition(", ")
+    return unit.strip() if sep else None
+
+
+def _study_config_help():
+    from adcskit.config import config_help
+    from adcskit.studies import get_study, is_available, study_names
+
+    return {name: config_help(get_study(name).config_cls) for name in study_names() if is_available(name)}
+
+
+def test_every_study_key_with_a_unit_has_the_matching_suffix():
+    """A key documented with a physical unit ends in that unit's suffix, and a suffixed key
+    documents its unit (so ``adcskit config`` shows the unit on every such line)."""
+    unit_to_suffix = {u: sfx for sfx, units in SUFFIX_UNITS.items() for u in units}
+    bad = []
+    for study, helps in _study_config_help().items():
+        for key, line in helps.items():
+            unit = _documented_unit(line)
+            suffix = next((s for s in SUFFIX_UNITS if key.endswith(s)), None)
+            if unit in unit_to_suffix and not key.endswith(unit_to_suffix[unit]):
+                bad.append(f"{study}: {key} is documented in {unit} but lacks the suffix {unit_to_suffix[unit]}")
+            if suffix is not None and unit not in SUFFIX_UNITS[suffix]:
+                bad.append(f"{study}: {key} ends in {suffix} but documents the unit {unit!r}")
+    assert not bad, "\n".join(bad)
+
+
+#: Keys renamed to their unit-suffixed names (issue 16 §4), per study: old -> new.
+RENAMED = [
+    ("wahba-orbit", "inertia", "inertia_kgm2"),
+    ("model-estimation", "dt", "dt_s"),
+    ("model-estimation", "inertia", "inertia_kgm2"),
+    ("model-estimation", "altitude_m", "altitude_km"),
+    ("model-estimation", "step_level", "step_level_nm"),
+    ("model-estimation", "step_level_dominant", "step_level_dominant_nm"),
+    ("model-estimation", "sine_amplitude", "sine_amplitude_nm"),
+    ("model-estimation", "sine_omega", "sine_omega_rad_s"),
+    ("onoff-schmitt", "inertia", "inertia_kgm2"),
+    ("onoff-schmitt", "delay", "delay_s"),
+    ("onoff-schmitt", "dt", "dt_s"),
+    ("onoff-tuning", "std_delay", "std_delay_s"),
+    ("onoff-tuning", "penalty_weight", "penalty_weight_deg_per_pct"),
+    ("closed-loop", "geo_dt", "geo_dt_s"),
+    ("rendezvous", "rows", "rows_m"),
+]
+
+
+@pytest.mark.parametrize("study, old, new", RENAMED, ids=[f"{s}-{o}" for s, o, _ in RENAMED])
+def test_old_key_names_are_rejected_with_the_new_name(study, old, new, tmp_path):
+    """A user's TOML with a pre-rename key is an error naming the old key and suggesting the new."""
+    from adcskit.studies._runner import resolve_config
+
+    path = tmp_path / "old.toml"
+    path.write_text(f"{old} = 1.0\n")
+    with pytest.raises(ConfigError) as err:
+        resolve_config(study, path)
+    msg = str(err.value)
+    assert f"unknown config key {old} = 1.0 (did you mean {new!r}?)" in msg
+    assert resolve_config(study, None) == resolve_config(study, {new: getattr(resolve_config(study, None), new)})
+
+
+def test_old_key_through_the_cli_exits_2_with_the_suggestion(tmp_path, capsys):
+    from adcskit.cli import main
+
+    path = tmp_path / "my.toml"
+    path.write_text("inertia = [80.0, 80.0, 4.0]\n")
+    out = tmp_path / "results"
+    assert main(["run", "wahba-orbit", "--quick", "--quiet", "--config", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "unknown config key inertia" in err and "did you mean 'inertia_kgm2'?" in err
+    assert not out.exists()

@@ -163,7 +163,36 @@ def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
     custom = run_study("fake", quick=True, config={"n_tasks": 5}, out=tmp_path / "b")
     assert custom.config_changes == {"n_tasks": {"value": 5, "paper": 3}}
     assert [c.comparable for c in custom.claims] == [False]
+    # findings get the same treatment: the one on the changed key is not comparable with the
+    # documented answer, the one whose protocol does not include n_tasks still is
+    assert all(f.comparable for f in paper.findings)
+    assert {f.id: f.comparable for f in custom.findings} == {"small-spread": False, "finite": True}
+    assert [f.display_outcome for f in custom.findings][0] == "not comparable"
     data = json.loads((tmp_path / "b" / "fake" / "result.json").read_text())
     assert data["config_changes"]["n_tasks"]["value"] == 5
+    assert {f["id"]: f["comparable"] for f in data["findings"]} == {"small-spread": False, "finite": True}
     page = build_report(tmp_path / "b").read_text()
     assert "not comparable" in page and "Custom configuration" in page
+    assert "not comparable" in page.split("Our findings", 1)[1]
+
+
+def test_mark_comparable_rule_for_claims_and_findings():
+    """protocol_keys None: any changed key but the study's neutral ones (n_seeds) breaks
+    comparability; explicit protocol keys (and their sub-keys) are matched by name."""
+    from adcskit.studies._runner import _mark_comparable
+    from adcskit.studies._verdict import Claim, Finding
+
+    items = (
+        Claim(id="any", statement="s", outcome="holds"),
+        Finding(id="f-any", statement="s", outcome="holds"),
+        Finding(id="f-mesh", statement="s", outcome="holds", protocol_keys=("mesh",)),
+    )
+
+    def comparable(changes):
+        return {c.id: c.comparable for c in _mark_comparable(items, changes, ("n_seeds",))}
+
+    ch = {"value": 1, "paper": 2}
+    assert comparable({}) == {"any": True, "f-any": True, "f-mesh": True}
+    assert comparable({"n_seeds": ch}) == {"any": True, "f-any": True, "f-mesh": True}
+    assert comparable({"mesh.size": ch}) == {"any": False, "f-any": False, "f-mesh": False}
+    assert comparable({"noise": ch}) == {"any": False, "f-any": False, "f-mesh": True}

@@ -366,13 +366,33 @@ def check_int(name: str, value: Any, *, minimum: int | None = None, maximum: int
     return v
 
 
+#: Unit suffixes of config keys (``inertia_kgm2``, ``delay_s``, ...; design.md house style).
+UNIT_SUFFIXES = frozenset({
+    "s", "ms", "hz", "deg", "rad", "rad_s", "deg_s", "m", "km", "m_s", "n", "nm", "kgm2", "kg", "kg_s",
+    "pct", "t", "nm_per_rad", "deg_per_pct",
+})
+
+
 def did_you_mean(value: Any, allowed: Iterable[str]) -> str:
-    """``" (did you mean 'x'?)"`` for the closest of ``allowed`` to a mistyped ``value``, else ``""``."""
+    """``" (did you mean 'x'?)"`` for the closest of ``allowed`` to a mistyped ``value``, else ``""``.
+
+    A name without its unit suffix (an old config key such as ``inertia`` for
+    ``inertia_kgm2``) is matched to the suffixed name first, whatever else is close.
+
+    >>> did_you_mean("inertia", ["inertia_error", "inertia_axes", "inertia_kgm2"])
+    " (did you mean 'inertia_kgm2'?)"
+    >>> did_you_mean("n_seed", ["n_seeds", "n_steps"])
+    " (did you mean 'n_seeds'?)"
+    """
     import difflib
 
     if not isinstance(value, str):
         return ""
-    close = difflib.get_close_matches(value, [str(a) for a in allowed], n=1, cutoff=0.6)
+    names = [str(a) for a in allowed]
+    suffixed = [a for a in names if a.startswith(value + "_") and a[len(value) + 1:] in UNIT_SUFFIXES]
+    if len(suffixed) == 1:
+        return f" (did you mean {suffixed[0]!r}?)"
+    close = difflib.get_close_matches(value, names, n=1, cutoff=0.6)
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 

@@ -27,6 +27,37 @@ from harness import Case
 
 CASES: dict[str, Case] = {}
 
+#: The one directory under which every file or directory a valid call needs is created (a
+#: factory runs afresh for every mutation, hundreds of times per run). Made on first use —
+#: factories also run at collection time, before any fixture — and removed by
+#: :func:`remove_scratch` at the end of the pytest session (``conftest.py``), so a run leaves
+#: nothing behind in the temporary directory.
+_SCRATCH: list[str] = []
+
+
+def scratch_path(prefix: str, *, file_suffix: str | None = None) -> str:
+    """A fresh directory (or, with ``file_suffix``, an empty file) under the suite's scratch root."""
+    import atexit
+    import os
+    import tempfile
+
+    if not _SCRATCH:
+        _SCRATCH.append(tempfile.mkdtemp(prefix="adcskit-rob-"))
+        atexit.register(remove_scratch)  # outside pytest too
+    if file_suffix is None:
+        return tempfile.mkdtemp(prefix=prefix, dir=_SCRATCH[0])
+    fd, path = tempfile.mkstemp(prefix=prefix, suffix=file_suffix, dir=_SCRATCH[0])
+    os.close(fd)
+    return path
+
+
+def remove_scratch() -> None:
+    """Delete the scratch root and everything the valid calls wrote there."""
+    import shutil
+
+    while _SCRATCH:
+        shutil.rmtree(_SCRATCH.pop(), ignore_errors=True)
+
 
 def case(name: str, **opts: Any) -> Callable[[Callable[[], dict[str, Any]]], Callable[[], dict[str, Any]]]:
     """Register the decorated valid-call factory under ``name``."""
@@ -754,9 +785,7 @@ def _square(x: float) -> float:
 @case("uncertainty.run_campaign", kinds={"directory": "path", "description": "skip", "executor": "skip", "tasks": "object"},
       nan_ok=("values",), nonfinite_ok=("fn",))
 def _():
-    import tempfile
-
-    return dict(fn=_square, tasks=[1.0, 2.0, 3.0], directory=tempfile.mkdtemp(prefix="adcskit-rob-"), chunk_size=2)
+    return dict(fn=_square, tasks=[1.0, 2.0, 3.0], directory=scratch_path("campaign-"), chunk_size=2)
 
 
 case("uncertainty.SerialExecutor.map", target=lambda: __import__("adcskit.uncertainty", fromlist=["x"]).SerialExecutor().map,
@@ -768,9 +797,7 @@ case("uncertainty.SerialExecutor.map", target=lambda: __import__("adcskit.uncert
 
 
 def _results_dir() -> str:
-    import tempfile
-
-    return tempfile.mkdtemp(prefix="adcskit-rob-report-")
+    return scratch_path("report-")
 
 
 case("report.load_results", kinds={"out": "path"})(lambda: dict(out=_results_dir()))
@@ -778,10 +805,8 @@ case("report.build_report", kinds={"out": "path", "title": "skip"})(lambda: dict
 
 
 def _toml_file() -> str:
-    import tempfile
-
-    fd, path = tempfile.mkstemp(suffix=".toml", prefix="adcskit-rob-")
-    with open(fd, "w") as f:
+    path = scratch_path("config-", file_suffix=".toml")
+    with open(path, "w") as f:
         f.write('a = 1\n[b]\nc = "x"\n')
     return path
 

@@ -64,6 +64,26 @@ def test_every_public_name_has_an_entry():
     assert not stale, f"EXEMPT names that are not public any more: {stale}"
 
 
+def test_valid_calls_write_only_under_the_scratch_root():
+    """Files and directories of valid calls live under ``cases.scratch_path``'s root, which the
+    session removes at its end (earlier runs left ~1000 ``/tmp/adcskit-rob-*`` entries behind)."""
+    import os
+    import tempfile
+
+    import cases
+
+    tmp = os.path.realpath(tempfile.gettempdir())
+    outside = []
+    for name, c in CASES.items():
+        for arg, v in c.valid().items():
+            if isinstance(v, (str, os.PathLike)) and os.path.exists(v):
+                real = os.path.realpath(v)
+                if real.startswith(tmp + os.sep) and not real.startswith(os.path.realpath(cases._SCRATCH[0]) + os.sep):
+                    outside.append(f"{name}({arg}={v!r})")
+    assert cases._SCRATCH, "no valid call used the scratch root"
+    assert not outside, f"valid calls that create temporary files outside cases.scratch_path: {outside}"
+
+
 FAST = sorted(n for n, c in CASES.items() if not c.slow)
 SLOW = sorted(n for n, c in CASES.items() if c.slow)
 

@@ -141,6 +141,19 @@ def test_key_physics_prior_errors_computed_independently(quick):
         assert p[0] == pytest.approx(1 / 1.5, rel=0.05)
 
 
+def test_findings_not_comparable_when_a_key_but_n_seeds_changed(quick):
+    # issue 16 §2: findings compare estimators on the documented scenario and settings; only
+    # n_seeds (more evidence) leaves them comparable
+    from adcskit.studies._runner import _mark_comparable
+
+    result, _ = quick
+    assert result.findings and all(f.comparable for f in result.findings)
+    change = {"value": 0, "paper": 1}
+    assert all(f.comparable for f in _mark_comparable(result.findings, {"n_seeds": change}))
+    for key in ("sine_omega_rad_s", "kalman_q", "methods"):
+        assert not any(f.comparable for f in _mark_comparable(result.findings, {key: change})), key
+
+
 def test_equal_scaling_leaves_open_loop_ratios_unchanged():
     # scaling all inertias by s leaves M^-1 L and M^-1 N unchanged (only M^-1 = B moves):
     # the reason for the per-axis reading

@@ -73,3 +73,23 @@ def test_config_rejects_bad_values():
         mod.Config(readings_weighting=("optimal",))
     with pytest.raises(ConfigError, match="n_seeds"):
         mod.Config(n_seeds=0)
+
+
+def test_findings_not_comparable_only_when_their_scenario_changed(quick):
+    # issue 16 §2: a finding (our question) is judged against its documented answer; a changed
+    # scenario key makes it "not comparable", more seeds (evidence) do not
+    from adcskit.studies._runner import _mark_comparable
+    from adcskit.studies._verdict import Finding
+
+    _, d = quick
+    assert all(f["comparable"] for f in d["findings"])  # quick settings are not custom
+    findings = [Finding(id=f["id"], statement=f["statement"], outcome=f["outcome"],
+                        protocol_keys=tuple(f["protocol_keys"])) for f in d["findings"]]
+
+    def marked(key):
+        return {f.id: f.comparable for f in _mark_comparable(findings, {key: {"value": 0, "paper": 1}})}
+
+    assert all(marked("n_seeds").values())
+    assert not any(marked("inertia_kgm2").values())
+    nsga = marked("nsga2_every")
+    assert nsga and all(ok == ("nsga2-knee" not in fid) for fid, ok in nsga.items())

@@ -192,6 +192,10 @@ class Study:
         Config overrides for ``--quick``.
     doc : str
         Path of the study's documentation page in the repository.
+    neutral_keys : tuple of str
+        Config keys that only add evidence or steer the execution (``n_seeds``, a task size,
+        a cache directory): a change is recorded in ``config_changes`` but does not by itself
+        make a claim or finding with ``protocol_keys=None`` "not comparable".
 
     Examples
     --------
@@ -208,6 +212,7 @@ class Study:
     run: Callable[..., StudyResult]
     quick: Mapping[str, Any] = field(default_factory=dict)
     doc: str = ""
+    neutral_keys: tuple[str, ...] = ("n_seeds",)
 
 
 def to_jsonable(value: Any) -> Any:

@@ -69,14 +69,21 @@ def config_changes(name: str, config: Any, *, quick: bool = False) -> dict[str, 
     }
 
 
-def _mark_comparable(claims, changes: Mapping[str, Any]):
+def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...] = ()):
+    """``claims`` (or findings) with ``comparable`` false where a changed key is one of their protocol keys.
+
+    A claim is compared with the paper; a finding with the answer at the study's documented
+    settings (the doc page's full run). Both are judged by the same rule: ``protocol_keys``
+    None means that any changed key but the study's ``neutral`` ones (more seeds, execution
+    settings) makes it not comparable.
+    """
     from dataclasses import replace
 
     changed = set(changes)
     out = []
     for c in claims:
         if c.protocol_keys is None:
-            keys = changed
+            keys = {k for k in changed if not any(k == n or k.startswith(n + ".") for n in neutral)}
         else:
             keys = {k for k in changed if any(k == p or k.startswith(p + ".") for p in c.protocol_keys)}
         out.append(replace(c, comparable=not keys))
@@ -215,7 +222,8 @@ def run_study(
         result,
         config=config_to_dict(cfg),
         config_changes=changes,
-        claims=_mark_comparable(result.claims, changes),
+        claims=_mark_comparable(result.claims, changes, study.neutral_keys),
+        findings=_mark_comparable(result.findings, changes, study.neutral_keys),
         seed=seed,
         quick=quick,
         runtime_s=runtime,

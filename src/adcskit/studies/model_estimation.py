@@ -21,7 +21,7 @@ Models (see ``docs/studies/model-estimation.md`` for every choice):
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -96,19 +96,25 @@ class Config:
     n_seeds : int
         Independent noise/input realisations per case (S1: "different simulations").
     n_steps : int
-        Manoeuvre length ``L`` in steps of ``dt`` (S1 does not state it; its figures show
+        Manoeuvre length ``L`` in steps of ``dt_s`` (S1 does not state it; its figures show
         the estimates settling after ~100 s).
-    dt : float, s
-        Sample time (S1: ``dt = 1``).
-    cases, methods : tuple of str
-        Subsets of :data:`CASES` and :data:`METHODS`.
+    dt_s : float, s
+        Sample time of the 3-DOF model (S1: ``dt = 1``; the 1-DOF model is S1 eq. 3 as printed,
+        whose step is fixed at 1 s).
+    cases : tuple of str
+        Scenarios to run, a subset of :data:`CASES` (S1: 1-DOF random and step input, 3-DOF
+        random and sinusoidal input).
+    methods : tuple of str
+        Estimators to run, a subset of :data:`METHODS` (S1's seven and our baselines).
     noise_std : float
-        Measurement-noise standard deviation on every state (S1 eq. 2: ``v ~ N(0, 1)``).
+        Measurement-noise standard deviation on every state, in each state's own unit (S1
+        eq. 2: ``v ~ N(0, 1)``): one number for angles and rates alike (rad and rad/s in the
+        3-DOF model), so the key has no unit suffix.
     noise_std_low : float
-        Second, realistic level (0 disables it).
-    inertia : tuple of 3 float, kg m^2
+        Second, realistic level, in the same units (0 disables it).
+    inertia_kgm2 : tuple of 3 float, kg m^2
         True principal moments (S1: 82, 80, 4).
-    altitude_m : float, m
+    altitude_km : float, km
         Circular-orbit altitude for the orbit rate (S1: LEO, value not stated).
     inertia_error : float
         The prior model assumes inertias ``(1 + inertia_error)`` times the truth (S1: 50 %).
@@ -117,23 +123,27 @@ class Config:
     gyroscopic : {"derived", "printed"}
         Gyroscopic matrix of the physics model (S1 eq. 10 prints a sign error).
     kalman_q : float
-        Kalman process-noise variance per state, relative to ``noise_std**2``'s units
+        Kalman process-noise variance per state, in the squared units of ``noise_std``
         (``Q = kalman_q * I``); S1 leaves it unspecified.
     krylov_rtol : float
         Stopping tolerance of the standard Krylov solvers (normal equations).
     alpha0 : float
         Search half-width of the online adaptive GMRES (S1 Alg. 21; not stated in S1).
-    rls_forgetting, rls_delta : float
-        RLS forgetting factor and initial covariance scale.
+    rls_forgetting : float
+        RLS forgetting factor, in (0, 1].
+    rls_delta : float
+        Scale of the RLS initial covariance ``P0 = rls_delta * I``.
     ridge_rule : {"gcv", "discrepancy"}
         How the ridge weight is chosen (never from the truth).
-    step_level : float, N m
+    step_level_nm : float, N m
         Level of the step in ``1dof-step`` (plus N(0, 1) noise, S1 Fig. 7).
-    sine_amplitude : float, N m
-    sine_omega : tuple of 3 float, rad/s
+    sine_amplitude_nm : float, N m
+        Amplitude of the per-axis sinusoidal torque of ``3dof-sine`` (S1 gives none).
+    sine_omega_rad_s : tuple of 3 float, rad/s
         Per-axis sinusoid frequencies of ``3dof-sine`` (S1 gives none).
     ekf_q_param : float
-        Random-walk variance of the inertia ratios in the augmented EKF.
+        Random-walk variance per step of the inertia ratios (truth / prior, dimensionless) in
+        the augmented EKF.
     inertia_direction : {"prior", "truth"}
         Which model carries the 50 % inertia change: ``"prior"`` — the truth is the printed
         model and the prior ``A0`` has the inertias ``(1 + inertia_error)`` times larger;
@@ -144,25 +154,25 @@ class Config:
         unchanged: only the control path ``M^-1 K`` moves), or only the transverse ``Ix, Iy``
         (``Iz`` kept: the physical triangle inequality ``Ix <= Iy + Iz`` then still holds).
         The 1-DOF model has one inertia.
-    step_level_dominant : float, N m
+    step_level_dominant_nm : float, N m
         Step level of the ``"step dominant"`` reading (input noise N(0, 1) stays).
     readings : tuple of str
         Alternative readings to run beside the default (subset of ``READINGS[1:]``): each
         changes one choice — ``"spacecraft changed"`` (``inertia_direction="truth"``),
         ``"per-axis inertia"`` (``inertia_axes="transverse"``, 3-DOF cases), ``"step dominant"``
-        (``step_level = step_level_dominant``, ``1dof-step``), ``"low noise"``
+        (``step_level_nm = step_level_dominant_nm``, ``1dof-step``), ``"low noise"``
         (``noise_std = noise_std_low``).
     """
 
     n_seeds: int = 10
     n_steps: int = 200
-    dt: float = 1.0
+    dt_s: float = 1.0
     cases: tuple[str, ...] = CASES
     methods: tuple[str, ...] = METHODS
     noise_std: float = 1.0
     noise_std_low: float = 0.01
-    inertia: tuple[float, float, float] = (82.0, 80.0, 4.0)
-    altitude_m: float = 500e3
+    inertia_kgm2: tuple[float, float, float] = (82.0, 80.0, 4.0)
+    altitude_km: float = 500.0
     inertia_error: float = 0.5
     model_3dof: Literal["physics", "printed"] = "physics"
     gyroscopic: Literal["derived", "printed"] = "derived"
@@ -172,13 +182,13 @@ class Config:
     rls_forgetting: float = 0.99
     rls_delta: float = 100.0
     ridge_rule: Literal["gcv", "discrepancy"] = "gcv"
-    step_level: float = 1.0
-    sine_amplitude: float = 1.0
-    sine_omega: tuple[float, float, float] = (0.05, 0.08, 0.13)
+    step_level_nm: float = 1.0
+    sine_amplitude_nm: float = 1.0
+    sine_omega_rad_s: tuple[float, float, float] = (0.05, 0.08, 0.13)
     ekf_q_param: float = 1e-6
     inertia_direction: Literal["prior", "truth"] = "prior"
     inertia_axes: Literal["uniform", "transverse"] = "uniform"
-    step_level_dominant: float = 10.0
+    step_level_dominant_nm: float = 10.0
     readings: tuple[str, ...] = READINGS[1:]
 
     def __post_init__(self) -> None:
@@ -186,8 +196,8 @@ class Config:
             raise ValueError(f"n_seeds must be >= 1; got {self.n_seeds}")
         if self.n_steps < 20:
             raise ValueError(f"n_steps must be >= 20 (the 3-DOF regression has 6 unknowns per row); got {self.n_steps}")
-        if not self.dt > 0:
-            raise ValueError(f"dt must be > 0 s; got {self.dt}")
+        if not self.dt_s > 0:
+            raise ValueError(f"dt_s must be > 0 s; got {self.dt_s}")
         for c in self.cases:
             if c not in CASES:
                 raise ValueError(f"cases must be a subset of {CASES}; got {c!r}")
@@ -196,8 +206,8 @@ class Config:
                 raise ValueError(f"methods must be a subset of {METHODS}; got {m!r}")
         if not self.noise_std > 0 or self.noise_std_low < 0:
             raise ValueError("noise_std must be > 0 and noise_std_low >= 0")
-        if min(self.inertia) <= 0:
-            raise ValueError(f"inertia must be positive kg m^2; got {self.inertia}")
+        if min(self.inertia_kgm2) <= 0:
+            raise ValueError(f"inertia_kgm2 must be positive (kg m^2); got {self.inertia_kgm2}")
         if not -1 < self.inertia_error:
             raise ValueError(f"inertia_error must be > -1; got {self.inertia_error}")
         if not 0 <= self.alpha0 <= 1:
@@ -206,8 +216,8 @@ class Config:
             raise ValueError(f"rls_forgetting must be in (0, 1]; got {self.rls_forgetting}")
         if self.kalman_q < 0 or self.krylov_rtol <= 0 or self.rls_delta <= 0 or self.ekf_q_param < 0:
             raise ValueError("kalman_q, ekf_q_param must be >= 0; krylov_rtol, rls_delta > 0")
-        if self.altitude_m < 0:
-            raise ValueError(f"altitude_m must be >= 0 m; got {self.altitude_m}")
+        if self.altitude_km < 0:
+            raise ValueError(f"altitude_km must be >= 0 km; got {self.altitude_km}")
         if self.inertia_direction not in ("prior", "truth"):
             raise ValueError(f"inertia_direction must be 'prior' or 'truth'; got {self.inertia_direction!r}")
         if self.inertia_axes not in ("uniform", "transverse"):
@@ -217,6 +227,12 @@ class Config:
                 raise ValueError(f"readings must be a subset of {READINGS[1:]}; got {r!r}")
         if "low noise" in self.readings and not self.noise_std_low > 0:
             raise ValueError("the 'low noise' reading needs noise_std_low > 0")
+
+
+#: Protocol of our findings (the doc page's answers): every key but ``n_seeds``, which only adds
+#: evidence. A finding compares estimators on the documented scenario, so a changed estimator
+#: setting, case list or reading changes the question.
+FINDING_KEYS = tuple(f.name for f in fields(Config) if f.name != "n_seeds")
 
 
 # --------------------------------------------------------------------------- scenario
@@ -319,11 +335,11 @@ def build_case(name: str, cfg: Config) -> _Case:
         A, B = _model_1dof(f_true[0])
         A0, _ = _model_1dof(f_prior[0])
         return _Case(name, A, B, A0, _Model1(f_prior[0]), 1, np.array([f_true[0] / f_prior[0]]), name.split("-")[1])
-    n = orbit_rate(cfg.altitude_m)
-    inertia = np.array(cfg.inertia)
+    n = orbit_rate(cfg.altitude_km * 1e3)
+    inertia = np.array(cfg.inertia_kgm2)
     K = _axis_gains(inertia, n, cfg.gyroscopic)
-    model = _Model3(inertia, n, K, cfg.dt, cfg.gyroscopic, f_prior)
-    A, B = _Model3(inertia, n, K, cfg.dt, cfg.gyroscopic, f_true)(np.ones(3))
+    model = _Model3(inertia, n, K, cfg.dt_s, cfg.gyroscopic, f_prior)
+    A, B = _Model3(inertia, n, K, cfg.dt_s, cfg.gyroscopic, f_true)(np.ones(3))
     if cfg.model_3dof == "printed":  # S1 eq. (13) stands for the printed (unchanged) model
         if cfg.inertia_direction == "prior":
             A, B = A13.copy(), B13.copy()
@@ -340,10 +356,10 @@ def _inputs(case: _Case, cfg: Config, N: int, rng) -> np.ndarray:
     if case.input_kind == "random":
         return rng.standard_normal((N, p))
     if case.input_kind == "step":
-        return cfg.step_level + rng.standard_normal((N, p))
-    t = np.arange(N) * cfg.dt
+        return cfg.step_level_nm + rng.standard_normal((N, p))
+    t = np.arange(N) * cfg.dt_s
     phase = rng.uniform(0, 2 * np.pi, size=p)
-    return cfg.sine_amplitude * np.sin(np.outer(t, np.array(cfg.sine_omega[:p])) + phase)
+    return cfg.sine_amplitude_nm * np.sin(np.outer(t, np.array(cfg.sine_omega_rad_s[:p])) + phase)
 
 
 def _err(Ah, A, ord_):
@@ -454,7 +470,7 @@ def _reading_plan(cfg: Config) -> dict[str, tuple[Config, float, tuple[str, ...]
             plan[r] = (replace(cfg, inertia_axes="transverse" if cfg.inertia_axes == "uniform" else "uniform"),
                        cfg.noise_std, tuple(c for c in cfg.cases if c.startswith("3dof")))
         elif r == "step dominant":
-            plan[r] = (replace(cfg, step_level=cfg.step_level_dominant), cfg.noise_std,
+            plan[r] = (replace(cfg, step_level_nm=cfg.step_level_dominant_nm), cfg.noise_std,
                        tuple(c for c in cfg.cases if c.endswith("step")))
         elif r == "low noise":
             plan[r] = (cfg, cfg.noise_std_low, cfg.cases)
@@ -639,8 +655,8 @@ def _claim_specs(cfg: Config, readings: tuple[str, ...]):
             "adaptive error), one seed; >= 10",
             value=lambda m: min(_best(m, std, c) / max(m["err"][a][c], 1e-12) for c in cases for a in adaptive),
             threshold=10.0, paper=">= 10", readings=readings,
-            protocol_keys=("n_steps", "dt", "cases", "noise_std", "inertia", "inertia_error", "model_3dof",
-                           "gyroscopic", "step_level", "alpha0"),
+            protocol_keys=("n_steps", "dt_s", "cases", "noise_std", "inertia_kgm2", "inertia_error", "model_3dof",
+                           "gyroscopic", "step_level_nm", "alpha0"),
         ))
     if std and tcases:
         specs.append(ClaimSpec(
@@ -651,8 +667,8 @@ def _claim_specs(cfg: Config, readings: tuple[str, ...]):
             f"({', '.join(tcases)}), one seed",
             held=lambda m: all(37.0 <= m["err"][x][c] <= 195.0 for x in std for c in tcases),
             paper="37-195 %", readings=readings,
-            protocol_keys=("n_steps", "dt", "cases", "noise_std", "inertia", "inertia_error", "model_3dof",
-                           "gyroscopic", "step_level"),
+            protocol_keys=("n_steps", "dt_s", "cases", "noise_std", "inertia_kgm2", "inertia_error", "model_3dof",
+                           "gyroscopic", "step_level_nm"),
         ))
     if "adaptive-gmres-online" in cfg.methods and len(paper_ms) > 1:
         specs.append(ClaimSpec(
@@ -663,8 +679,8 @@ def _claim_specs(cfg: Config, readings: tuple[str, ...]):
             "one seed",
             held=lambda m: all(m["err"]["adaptive-gmres-online"][c] <= _best(m, paper_ms, c) + 1e-12 for c in cases),
             readings=readings,
-            protocol_keys=("n_steps", "dt", "cases", "noise_std", "inertia", "inertia_error", "model_3dof",
-                           "gyroscopic", "step_level", "alpha0"),
+            protocol_keys=("n_steps", "dt_s", "cases", "noise_std", "inertia_kgm2", "inertia_error", "model_3dof",
+                           "gyroscopic", "step_level_nm", "alpha0"),
         ))
     return specs
 
@@ -679,7 +695,7 @@ def _finding_specs(cfg: Config, readings: tuple[str, ...]):
             statement="Online adaptive GMRES ends closer to the truth than the prior A0 it starts from, on every case.",
             quantity="max over cases of (online error / prior error); < 0.999 (ending exactly at A0 is no improvement)",
             value=lambda m: max(m["err"][on][c] / m["prior"][c] for c in cases), threshold=0.999, better="below",
-            readings=readings,
+            readings=readings, protocol_keys=FINDING_KEYS,
         ))
         base = tuple(b for b in PRIOR_BASELINES if b in cfg.methods)
         if base:
@@ -689,7 +705,7 @@ def _finding_specs(cfg: Config, readings: tuple[str, ...]):
                 "rule, or RLS anchored at A0) is at least as accurate as the online adaptive GMRES on every case.",
                 quantity="max over cases of (best prior-anchored baseline error / online error); < 1.0001",
                 value=lambda m: max(_best(m, base, c) / max(m["err"][on][c], 1e-12) for c in cases),
-                threshold=1.0001, better="below", readings=readings,
+                threshold=1.0001, better="below", readings=readings, protocol_keys=FINDING_KEYS,
             ))
         if "augmented-ekf" in cfg.methods:
             specs.append(FindingSpec(
@@ -699,7 +715,7 @@ def _finding_specs(cfg: Config, readings: tuple[str, ...]):
                 "adaptive GMRES on every case.",
                 quantity="max over cases of (EKF error / online error); < 1",
                 value=lambda m: max(m["err"]["augmented-ekf"][c] / max(m["err"][on][c], 1e-12) for c in cases),
-                threshold=1.0, better="below", readings=readings,
+                threshold=1.0, better="below", readings=readings, protocol_keys=FINDING_KEYS,
             ))
     one = tuple(c for c in cases if c.startswith("1dof"))
     std = tuple(x for x in STANDARD if x in cfg.methods)
@@ -710,7 +726,7 @@ def _finding_specs(cfg: Config, readings: tuple[str, ...]):
             "below a tenth of the prior's.",
             quantity="max over 1-DOF cases of (standard-solver error / prior error); < 0.1",
             value=lambda m: max(_best(m, std, c) / m["prior"][c] for c in one), threshold=0.1, better="below",
-            readings=readings,
+            readings=readings, protocol_keys=FINDING_KEYS,
         ))
     return specs
 
@@ -773,7 +789,7 @@ def _figures(cfg, by, readings):
             for m in cfg.methods:
                 e = np.median(np.stack([r["methods"][m]["e2"] for r in runs]), axis=0)
                 col, ls = _STYLE[m]
-                ax.semilogy(np.arange(e.size) * cfg.dt, e, color=col, ls=ls, label=m, lw=1.2)
+                ax.semilogy(np.arange(e.size) * cfg.dt_s, e, color=col, ls=ls, label=m, lw=1.2)
             ax.axhline(runs[0]["prior_error"], color="k", lw=0.6, ls=":", label="prior A0")
             ax.set_title(f"{c} (median of {len(runs)} seeds)")
             ax.set_xlabel("time [s]")
@@ -791,7 +807,7 @@ def _figures(cfg, by, readings):
             col = _STYLE[m][0]
             for key, ls in (("e2", "-"), ("efro", "--")):
                 e = np.median(np.stack([r["methods"][m][key] for r in runs]), axis=0)
-                ax.plot(np.arange(e.size) * cfg.dt, e, color=col, ls=ls,
+                ax.plot(np.arange(e.size) * cfg.dt_s, e, color=col, ls=ls,
                         label=f"{m} {'2-norm' if key == 'e2' else 'Frobenius'}")
         ax.set_title(c)
         ax.set_xlabel("time [s]")
@@ -802,7 +818,7 @@ def _figures(cfg, by, readings):
     fig, axes = new_figure(2, 2, figsize=(11, 7.5), squeeze=False)
     for ax, c in zip(axes.ravel(), cfg.cases):
         r0 = next(r for r in by[("default", c)] if r["seed_index"] == 0)
-        t = np.arange(r0["angle_true"].size) * cfg.dt
+        t = np.arange(r0["angle_true"].size) * cfg.dt_s
         ax.plot(t, r0["angle_meas"], ".", color="0.75", ms=2, label="measurement")
         ax.plot(t, r0["angle_true"], "k-", lw=2.0, label="truth")
         for m, col in (("adaptive-gmres-online", "C5"), ("qr", "C0"), ("augmented-ekf", "C8")):

@@ -82,23 +82,29 @@ class Config:
         Generations (S3 Table 6: 400).
     pop_size : int
         Population, equal for GA and DE (S3: equal, size not printed).
-    box_half_size_m : (float, float, float)
-        S3: 2 x 2 x 2 m box, CoM at the centre (eq. 20: -1 <= r <= 1 m).
-    inertia_kgm2 : (float, float, float)
-        S3 eq. 19 (reported for the natural frequencies ``sqrt(K/J)``; not used by eq. 18).
-    f_max_n, t_min_s, mdot_kg_s : float
-        S3 Table 5 and §6: 10 N, 3 ms, 3.5 g/s.
-    t_s_s : float
+    box_half_size_m : (float, float, float), m
+        Half sizes of the mounting box, CoM at the centre (S3: 2 x 2 x 2 m box; eq. 20:
+        -1 <= r <= 1 m).
+    inertia_kgm2 : (float, float, float), kg m²
+        Principal moments of inertia (S3 eq. 19; reported for the natural frequencies
+        ``sqrt(K/J)``; not used by eq. 18).
+    f_max_n : float, N
+        Largest thrust of each thruster (S3 Table 5 and §6: 10 N).
+    t_min_s : float, s
+        Minimum on-time of a thruster (S3 Table 5 and §6: 3 ms).
+    mdot_kg_s : float, kg/s
+        Propellant mass flow of a firing thruster (S3 Table 5 and §6: 3.5 g/s).
+    t_s_s : float, s
         Sample time (S3 Table 6: 0.2 s).
-    gain_nm_per_rad : float
-        ``K`` (S3 Table 6: 600).
+    gain_nm_per_rad : float, N m/rad
+        Attitude gain ``K`` (S3 Table 6: 600).
     weights : (float, float, float)
         ``K1, K2, K3`` of eq. 18 (S3 Table 7: 100, -99, 12, signs as printed).
-    correction_deg : float
+    correction_deg : float, deg
         Size of each attitude correction of the manoeuvre set (ours; S3 gives none).
     faces : tuple of str
         Mounting faces allowed (S3: all six, "solar arrays impose no limit").
-    max_cant_deg : float
+    max_cant_deg : float, deg
         Largest angle between thrust and inward face normal (S3 Tables 1-4: 90).
     de_strategy : str
         ``"current-to-best/1/bin"`` (Storn & Price DE2, S3's "second strategy") or
