@@ -45,13 +45,21 @@ from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, 
 from adcskit.optimal_control.solve import (
     OptimalControlSolution,
     _as_mesh,
+    _assemble,
     _interp_fun,
-    _Piece,
     _resolve_options,
     _solution_funs,
     ipopt_status_code,
 )
-from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar, interval_layout
+from adcskit.optimal_control.transcription import (
+    METHODS,
+    _as_list,
+    _scalar,
+    interval_layout,
+    interval_times,
+    pack_intervals,
+    unpack_intervals,
+)
 
 __all__ = [
     "Endpoint",
@@ -709,12 +717,7 @@ class _MultiTranscription:
         return lbz, ubz, lbg, ubg
 
     def times(self, lay, t0, tf):
-        out = []
-        for iv in lay.intervals:
-            ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
-            tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
-            out.append((ts, tc, t0 + (tf - t0) * iv.b))
-        return out
+        return interval_times(lay.intervals, t0, tf)
 
 
 def _fun(name, fn, nx, nu, npar, nout):
@@ -945,7 +948,7 @@ def _solve(
         t_guess.append((t0, tf))
     scales, par = tr.scales(problem, t_guess)
     z0 = np.zeros(tr.nz)
-    for k, (ph, lay, gp, (t0, tf), (sx, su, st)) in enumerate(
+    for k, (_ph, lay, gp, (t0, tf), (sx, su, st)) in enumerate(
         zip(problem.phases, tr.layouts, g.phases, t_guess, scales, strict=True)
     ):
         if prev is not None:  # a previous solution: its own polynomials, time-rescaled
@@ -954,12 +957,7 @@ def _solve(
             g0, gf = float(gp.t[0]), float(gp.tf)
             xfun = _interp_fun(gp.t, gp.x, g0, gf, t0, tf)
             ufun = _interp_fun(gp.t if gp.t_u is None else gp.t_u, gp.u, g0, gf, t0, tf)
-        for iv, (ts, tc, tend) in zip(lay.intervals, tr.times(lay, t0, tf), strict=True):
-            z0[iv.xs] = (xfun(ts) / sx).ravel()
-            if ph.n_controls:
-                z0[iv.us] = (ufun(tc) / su).ravel()
-            if iv.xe is not None:
-                z0[iv.xe] = xfun(np.array([tend]))[0] / sx
+        pack_intervals(z0, lay.intervals, t0, tf, xfun, ufun, sx, su)
         z0[lay.i_t0], z0[lay.i_tf] = t0 / st, tf / st
     if problem.n_parameters:
         z0[tr.i_p] = g.parameters / problem.parameter_scale
@@ -1028,41 +1026,11 @@ def _zero_mayer(x0, t0, xf, tf):
 def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, success, status, nit, viol):
     nx, nu = ph.n_states, ph.n_controls
     pdm = ca.DM(pval)
-    pieces = []
-    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
-    times = tr.times(lay, t0, tf)
-    for r, (iv, (ts, tc, tend)) in enumerate(zip(lay.intervals, times, strict=True)):
-        xs = z[iv.xs].reshape(iv.n + 1, nx) * sx
-        us = z[iv.us].reshape(iv.n, nu) * su if nu else np.zeros((iv.n, 0))
-        xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
-        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe))
-        lt = -lam_g[iv.g_def].reshape(iv.n, nx) * cJ / sx
-        if tr.method == "gauss":
-            lf = -lam_g[iv.g_quad] * cJ / sx
-            lam_c = lt / iv.w[:, None] + lf
-            lam_s = np.vstack([lf - iv.D[:, 0] @ lt, lam_c])
-            lam_end = lf
-            xc = xs[1:]
-            t_list.append(ts)
-            x_list.append(xs)
-        else:
-            lam_c = lt / iv.w[:, None]
-            lam_end = iv.D[:, -1] @ lt
-            lam_s = lam_c
-            xc = xs[:-1]
-            t_list.append(ts[:-1])
-            x_list.append(xs[:-1])
-        lam_list.append(lam_s)
-        tc_list.append(tc)
-        u_list.append(us)
-        for k in range(iv.n):
-            hk, hu = lay.h_fun(xc[k], us[k], tc[k], pdm, lam_c[k])
-            ham_list.append(float(hk))
-            sw_list.append(np.asarray(hu).ravel())
-        if r == len(lay.intervals) - 1:
-            t_list.append([tend])
-            x_list.append(xe[None, :])
-            lam_list.append(lam_end[None, :])
+    parts = unpack_intervals(lay.intervals, z, sx, su)
+    pieces, samples = _assemble(
+        tr.method, lay.intervals, parts, tr.times(lay, t0, tf), lam_g, cJ, sx,
+        lambda xk, uk, tk, lk: lay.h_fun(xk, uk, tk, pdm, lk),
+    )
     x = ca.SX.sym("x", nx)
     u = ca.SX.sym("u", nu)
     t = ca.SX.sym("t")
@@ -1099,17 +1067,11 @@ def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, suc
         tf=tf,
         method=tr.method,
         mesh=tr.meshes[iphase],
-        t=np.concatenate(t_list),
-        x=np.vstack(x_list),
-        t_control=np.concatenate(tc_list),
-        u=np.vstack(u_list),
-        costate=np.vstack(lam_list),
-        hamiltonian=np.array(ham_list),
-        switching=np.vstack(sw_list) if sw_list else np.zeros((0, nu)),
+        **samples,
         max_violation=viol,
         build_s=0.0,
         solve_s=0.0,
         problem=proxy,
-        pieces=tuple(pieces),
+        pieces=pieces,
         dynamics_fun=f_fixed,
     )

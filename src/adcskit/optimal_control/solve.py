@@ -86,6 +86,67 @@ class _Piece:
     uc: np.ndarray  # (n, nu)
     t_end: float
     x_end: np.ndarray
+    lam_t: np.ndarray | None = None  # costate sample times: support points (Gauss: and t_end)
+    lam: np.ndarray | None = None  # costate estimates at lam_t
+
+
+def _assemble(method: str, intervals, parts, times, lam_g: np.ndarray, cJ: float, sx: np.ndarray, ham):
+    """Pieces, samples, costates and Hamiltonian of one phase from its NLP point.
+
+    Shared by :func:`solve` and the multi-phase solver. ``parts`` are the physical
+    ``(xs, us, xe)`` per interval, ``times`` the ``(ts, tc, t_end)`` per interval,
+    ``lam_g`` CasADi's constraint multipliers (objective scaled by ``1/cJ``, rows of state
+    ``i`` by ``1/sx_i``) and ``ham(x, u, t, λ) -> (H, ∂H/∂u)``. Costate mapping: module
+    docstring. Returns ``(pieces, samples)`` with ``samples`` the solution's ``t, x,
+    t_control, u, costate, hamiltonian, switching`` arrays.
+    """
+    nx = sx.size
+    nu = parts[0][1].shape[1] if parts else 0
+    pieces = []
+    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
+    last = len(intervals) - 1
+    for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(intervals, parts, times, strict=True)):
+        # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
+        lt = -lam_g[iv.g_def].reshape(iv.n, nx) * cJ / sx
+        if method == "gauss":
+            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
+            lam_c = lt / iv.w[:, None] + lf
+            lam_s = np.vstack([lf - iv.D[:, 0] @ lt, lam_c])
+            lam_end = lf
+            xc = xs[1:]
+            t_list.append(ts)
+            x_list.append(xs)
+            lam_t, lam_all = np.append(ts, tend), np.vstack([lam_s, lam_end[None, :]])
+        else:
+            lam_c = lt / iv.w[:, None]
+            lam_end = iv.D[:, -1] @ lt
+            lam_s = lam_c
+            xc = xs[:-1]
+            t_list.append(ts[:-1])
+            x_list.append(xs[:-1])
+            lam_t, lam_all = ts, np.vstack([lam_c, lam_end[None, :]])
+        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe, lam_t=lam_t, lam=lam_all))
+        lam_list.append(lam_s)
+        tc_list.append(tc)
+        u_list.append(us)
+        for k in range(iv.n):
+            hk, hu = ham(xc[k], us[k], tc[k], lam_c[k])
+            ham_list.append(float(hk))
+            sw_list.append(np.asarray(hu).ravel())
+        if r == last:
+            t_list.append([tend])
+            x_list.append(xe[None, :])
+            lam_list.append(lam_end[None, :])
+    samples = {
+        "t": np.concatenate(t_list),
+        "x": np.vstack(x_list),
+        "t_control": np.concatenate(tc_list),
+        "u": np.vstack(u_list),
+        "costate": np.vstack(lam_list),
+        "hamiltonian": np.array(ham_list),
+        "switching": np.vstack(sw_list) if sw_list else np.zeros((0, nu)),
+    }
+    return tuple(pieces), samples
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -553,40 +614,7 @@ def _solve_with(
     status = str(stats.get("return_status", "unknown"))
     success = bool(stats.get("success", False))
     parts, tf = tr.unpack(z, sx, su, s_tf)
-    times = tr.times(t0, tf)
-    pieces = []
-    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
-    for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(tr.intervals, parts, times, strict=True)):
-        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe))
-        # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
-        lt = -lam_g[iv.g_def].reshape(iv.n, tr.nx) * cJ / sx
-        if tr.method == "gauss":
-            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
-            lam_c = lt / iv.w[:, None] + lf
-            lam_0 = lf - iv.D[:, 0] @ lt
-            lam_s = np.vstack([lam_0, lam_c])
-            lam_end = lf
-            xc = xs[1:]
-            t_list.append(ts)
-            x_list.append(xs)
-        else:
-            lam_c = lt / iv.w[:, None]
-            lam_end = iv.D[:, -1] @ lt
-            lam_s = lam_c
-            xc = xs[:-1]
-            t_list.append(ts[:-1])
-            x_list.append(xs[:-1])
-        lam_list.append(lam_s)
-        tc_list.append(tc)
-        u_list.append(us)
-        for k in range(iv.n):
-            hk, hu = tr.h_fun(xc[k], us[k], tc[k], lam_c[k])
-            ham_list.append(float(hk))
-            sw_list.append(np.asarray(hu).ravel())
-        if r == len(tr.intervals) - 1:
-            t_list.append([tend])
-            x_list.append(xe[None, :])
-            lam_list.append(lam_end[None, :])
+    pieces, samples = _assemble(tr.method, tr.intervals, parts, tr.times(t0, tf), lam_g, cJ, sx, tr.h_fun)
     objective = float(tr.J_fun(z, p))
     msg = f"IPOPT: {status} after {int(stats.get('iter_count', 0))} iterations ({tr.method}, mesh {tr.mesh.label()})"
     return OptimalControlSolution(
@@ -601,18 +629,12 @@ def _solve_with(
         tf=tf,
         method=tr.method,
         mesh=tr.mesh,
-        t=np.concatenate(t_list),
-        x=np.vstack(x_list),
-        t_control=np.concatenate(tc_list),
-        u=np.vstack(u_list),
-        costate=np.vstack(lam_list),
-        hamiltonian=np.array(ham_list),
-        switching=np.vstack(sw_list) if sw_list else np.zeros((0, tr.nu)),
+        **samples,
         max_violation=viol,
         build_s=build_s,
         solve_s=solve_s,
         problem=problem,
-        pieces=tuple(pieces),
+        pieces=pieces,
         dynamics_fun=tr.f_fun,
         warm_start=mode,
         nlp=NLPPoint(method=tr.method, mesh=tr.mesh, z=z, lam_x=lam_x, lam_g=lam_g, p=p),

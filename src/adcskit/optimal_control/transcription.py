@@ -122,6 +122,40 @@ def interval_layout(method: str, mesh: Mesh, nx: int, nu: int, iz: int, ig: int)
     return out, iz, ig
 
 
+def interval_times(intervals: list[_Interval], t0: float, tf: float):
+    """``(support times, collocation times, end time)`` of every interval on ``[t0, tf]`` (s)."""
+    out = []
+    for iv in intervals:
+        ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
+        tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
+        out.append((ts, tc, t0 + (tf - t0) * iv.b))
+    return out
+
+
+def unpack_intervals(intervals: list[_Interval], z: np.ndarray, sx: np.ndarray, su: np.ndarray):
+    """Physical ``(support states, controls, end state)`` of every interval from the scaled ``z``."""
+    nx, nu = sx.size, su.size
+    out = []
+    for iv in intervals:
+        xs = z[iv.xs].reshape(iv.n + 1, nx) * sx
+        us = z[iv.us].reshape(iv.n, nu) * su if nu else np.zeros((iv.n, 0))
+        xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
+        out.append((xs, us, xe))
+    return out
+
+
+def pack_intervals(z: np.ndarray, intervals: list[_Interval], t0: float, tf: float, xfun, ufun, sx, su) -> None:
+    """Write the scaled states and controls of guess functions ``xfun(t) -> (M, nx)``,
+    ``ufun(t) -> (M, nu)`` into ``z`` at the intervals' slices (in place)."""
+    nu = np.size(su)
+    for iv, (ts, tc, tend) in zip(intervals, interval_times(intervals, t0, tf), strict=True):
+        z[iv.xs] = (xfun(ts) / sx).ravel()
+        if nu:
+            z[iv.us] = (ufun(tc) / su).ravel()
+        if iv.xe is not None:
+            z[iv.xe] = xfun(np.array([tend]))[0] / sx
+
+
 class _Transcription:
     """The compiled NLP of one problem structure on one mesh."""
 
@@ -211,12 +245,7 @@ class _Transcription:
     # ------------------------------------------------------------------ numeric helpers
     def times(self, t0: float, tf: float):
         """Support-state times, collocation times and end times per interval."""
-        out = []
-        for iv in self.intervals:
-            ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
-            tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
-            out.append((ts, tc, t0 + (tf - t0) * iv.b))
-        return out
+        return interval_times(self.intervals, t0, tf)
 
     def bounds(self, problem: OptimalControlProblem, sx, su, s_tf):
         lbz = np.full(self.nz, -np.inf)
@@ -255,24 +284,13 @@ class _Transcription:
     def pack(self, t0, tf, xfun, ufun, sx, su, s_tf) -> np.ndarray:
         """Scaled decision vector from guess functions ``xfun(t) -> (M, nx)``, ``ufun``."""
         z = np.zeros(self.nz)
-        for iv, (ts, tc, tend) in zip(self.intervals, self.times(t0, tf), strict=True):
-            z[iv.xs] = (xfun(ts) / sx).ravel()
-            if self.nu:
-                z[iv.us] = (ufun(tc) / su).ravel()
-            if iv.xe is not None:
-                z[iv.xe] = xfun(np.array([tend]))[0] / sx
+        pack_intervals(z, self.intervals, t0, tf, xfun, ufun, sx, su)
         z[self.i_tf] = tf / s_tf
         return z
 
     def unpack(self, z, sx, su, s_tf):
         """Physical states (support points), controls and end states per interval, and tf."""
-        out = []
-        for iv in self.intervals:
-            xs = z[iv.xs].reshape(iv.n + 1, self.nx) * sx
-            us = z[iv.us].reshape(iv.n, self.nu) * su if self.nu else np.zeros((iv.n, 0))
-            xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
-            out.append((xs, us, xe))
-        return out, float(z[self.i_tf] * s_tf)
+        return unpack_intervals(self.intervals, z, sx, su), float(z[self.i_tf] * s_tf)
 
 
 def _as_list(expr, n: int, what: str) -> list:
