@@ -151,6 +151,59 @@ def test_input_validation():
 def test_refinements_are_warm_started():
     sol = solve_adaptive(hypersensitive(10.0), tol=1e-5)
     modes = [m.warm_start for m in sol.mesh_history]
-    assert modes[0] == "cold" and all(m in ("primal", "primal-dual") for m in modes[1:])
+    # refined meshes start from the interpolated primal values and multipliers
+    assert modes[0] == "cold" and all(m == "primal-dual-interpolated" for m in modes[1:])
+    assert sol.success and len(modes) > 1
     # warm-started refinements need few IPOPT iterations (the first, cold solve needs more)
     assert max(m.nit for m in sol.mesh_history[1:]) < sol.mesh_history[0].nit
+
+
+# ------------------------------------------------------------ duals across meshes
+def _bryson_denham_path(l=1.0 / 9.0):  # noqa: E741 - Bryson & Ho's symbol
+    # the state inequality x <= l as a path constraint (so the path multipliers are exercised)
+    from adcskit.optimal_control.problems import bryson_denham
+
+    return bryson_denham(l).replace(state_upper=[np.inf, np.inf], path=lambda x, u, t: [x[0]], path_upper=[l])
+
+
+@pytest.mark.parametrize("method", ["gauss", "radau"])
+@pytest.mark.parametrize("which", ["min-energy", "hypersensitive", "bryson-denham-path"])
+def test_interpolated_duals_reproduce_the_multipliers_on_the_same_mesh(method, which):
+    # the dual transfer inverts the costate mapping; on the mesh the solution came from it
+    # must return IPOPT's own multipliers (constraint rows exactly, bound multipliers from
+    # stationarity) up to round-off — checks the signs and scalings of every row type
+    from adcskit.optimal_control.solve import _interpolated_duals, _resolve_options
+    from adcskit.optimal_control.transcription import get_transcription
+
+    prob = {
+        "min-energy": double_integrator_min_energy(distance=1.0, duration=1.0),
+        "hypersensitive": hypersensitive(10.0),
+        "bryson-denham-path": _bryson_denham_path(),
+    }[which]
+    opts = {"tol": 1e-12}
+    a = solve(prob, method=method, mesh=(5, 4), ipopt_options=opts)
+    assert a.success
+    tr = get_transcription(prob, method, a.mesh, _resolve_options(opts))
+    sx, su = prob.scales()
+    lbz, ubz, _, _ = tr.bounds(prob, sx, su, max(abs(prob.tf_guess), 1e-9))
+    lam_x, lam_g = _interpolated_duals(a, prob, tr, a.nlp.z, a.nlp.p, lbz, ubz, a.t0, a.tf)
+    scale_g = np.abs(a.nlp.lam_g).max()
+    np.testing.assert_allclose(lam_g, a.nlp.lam_g, rtol=0, atol=1e-9 * scale_g)
+    # bound multipliers: equal where IPOPT's are not at its interior-point noise level
+    np.testing.assert_allclose(lam_x, a.nlp.lam_x, rtol=0, atol=1e-6 * max(np.abs(a.nlp.lam_x).max(), 1.0))
+
+
+@pytest.mark.parametrize("method", ["gauss", "radau"])
+def test_primal_dual_warm_start_on_a_refined_mesh_reaches_the_same_optimum(method):
+    prob = _bryson_denham_path()
+    coarse = solve(prob, method=method, mesh=(6, 4))
+    fine_mesh = Mesh(nodes=(4, 4, 5, 5, 4, 4, 6), fractions=(0.1, 0.15, 0.15, 0.2, 0.15, 0.15, 0.1))
+    warm = solve(prob, method=method, mesh=fine_mesh, guess=coarse, transfer_duals=True)
+    primal = solve(prob, method=method, mesh=fine_mesh, guess=coarse)
+    cold = solve(prob, method=method, mesh=fine_mesh)
+    assert warm.warm_start == "primal-dual-interpolated" and primal.warm_start == "primal"
+    assert warm.success and cold.success
+    # same NLP, same (unique) optimum: IPOPT tol 1e-9 on the scaled problem
+    assert warm.objective == pytest.approx(cold.objective, rel=1e-8)
+    np.testing.assert_allclose(warm.x, cold.x, atol=1e-6)
+    np.testing.assert_allclose(warm.costate, cold.costate, atol=1e-4 * np.abs(cold.costate).max())

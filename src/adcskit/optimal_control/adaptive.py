@@ -52,7 +52,14 @@ import numpy as np
 from numpy.polynomial import legendre as _leg
 
 from adcskit._results import compact_repr
-from adcskit._validation import as_array, check_choice, check_finite, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    check_choice,
+    check_finite,
+    check_flag,
+    check_int,
+    check_positive,
+)
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
@@ -370,7 +377,8 @@ class MeshIteration:
         Wall time of the NLP build and solve (s).
     warm_start : str
         How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
-        the new mesh) or ``"primal-dual"`` (see :func:`solve`).
+        the new mesh), ``"primal-dual-interpolated"`` (and its multipliers interpolated) or
+        ``"primal-dual"`` (same mesh; see :func:`solve`).
 
     Examples
     --------
@@ -537,6 +545,7 @@ def solve_adaptive(
     max_intervals: int = 400,
     extra_points: int = 1,
     ipopt_options: dict[str, Any] | None = None,
+    transfer_duals: bool = True,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
@@ -564,6 +573,11 @@ def solve_adaptive(
     extra_points : int
         Extra LGR points of the error estimate.
     ipopt_options : dict, optional
+    transfer_duals : bool
+        Warm-start every refined mesh from the previous solution's primal values *and* its
+        multipliers interpolated onto the new mesh (:func:`solve`'s ``transfer_duals``;
+        ``MeshIteration.warm_start == "primal-dual-interpolated"``). False passes the primal
+        values only. Single-phase problems; multi-phase refinements start from primal values.
 
     Returns
     -------
@@ -598,6 +612,7 @@ def solve_adaptive(
     n_max = check_int("n_max", n_max, minimum=n_min)
     max_intervals = check_int("max_intervals", max_intervals, minimum=1)
     extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
+    transfer_duals = check_flag("transfer_duals", transfer_duals)
     n_phases = len(problem.phases) if multi else 1
     meshes = _initial_meshes(mesh, n_phases, n_min)
     if guess is None and not multi:
@@ -623,7 +638,8 @@ def solve_adaptive(
             sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options)
             phase_sols = list(sol.phases)
         else:
-            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options)
+            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options,
+                        transfer_duals=transfer_duals)
             phase_sols = [sol]
         wall = time.perf_counter() - t_start
         errs = _phase_errors(phase_sols, extra)

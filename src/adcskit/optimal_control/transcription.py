@@ -243,6 +243,13 @@ class _Transcription:
         self.solver = ca.nlpsol("ocp", "ipopt", nlp, opts)
 
     # ------------------------------------------------------------------ numeric helpers
+    def lagrangian_gradient(self, z, p, lam_f, lam_g):
+        """``(f, g, ∇_z(lam_f f + lam_gᵀ g), ∇_p)`` of the scaled NLP (IPOPT's oracle)."""
+        fun = getattr(self, "_grad_fun", None)
+        if fun is None:
+            fun = self._grad_fun = self.solver.get_function("nlp_grad")
+        return fun(z, p, lam_f, lam_g)
+
     def times(self, t0: float, tf: float):
         """Support-state times, collocation times and end times per interval."""
         return interval_times(self.intervals, t0, tf)
