@@ -577,7 +577,7 @@ def solve_adaptive(
         Warm-start every refined mesh from the previous solution's primal values *and* its
         multipliers interpolated onto the new mesh (:func:`solve`'s ``transfer_duals``;
         ``MeshIteration.warm_start == "primal-dual-interpolated"``). False passes the primal
-        values only. Single-phase problems; multi-phase refinements start from primal values.
+        values only (multi-phase: with IPOPT's default options, as :func:`solve_multiphase`).
 
     Returns
     -------
@@ -633,9 +633,9 @@ def solve_adaptive(
     errs: list[np.ndarray] = []
     for it in range(max_iterations):
         t_start = time.perf_counter()
-        mode = "primal" if multi and hasattr(guess, "phases") and hasattr(guess, "meshes") else "cold"
         if multi:
-            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options)
+            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options,
+                                   transfer_duals=transfer_duals)
             phase_sols = list(sol.phases)
         else:
             sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options,
@@ -653,7 +653,7 @@ def solve_adaptive(
                 success=bool(sol.success),
                 nit=int(sol.nit),
                 solve_s=wall,
-                warm_start=str(getattr(sol, "warm_start", mode)),
+                warm_start=str(sol.warm_start),
             )
         )
         if sol.success:

@@ -46,7 +46,10 @@ from adcskit.optimal_control.solve import (
     OptimalControlSolution,
     _as_mesh,
     _assemble,
+    _bound_duals,
+    _defect_duals,
     _interp_fun,
+    _path_duals,
     _resolve_options,
     _solution_funs,
     ipopt_status_code,
@@ -719,6 +722,13 @@ class _MultiTranscription:
     def times(self, lay, t0, tf):
         return interval_times(lay.intervals, t0, tf)
 
+    def lagrangian_gradient(self, z, p, lam_f, lam_g):
+        """``(f, g, ∇_z(lam_f f + lam_gᵀ g), ∇_p)`` of the scaled NLP (IPOPT's oracle)."""
+        fun = getattr(self, "_grad_fun", None)
+        if fun is None:
+            fun = self._grad_fun = self.solver.get_function("nlp_grad")
+        return fun(z, p, lam_f, lam_g)
+
 
 def _fun(name, fn, nx, nu, npar, nout):
     x, u, t, p = ca.SX.sym("x", nx), ca.SX.sym("u", nu), ca.SX.sym("t"), ca.SX.sym("p", npar)
@@ -775,6 +785,11 @@ class MultiPhaseSolution:
         Adaptive solves: per phase, the relative error of every interval.
     mesh_history : tuple of MeshIteration
     certificate : ErrorCertificate or None
+    warm_start : str
+        ``"cold"``, ``"primal"`` (a previous solution's polynomials on these meshes) or
+        ``"primal-dual-interpolated"`` (and its multipliers; ``transfer_duals``).
+    nlp : object or None
+        The raw NLP point and row layout (for warm starts).
 
     Examples
     --------
@@ -815,6 +830,8 @@ class MultiPhaseSolution:
     mesh_history: tuple = ()
     certificate: Any = None
     ipopt_status: str = ""
+    warm_start: str = "cold"
+    nlp: Any = field(repr=False, default=None)
 
     def with_adaptive(self, **changes) -> MultiPhaseSolution:
         """A copy with the adaptive-refinement fields (used by :func:`solve_adaptive`)."""
@@ -831,6 +848,7 @@ class MultiPhaseSolution:
             "ipopt_status": self.ipopt_status,
             "message": self.message,
             "nit": self.nit,
+            "warm_start": self.warm_start,
             "objective": self.objective,
             "parameters": self.parameters,
             "events": self.events,
@@ -869,6 +887,7 @@ def solve_multiphase(
     meshes: Sequence[Mesh | tuple[int, int]] | None = None,
     guess: MultiPhaseGuess | MultiPhaseSolution | None = None,
     ipopt_options: dict[str, Any] | None = None,
+    transfer_duals: bool = False,
 ) -> MultiPhaseSolution:
     """Transcribe a multi-phase problem and solve it with IPOPT.
 
@@ -882,6 +901,13 @@ def solve_multiphase(
         Default :func:`default_multiphase_guess`; a previous solution on any meshes
         warm-starts (primal values, from its collocation polynomials).
     ipopt_options : dict, optional
+    transfer_duals : bool
+        With a previous solution of the same problem as ``guess``: also pass IPOPT its
+        multipliers interpolated onto ``meshes`` (each phase as in :func:`solve`; the
+        phase-duration, integral, linkage and event multipliers, whose rows do not depend on
+        the mesh, as they are) and use :data:`WARM_START_IPOPT_OPTIONS`
+        (``warm_start="primal-dual-interpolated"``). Default False: primal values with
+        IPOPT's default options (``"primal"``).
 
     Returns
     -------
@@ -919,9 +945,11 @@ def solve_multiphase(
     if isinstance(meshes, Mesh) or not isinstance(meshes, Sequence) or len(meshes) != len(problem.phases):
         raise InputError(f"meshes must be a sequence of {len(problem.phases)} meshes (one per phase); got {meshes!r}")
     meshes = tuple(_as_mesh(m) for m in meshes)
-    opts = _resolve_options(ipopt_options)
+    transfer_duals = check_flag("transfer_duals", transfer_duals)
     g = _as_multiguess(problem, guess)
     prev = guess if isinstance(guess, MultiPhaseSolution) and guess.problem is problem else None
+    transfer = transfer_duals and prev is not None and prev.nlp is not None and prev.method == method
+    opts = _resolve_options(ipopt_options, warm=transfer)
     t_build = time.perf_counter()
     try:
         tr = _get(problem, method, meshes, opts)
@@ -933,11 +961,16 @@ def solve_multiphase(
             f"building the NLP failed: {exc}"
         ) from None
     build_s = time.perf_counter() - t_build
-    return _solve(problem, tr, g, build_s, prev)
+    return _solve(problem, tr, g, build_s, prev, transfer)
 
 
 def _solve(
-    problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGuess, build_s: float, prev=None
+    problem: MultiPhaseProblem,
+    tr: _MultiTranscription,
+    g: MultiPhaseGuess,
+    build_s: float,
+    prev=None,
+    transfer: bool = False,
 ) -> MultiPhaseSolution:
     t_guess = []
     for ph, gp in zip(problem.phases, g.phases, strict=True):
@@ -966,18 +999,26 @@ def _solve(
     j0 = float(tr.J_fun(z0, par))
     cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
     par[-1] = cJ
+    duals: dict[str, np.ndarray] = {}
+    mode = "cold" if prev is None else "primal"
+    if transfer:
+        d = _multi_duals(problem, tr, prev, z0, par, scales, t_guess, lbz, ubz)
+        if d is not None:
+            duals = {"lam_x0": d[0], "lam_g0": d[1]}
+            mode = "primal-dual-interpolated"
     t_solve = time.perf_counter()
-    res = tr.solver(x0=z0, p=par, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg)
+    res = tr.solver(x0=z0, p=par, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
     solve_s = time.perf_counter() - t_solve
     stats = tr.solver.stats()
     z = np.asarray(res["x"]).ravel()
     lam_g = np.asarray(res["lam_g"]).ravel()
+    lam_x = np.asarray(res["lam_x"]).ravel()
     gv = np.asarray(res["g"]).ravel()
     status = str(stats.get("return_status", "unknown"))
     success = bool(stats.get("success", False))
     if not (np.all(np.isfinite(z)) and np.all(np.isfinite(lam_g))):
         # IPOPT stopped on a non-finite iterate: report the starting point, never NaN
-        z, lam_g = z0.copy(), np.zeros_like(lam_g)
+        z, lam_g, lam_x = z0.copy(), np.zeros_like(lam_g), np.zeros_like(lam_x)
         gv = np.asarray(tr.g_fun(z, par)).ravel()
         success = False
         status = f"{status} (non-finite iterate; the initial guess is reported)"
@@ -1016,7 +1057,96 @@ def _solve(
         build_s=build_s,
         solve_s=solve_s,
         problem=problem,
+        warm_start=mode,
+        nlp=_MultiNLPPoint(
+            method=tr.method, meshes=tr.meshes, z=z, lam_x=lam_x, lam_g=lam_g, par=par.copy(),
+            st=tuple(sc[2] for sc in scales), g_path=tuple(lay.g_path for lay in tr.layouts),
+            g_dur=tuple(lay.g_dur for lay in tr.layouts), g_int=tuple(lay.g_int for lay in tr.layouts),
+            g_links=tr.g_links, g_events=tr.g_events,
+        ),
     )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _MultiNLPPoint:
+    """Raw NLP point of a multi-phase solve and the rows it needs to be carried to other meshes."""
+
+    method: str
+    meshes: tuple[Mesh, ...]
+    z: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    par: np.ndarray
+    st: tuple[float, ...]
+    g_path: tuple[slice, ...]
+    g_dur: tuple[int, ...]
+    g_int: tuple[slice, ...]
+    g_links: slice
+    g_events: slice
+
+
+def _link_row_scales(problem: MultiPhaseProblem, sx_of, st_of) -> np.ndarray:
+    """Scale of every linkage row (state rows: the ``a`` phase's state scales; time rows: its
+    time scale)."""
+    out = []
+    for lk in problem.links:
+        idx = list(range(problem.phases[lk.a].n_states)) if lk.states is None else list(lk.states)
+        out.append(np.asarray(sx_of(lk.a), float)[idx])
+        if lk.time:
+            out.append([st_of(lk.a)])
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _multi_duals(problem, tr, prev, z0, par, scales, t_guess, lbz, ubz):
+    """``(lam_x0, lam_g0)`` of a previous multi-phase solution on ``tr``'s meshes, or None.
+
+    Per phase as :func:`adcskit.optimal_control.solve._interpolated_duals`; the
+    mesh-independent rows (phase durations, integrals, linkages, events) keep their
+    multipliers, rescaled to the new row and objective scales (a row ``g/s`` of a problem
+    with objective ``J/cJ`` has the multiplier ``ν s / cJ`` for the physical ``ν``).
+    """
+    old = prev.nlp
+    def rows(sl):
+        return sl.stop - sl.start
+
+    if (
+        len(old.meshes) != len(tr.layouts)
+        or rows(old.g_links) != rows(tr.g_links)
+        or rows(old.g_events) != rows(tr.g_events)
+    ):
+        return None
+    cJ, cJ_old = float(par[-1]), float(old.par[-1])
+    r = cJ_old / cJ
+    lam_g = np.zeros(tr.ng)
+    for k, (ph, lay, (sx, _su, st), (t0, tf)) in enumerate(
+        zip(problem.phases, tr.layouts, scales, t_guess, strict=True)
+    ):
+        ps = prev.phases[k]
+        if not ps.pieces or ps.pieces[0].lam is None:
+            return None
+        a, b = ps.t0, ps.tf
+
+        def lamfun(t, side, _ps=ps, _a=a, _b=b, _t0=t0, _tf=tf):
+            return _ps._costate_at(_a + (np.asarray(t, float) - _t0) / (_tf - _t0) * (_b - _a), side)
+
+        _defect_duals(lam_g, tr.method, lay.intervals, tr.times(lay, t0, tf), lamfun, sx, cJ)
+        if ph.n_path:
+            old_ivs = interval_layout(tr.method, old.meshes[k], ph.n_states, ph.n_controls, 0, 0)[0]
+            lam_old = old.lam_g[old.g_path[k]].reshape(-1, ph.n_path) * r
+            lam_g[lay.g_path] = _path_duals(old_ivs, lam_old, lay.intervals).ravel()
+        lam_g[lay.g_dur] = old.lam_g[old.g_dur[k]] * r * st / old.st[k]
+        lam_g[lay.g_int] = old.lam_g[old.g_int[k]] * r
+    if tr.g_links.stop > tr.g_links.start:
+        s_new = _link_row_scales(problem, lambda i: scales[i][0], lambda i: scales[i][2])
+        s_old = _link_row_scales(problem, lambda i: scales[i][0], lambda i: old.st[i])
+        lam_g[tr.g_links] = old.lam_g[old.g_links] * r * s_new / s_old
+    lam_g[tr.g_events] = old.lam_g[old.g_events] * r
+    if not np.all(np.isfinite(lam_g)):
+        return None
+    lam_x = _bound_duals(tr.lagrangian_gradient, z0, par, lam_g, lbz, ubz)
+    if not np.all(np.isfinite(lam_x)):
+        return None
+    return lam_x, lam_g
 
 
 def _zero_mayer(x0, t0, xf, tf):
