@@ -207,3 +207,50 @@ def test_primal_dual_warm_start_on_a_refined_mesh_reaches_the_same_optimum(metho
     assert warm.objective == pytest.approx(cold.objective, rel=1e-8)
     np.testing.assert_allclose(warm.x, cold.x, atol=1e-6)
     np.testing.assert_allclose(warm.costate, cold.costate, atol=1e-4 * np.abs(cold.costate).max())
+
+
+# ------------------------------------------------------------ mesh reduction
+def test_reduction_lowers_degrees_and_merges_where_the_solution_is_a_low_polynomial():
+    # minimum-energy double integrator: x cubic, u linear in t (Bryson & Ho §2.3), so one
+    # interval of n_min = 3 points (state degree 3, control degree 2) represents it exactly
+    sol = solve(double_integrator_min_energy(), method="radau", mesh=Mesh.uniform(4, 6))
+    err = estimate_error(sol)
+    assert err.max() < 1e-10
+    lo, hi = sol.problem.control_lower, sol.problem.control_upper
+    new, act = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, control_lower=lo, control_upper=hi,
+                           n_min=3, reduce=True)
+    assert new.nodes == (3,) and act == ("merge",) * 4
+    # without reduction the mesh is kept
+    same, act0 = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, n_min=3)
+    assert same == sol.mesh and act0 == ("keep",) * 4
+    # an interval above tol / reduce_margin is neither lowered nor merged
+    err2 = err.copy()
+    err2[1] = 5e-7
+    new2, act2 = refine_mesh(sol.mesh, err2, tol=1e-6, pieces=sol.pieces, n_min=3, reduce=True)
+    assert act2[1] == "keep" and new2.nodes[act2.index("keep")] == 6 and "merge" in act2
+    with pytest.raises(InputError, match="pieces"):
+        refine_mesh(sol.mesh, err, tol=1e-6, reduce=True)
+
+
+def test_reduction_keeps_a_switch_on_its_mesh_point():
+    # minimum-time double integrator with a mesh point on the switch (tf/2): both arcs are
+    # exact (quadratic state, constant control) and may lose points, but merging across the
+    # bang-bang switch would lose it
+    sol = solve(double_integrator_min_time(), method="radau", mesh=Mesh(nodes=(5, 5), fractions=(0.5, 0.5)))
+    assert abs(sol.tf - 2.0) < 1e-8
+    err = estimate_error(sol)
+    new, act = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, control_lower=sol.problem.control_lower,
+                           control_upper=sol.problem.control_upper, n_min=3, reduce=True)
+    assert act == ("p-", "p-") and new.nodes == (3, 3) and new.fractions == (0.5, 0.5)
+
+
+def test_solve_adaptive_with_mesh_reduction_reaches_the_optimum_on_fewer_points():
+    from adcskit.optimal_control.problems import bryson_denham
+
+    # Bryson & Ho 1975 §3.11: J* = 4/(9 l) = 4 for l = 1/9
+    plain = solve_adaptive(bryson_denham(1.0 / 9.0), tol=1e-6, mesh_reduction=False)
+    red = solve_adaptive(bryson_denham(1.0 / 9.0), tol=1e-6, mesh_reduction=True)
+    assert plain.success and red.success and red.certificate.satisfied
+    assert abs(red.objective - 4.0) / 4.0 < 1e-5
+    # measured: 26 vs 60 collocation points (the unconstrained arcs are cubic)
+    assert red.certificate.n_collocation < plain.certificate.n_collocation
