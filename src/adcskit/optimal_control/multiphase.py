@@ -58,6 +58,7 @@ from adcskit.optimal_control.transcription import (
     METHODS,
     _as_list,
     _scalar,
+    interval_bounds,
     interval_layout,
     interval_times,
     pack_intervals,
@@ -679,22 +680,7 @@ class _MultiTranscription:
         lbg = np.zeros(self.ng)
         ubg = np.zeros(self.ng)
         for ph, lay, (sx, su, st), mesh in zip(problem.phases, self.layouts, scales, self.meshes, strict=True):
-            nx, nu = ph.n_states, ph.n_controls
-            for iv in lay.intervals:
-                lbz[iv.xs] = np.tile(ph.state_lower / sx, iv.n + 1)
-                ubz[iv.xs] = np.tile(ph.state_upper / sx, iv.n + 1)
-                if nu:
-                    lbz[iv.us] = np.tile(ph.control_lower / su, iv.n)
-                    ubz[iv.us] = np.tile(ph.control_upper / su, iv.n)
-                if iv.xe is not None:
-                    lbz[iv.xe], ubz[iv.xe] = ph.state_lower / sx, ph.state_upper / sx
-            first, last = lay.intervals[0], lay.intervals[-1]
-            fix0 = np.isfinite(ph.initial_state)
-            i0 = np.arange(first.xs.start, first.xs.start + nx)
-            lbz[i0[fix0]] = ubz[i0[fix0]] = (ph.initial_state / sx)[fix0]
-            i_f = np.arange(last.xe.start, last.xe.stop) if self.method == "gauss" else np.arange(last.xs.stop - nx, last.xs.stop)
-            fixf = np.isfinite(ph.final_state)
-            lbz[i_f[fixf]] = ubz[i_f[fixf]] = (ph.final_state / sx)[fixf]
+            interval_bounds(lbz, ubz, self.method, lay.intervals, ph, sx, su)
             lbz[lay.i_t0], ubz[lay.i_t0] = ph.t0_bounds[0] / st, ph.t0_bounds[1] / st
             lbz[lay.i_tf], ubz[lay.i_tf] = ph.tf_bounds[0] / st, ph.tf_bounds[1] / st
             if ph.n_path:

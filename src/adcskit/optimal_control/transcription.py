@@ -144,6 +144,29 @@ def unpack_intervals(intervals: list[_Interval], z: np.ndarray, sx: np.ndarray, 
     return out
 
 
+def interval_bounds(lbz, ubz, method: str, intervals: list[_Interval], phase, sx, su) -> None:
+    """Write the scaled box bounds of the states and controls of every interval and the fixed
+    boundary states of ``phase`` (an :class:`OptimalControlProblem` or a multi-phase
+    ``Phase``: ``state_lower/upper``, ``control_lower/upper``, ``initial_state``,
+    ``final_state``; NaN: free) into ``lbz``, ``ubz`` (in place)."""
+    nx = sx.size
+    for iv in intervals:
+        lbz[iv.xs] = np.tile(phase.state_lower / sx, iv.n + 1)
+        ubz[iv.xs] = np.tile(phase.state_upper / sx, iv.n + 1)
+        if np.size(su):
+            lbz[iv.us] = np.tile(phase.control_lower / su, iv.n)
+            ubz[iv.us] = np.tile(phase.control_upper / su, iv.n)
+        if iv.xe is not None:
+            lbz[iv.xe], ubz[iv.xe] = phase.state_lower / sx, phase.state_upper / sx
+    first, last = intervals[0], intervals[-1]
+    fix0 = np.isfinite(phase.initial_state)
+    i0 = np.arange(first.xs.start, first.xs.start + nx)
+    lbz[i0[fix0]] = ubz[i0[fix0]] = (phase.initial_state / sx)[fix0]
+    fixf = np.isfinite(phase.final_state)
+    i_f = np.arange(last.xe.start, last.xe.stop) if method == "gauss" else np.arange(last.xs.stop - nx, last.xs.stop)
+    lbz[i_f[fixf]] = ubz[i_f[fixf]] = (phase.final_state / sx)[fixf]
+
+
 def pack_intervals(z: np.ndarray, intervals: list[_Interval], t0: float, tf: float, xfun, ufun, sx, su) -> None:
     """Write the scaled states and controls of guess functions ``xfun(t) -> (M, nx)``,
     ``ufun(t) -> (M, nu)`` into ``z`` at the intervals' slices (in place)."""
@@ -257,28 +280,7 @@ class _Transcription:
     def bounds(self, problem: OptimalControlProblem, sx, su, s_tf):
         lbz = np.full(self.nz, -np.inf)
         ubz = np.full(self.nz, np.inf)
-        nx, nu = self.nx, self.nu
-        for iv in self.intervals:
-            lo = np.tile(problem.state_lower / sx, iv.n + 1)
-            hi = np.tile(problem.state_upper / sx, iv.n + 1)
-            lbz[iv.xs], ubz[iv.xs] = lo, hi
-            if nu:
-                lbz[iv.us] = np.tile(problem.control_lower / su, iv.n)
-                ubz[iv.us] = np.tile(problem.control_upper / su, iv.n)
-            if iv.xe is not None:
-                lbz[iv.xe], ubz[iv.xe] = problem.state_lower / sx, problem.state_upper / sx
-        first, last = self.intervals[0], self.intervals[-1]
-        x0 = problem.initial_state
-        fix0 = np.isfinite(x0)
-        i0 = np.arange(first.xs.start, first.xs.start + nx)
-        lbz[i0[fix0]] = ubz[i0[fix0]] = (x0 / sx)[fix0]
-        xf = problem.final_state
-        fixf = np.isfinite(xf)
-        if self.method == "gauss":
-            i_f = np.arange(last.xe.start, last.xe.stop)
-        else:
-            i_f = np.arange(last.xs.stop - nx, last.xs.stop)
-        lbz[i_f[fixf]] = ubz[i_f[fixf]] = (xf / sx)[fixf]
+        interval_bounds(lbz, ubz, self.method, self.intervals, problem, sx, su)
         lbz[self.i_tf], ubz[self.i_tf] = problem.tf_bounds[0] / s_tf, problem.tf_bounds[1] / s_tf
         lbg = np.zeros(self.ng)
         ubg = np.zeros(self.ng)
