@@ -351,11 +351,14 @@ def get_transcription(
 
 
 def clear_cache() -> None:
-    """Forget every compiled NLP (e.g. to time a cold build).
+    """Forget every compiled NLP, single- and multi-phase (e.g. to time a cold build).
 
     Examples
     --------
     >>> from adcskit.optimal_control import clear_cache
     >>> clear_cache()                                     # the next solve rebuilds its NLP
     """
+    from adcskit.optimal_control import multiphase  # imports this module: import here
+
     _CACHE.clear()
+    multiphase._MCACHE.clear()
