@@ -670,7 +670,7 @@ def solve_adaptive(
     extra_points: int = 1,
     ipopt_options: dict[str, Any] | None = None,
     transfer_duals: bool = True,
-    mesh_reduction: bool = False,
+    mesh_reduction: bool = True,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
