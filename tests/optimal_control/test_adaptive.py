@@ -151,6 +151,106 @@ def test_input_validation():
 def test_refinements_are_warm_started():
     sol = solve_adaptive(hypersensitive(10.0), tol=1e-5)
     modes = [m.warm_start for m in sol.mesh_history]
-    assert modes[0] == "cold" and all(m in ("primal", "primal-dual") for m in modes[1:])
+    # refined meshes start from the interpolated primal values and multipliers
+    assert modes[0] == "cold" and all(m == "primal-dual-interpolated" for m in modes[1:])
+    assert sol.success and len(modes) > 1
     # warm-started refinements need few IPOPT iterations (the first, cold solve needs more)
     assert max(m.nit for m in sol.mesh_history[1:]) < sol.mesh_history[0].nit
+
+
+# ------------------------------------------------------------ duals across meshes
+def _bryson_denham_path(l=1.0 / 9.0):  # noqa: E741 - Bryson & Ho's symbol
+    # the state inequality x <= l as a path constraint (so the path multipliers are exercised)
+    from adcskit.optimal_control.problems import bryson_denham
+
+    return bryson_denham(l).replace(state_upper=[np.inf, np.inf], path=lambda x, u, t: [x[0]], path_upper=[l])
+
+
+@pytest.mark.parametrize("method", ["gauss", "radau"])
+@pytest.mark.parametrize("which", ["min-energy", "hypersensitive", "bryson-denham-path"])
+def test_interpolated_duals_reproduce_the_multipliers_on_the_same_mesh(method, which):
+    # the dual transfer inverts the costate mapping; on the mesh the solution came from it
+    # must return IPOPT's own multipliers (constraint rows exactly, bound multipliers from
+    # stationarity) up to round-off — checks the signs and scalings of every row type
+    from adcskit.optimal_control.solve import _interpolated_duals, _resolve_options
+    from adcskit.optimal_control.transcription import get_transcription
+
+    prob = {
+        "min-energy": double_integrator_min_energy(distance=1.0, duration=1.0),
+        "hypersensitive": hypersensitive(10.0),
+        "bryson-denham-path": _bryson_denham_path(),
+    }[which]
+    opts = {"tol": 1e-12}
+    a = solve(prob, method=method, mesh=(5, 4), ipopt_options=opts)
+    assert a.success
+    tr = get_transcription(prob, method, a.mesh, _resolve_options(opts))
+    sx, su = prob.scales()
+    lbz, ubz, _, _ = tr.bounds(prob, sx, su, max(abs(prob.tf_guess), 1e-9))
+    lam_x, lam_g = _interpolated_duals(a, prob, tr, a.nlp.z, a.nlp.p, lbz, ubz, a.t0, a.tf)
+    scale_g = np.abs(a.nlp.lam_g).max()
+    np.testing.assert_allclose(lam_g, a.nlp.lam_g, rtol=0, atol=1e-9 * scale_g)
+    # bound multipliers: equal where IPOPT's are not at its interior-point noise level
+    np.testing.assert_allclose(lam_x, a.nlp.lam_x, rtol=0, atol=1e-6 * max(np.abs(a.nlp.lam_x).max(), 1.0))
+
+
+@pytest.mark.parametrize("method", ["gauss", "radau"])
+def test_primal_dual_warm_start_on_a_refined_mesh_reaches_the_same_optimum(method):
+    prob = _bryson_denham_path()
+    coarse = solve(prob, method=method, mesh=(6, 4))
+    fine_mesh = Mesh(nodes=(4, 4, 5, 5, 4, 4, 6), fractions=(0.1, 0.15, 0.15, 0.2, 0.15, 0.15, 0.1))
+    warm = solve(prob, method=method, mesh=fine_mesh, guess=coarse, transfer_duals=True)
+    primal = solve(prob, method=method, mesh=fine_mesh, guess=coarse)
+    cold = solve(prob, method=method, mesh=fine_mesh)
+    assert warm.warm_start == "primal-dual-interpolated" and primal.warm_start == "primal"
+    assert warm.success and cold.success
+    # same NLP, same (unique) optimum: IPOPT tol 1e-9 on the scaled problem
+    assert warm.objective == pytest.approx(cold.objective, rel=1e-8)
+    np.testing.assert_allclose(warm.x, cold.x, atol=1e-6)
+    np.testing.assert_allclose(warm.costate, cold.costate, atol=1e-4 * np.abs(cold.costate).max())
+
+
+# ------------------------------------------------------------ mesh reduction
+def test_reduction_lowers_degrees_and_merges_where_the_solution_is_a_low_polynomial():
+    # minimum-energy double integrator: x cubic, u linear in t (Bryson & Ho §2.3), so one
+    # interval of n_min = 3 points (state degree 3, control degree 2) represents it exactly
+    sol = solve(double_integrator_min_energy(), method="radau", mesh=Mesh.uniform(4, 6))
+    err = estimate_error(sol)
+    assert err.max() < 1e-10
+    lo, hi = sol.problem.control_lower, sol.problem.control_upper
+    new, act = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, control_lower=lo, control_upper=hi,
+                           n_min=3, reduce=True)
+    assert new.nodes == (3,) and act == ("merge",) * 4
+    # without reduction the mesh is kept
+    same, act0 = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, n_min=3)
+    assert same == sol.mesh and act0 == ("keep",) * 4
+    # an interval above tol / reduce_margin is neither lowered nor merged
+    err2 = err.copy()
+    err2[1] = 5e-7
+    new2, act2 = refine_mesh(sol.mesh, err2, tol=1e-6, pieces=sol.pieces, n_min=3, reduce=True)
+    assert act2[1] == "keep" and new2.nodes[act2.index("keep")] == 6 and "merge" in act2
+    with pytest.raises(InputError, match="pieces"):
+        refine_mesh(sol.mesh, err, tol=1e-6, reduce=True)
+
+
+def test_reduction_keeps_a_switch_on_its_mesh_point():
+    # minimum-time double integrator with a mesh point on the switch (tf/2): both arcs are
+    # exact (quadratic state, constant control) and may lose points, but merging across the
+    # bang-bang switch would lose it
+    sol = solve(double_integrator_min_time(), method="radau", mesh=Mesh(nodes=(5, 5), fractions=(0.5, 0.5)))
+    assert abs(sol.tf - 2.0) < 1e-8
+    err = estimate_error(sol)
+    new, act = refine_mesh(sol.mesh, err, tol=1e-6, pieces=sol.pieces, control_lower=sol.problem.control_lower,
+                           control_upper=sol.problem.control_upper, n_min=3, reduce=True)
+    assert act == ("p-", "p-") and new.nodes == (3, 3) and new.fractions == (0.5, 0.5)
+
+
+def test_solve_adaptive_with_mesh_reduction_reaches_the_optimum_on_fewer_points():
+    from adcskit.optimal_control.problems import bryson_denham
+
+    # Bryson & Ho 1975 §3.11: J* = 4/(9 l) = 4 for l = 1/9
+    plain = solve_adaptive(bryson_denham(1.0 / 9.0), tol=1e-6, mesh_reduction=False)
+    red = solve_adaptive(bryson_denham(1.0 / 9.0), tol=1e-6, mesh_reduction=True)
+    assert plain.success and red.success and red.certificate.satisfied
+    assert abs(red.objective - 4.0) / 4.0 < 1e-5
+    # measured: 26 vs 60 collocation points (the unconstrained arcs are cubic)
+    assert red.certificate.n_collocation < plain.certificate.n_collocation

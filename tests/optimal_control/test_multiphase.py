@@ -64,6 +64,17 @@ def test_free_parameter_is_optimised():
     assert abs(sol.parameters[0] - 1.0) < 1e-6 and abs(sol.objective + 1.0) < 1e-8
 
 
+def _jump_integral_problem():
+    p1 = Phase(dynamics=_f, n_states=2, n_controls=1, initial_state=[0.0, 0.0], tf_bounds=(1.0, 1.0),
+               integrand=lambda x, u, t, p: [u[0] * u[0]], integral_upper=[3.0], name="burn")
+    p2 = Phase(dynamics=_f, n_states=2, n_controls=1, control_lower=[0.0], control_upper=[0.0],
+               t0_bounds=(1.0, 1.0), tf_bounds=(2.0, 2.0), name="coast")
+    return MultiPhaseProblem(
+        phases=[p1, p2], objective=lambda e, p: -e[1].xf[0],
+        links=[Link(0, 1, states=(0,)), Link(0, 1, states=(1,), jump=0.5, time=False)],
+    )
+
+
 def test_link_with_jump_and_integral_constraint():
     # phase 1: from rest, 1 s with an energy budget ∫u² <= E = 3; phase 2: the velocity jumps
     # by +0.5 m/s (an impulse) and the body coasts 1 s. Maximise x(2) = x(1) + v(1) + 0.5
@@ -146,3 +157,40 @@ def test_wrong_user_function_signature_is_an_input_error():
                lagrange=lambda x, u, t, p: u[0] ** 2)
     with pytest.raises(InputTypeError, match="2 values"):
         solve_multiphase(MultiPhaseProblem(phases=[ph]), meshes=[(2, 3)])
+
+
+@pytest.mark.parametrize("method", ["radau", "gauss"])
+@pytest.mark.parametrize("which", ["parameter-event", "jump-integral"])
+def test_interpolated_duals_reproduce_the_multipliers_on_the_same_meshes(method, which):
+    # every row type of the multi-phase NLP (defects, interval links, phase durations,
+    # integral constraints, state/time linkages with a jump, events) carried onto the meshes
+    # the solution came from returns IPOPT's multipliers up to round-off
+    from adcskit.optimal_control.multiphase import _get, _multi_duals, _resolve_options
+
+    prob, meshes = {
+        "parameter-event": (_two_phase(distance_free=True), [(2, 3), (3, 3)]),
+        "jump-integral": (_jump_integral_problem(), [(2, 4), (1, 3)]),
+    }[which]
+    opts = {"tol": 1e-12}
+    a = solve_multiphase(prob, method=method, meshes=meshes, ipopt_options=opts)
+    assert a.success
+    old = a.nlp
+    tr = _get(prob, method, a.meshes, _resolve_options(opts))
+    scales = [(*ph.scales(), st) for ph, st in zip(prob.phases, old.st, strict=True)]
+    lbz, ubz, _, _ = tr.bounds(prob, scales)
+    t_guess = [(p.t0, p.tf) for p in a.phases]
+    lam_x, lam_g = _multi_duals(prob, tr, a, old.z, old.par, scales, t_guess, lbz, ubz)
+    np.testing.assert_allclose(lam_g, old.lam_g, rtol=0, atol=1e-9 * np.abs(old.lam_g).max())
+    np.testing.assert_allclose(lam_x, old.lam_x, rtol=0, atol=1e-6 * max(np.abs(old.lam_x).max(), 1.0))
+
+
+def test_primal_dual_warm_start_on_refined_meshes_reaches_the_same_optimum():
+    prob = _jump_integral_problem()
+    coarse = solve_multiphase(prob, meshes=[(1, 3), (1, 3)])
+    warm = solve_multiphase(prob, meshes=[(3, 4), (2, 3)], guess=coarse, transfer_duals=True)
+    cold = solve_multiphase(prob, meshes=[(3, 4), (2, 3)])
+    assert coarse.warm_start == "cold" and warm.warm_start == "primal-dual-interpolated"
+    assert warm.success and cold.success
+    assert warm.objective == pytest.approx(-np.sqrt(7.0) - 0.5, abs=1e-7)  # closed form (above)
+    assert warm.objective == pytest.approx(cold.objective, rel=1e-9)
+    np.testing.assert_allclose(warm.phases[0].x, cold.phases[0].x, atol=1e-7)

@@ -27,9 +27,15 @@ arcs such as Bryson–Denham's). The interval's error is the largest over the st
   into ``B = max(2, ⌈(N + P) / n_min⌉)`` equal sub-intervals of ``n_min`` points
   (Patterson, Hager & Rao 2015, eq. 32).
 
-Each refinement is warm-started from the previous solution (:func:`solve` with the previous
-solution as ``guess``). Multi-phase problems (:class:`MultiPhaseProblem`) are refined phase
-by phase with the same rules.
+* **reduction** (``mesh_reduction``, default on) where the error is below ``tol / 10``: the
+  degree is lowered, and adjacent such intervals are merged, as far as a coarser polynomial
+  still represents the current solution to ``tol / 10`` (the idea of Liu, Hager & Rao 2015
+  §4; the representability criterion is this package's; see :func:`refine_mesh`).
+
+Each refinement is warm-started from the previous solution, primal and dual: the
+multipliers are interpolated onto the new mesh (:func:`solve`'s ``transfer_duals``).
+Multi-phase problems (:class:`MultiPhaseProblem`) are refined phase by phase with the same
+rules.
 
 References
 ----------
@@ -52,7 +58,14 @@ import numpy as np
 from numpy.polynomial import legendre as _leg
 
 from adcskit._results import compact_repr
-from adcskit._validation import as_array, check_choice, check_finite, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    check_choice,
+    check_finite,
+    check_flag,
+    check_int,
+    check_positive,
+)
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
@@ -242,6 +255,64 @@ def _quadrature_weights(tau: np.ndarray) -> np.ndarray:
     return np.linalg.solve(V.T, rhs)
 
 
+def _span_samples(pieces, lo_idx: int, hi_idx: int):
+    """State and control values of ``pieces[lo_idx..hi_idx]`` on sample points, with the
+    points' position ``τ ∈ [-1, 1]`` over the union of those intervals."""
+    t_a, t_b = float(pieces[lo_idx].ts[0]), float(pieces[hi_idx].t_end)
+    tx, X, tu, U = [], [], [], []
+    for piece in pieces[lo_idx : hi_idx + 1]:
+        a, b = float(piece.ts[0]), float(piece.t_end)
+        n = piece.uc.shape[0]
+        m = 2 * n + 3
+        s = -np.cos(np.pi * np.arange(m) / (m - 1))  # Chebyshev–Lobatto samples of the interval
+        tau_sup = 2.0 * (piece.ts - a) / (b - a) - 1.0
+        X.append(lagrange_matrix(tau_sup, s) @ piece.xs)
+        tx.append(a + (s + 1.0) / 2.0 * (b - a))
+        if piece.uc.shape[1]:
+            tau_c = 2.0 * (piece.tc - a) / (b - a) - 1.0
+            U.append(lagrange_matrix(tau_c, s) @ piece.uc)
+            tu.append(tx[-1])
+    to_tau = lambda t: 2.0 * (np.concatenate(t) - t_a) / (t_b - t_a) - 1.0  # noqa: E731
+    Xa = np.vstack(X)
+    Ua = np.vstack(U) if U else np.zeros((Xa.shape[0], 0))
+    return to_tau(tx), Xa, (to_tau(tu) if tu else to_tau(tx)), Ua
+
+
+def _fit_error(tau: np.ndarray, values: np.ndarray, degree: int) -> float:
+    """Largest relative deviation ``max |P − v| / (1 + max |v|)`` (over the columns) of the
+    least-squares Legendre polynomial of ``degree`` from the samples."""
+    if values.shape[1] == 0:
+        return 0.0
+    if degree < 0:
+        dev = np.abs(values)
+    else:
+        coef = _leg.legfit(tau, values, degree)
+        dev = np.abs(_leg.legval(tau, coef).T - values)
+    return float(np.max(np.max(dev, axis=0) / (1.0 + np.max(np.abs(values), axis=0))))
+
+
+def _represented(pieces, lo_idx: int, hi_idx: int, n: int, bound: float) -> bool:
+    """Whether ``n`` collocation points over ``pieces[lo_idx..hi_idx]`` represent the current
+    solution to ``bound``: the state by a polynomial of degree ``n``, the control of ``n − 1``."""
+    tx, X, tu, U = _span_samples(pieces, lo_idx, hi_idx)
+    return _fit_error(tx, X, n) <= bound and _fit_error(tu, U, n - 1) <= bound
+
+
+def _continuous_control(left, right, lo, hi, threshold: float) -> bool:
+    """No control jump across the mesh point between two intervals (a switch placed on the
+    mesh point by an ``h-jump`` split must stay a mesh point)."""
+    if left.uc.shape[1] == 0:
+        return True
+    a, b = float(left.ts[0]), float(left.t_end)
+    u_end = lagrange_matrix(2.0 * (left.tc - a) / (b - a) - 1.0, np.array([1.0])) @ left.uc
+    a2, b2 = float(right.ts[0]), float(right.t_end)
+    u_start = lagrange_matrix(2.0 * (right.tc - a2) / (b2 - a2) - 1.0, np.array([-1.0])) @ right.uc
+    both = np.vstack([left.uc, right.uc])
+    span = np.where(np.isfinite(hi - lo), hi - lo, np.ptp(both, axis=0))
+    span = np.where(span > 0, span, np.inf)
+    return bool(np.all(np.abs(u_end - u_start).ravel() / span < threshold))
+
+
 def refine_mesh(
     mesh: Mesh,
     errors,
@@ -254,6 +325,8 @@ def refine_mesh(
     n_max: int = 10,
     smooth_decay: float = 1.0,
     jump_threshold: float = 0.5,
+    reduce: bool = False,
+    reduce_margin: float = 10.0,
 ) -> tuple[Mesh, tuple[str, ...]]:
     """The next mesh of the hp scheme and the action taken per interval.
 
@@ -277,14 +350,27 @@ def refine_mesh(
     jump_threshold : float
         A control jump larger than this fraction of its range between consecutive
         collocation points marks a nonsmooth interval (Liu, Hager & Rao 2015).
+    reduce : bool
+        Mesh size reduction (Liu, Hager & Rao 2015, §4: where the tolerance is met, lower the
+        degree or merge adjacent intervals). Needs ``pieces``. An interval with
+        ``e <= tol / reduce_margin`` gets the fewest points (``>= n_min``) whose polynomials
+        (state of degree ``N``, control of ``N − 1``, least squares) reproduce its current
+        state and control to ``tol / reduce_margin`` (relative, as the error); then adjacent
+        such intervals with smooth states and no control jump across their common mesh point
+        are merged, greedily from the left, while ``max`` of their point counts represents
+        the union to the same bound. (The representability test is this package's criterion;
+        Liu, Hager & Rao decide by their error model.)
+    reduce_margin : float
+        Safety factor (> 1) of the reduction tests.
 
     Returns
     -------
     mesh : Mesh
         The refined mesh (the same mesh when every error is below ``tol``).
     action : tuple of str
-        ``"keep"``, ``"p"`` (degree raised), ``"h"`` (split into equal parts) or ``"h-jump"``
-        (split at a detected control jump).
+        ``"keep"``, ``"p"`` (degree raised), ``"h"`` (split into equal parts), ``"h-jump"``
+        (split at a detected control jump), and with ``reduce``: ``"p-"`` (degree lowered)
+        or ``"merge"`` (joined with its neighbour(s)).
 
     References
     ----------
@@ -307,14 +393,32 @@ def refine_mesh(
     tol = check_positive("tol", tol)
     n_min = check_int("n_min", n_min, minimum=1)
     n_max = check_int("n_max", n_max, minimum=n_min)
+    reduce = check_flag("reduce", reduce)
+    margin = check_positive("reduce_margin", reduce_margin)
+    if reduce and pieces is None:
+        raise InputError("reduce=True needs the solution's pieces")
+    if pieces is not None and len(pieces) != mesh.n_intervals:
+        raise InputError(f"pieces must have {mesh.n_intervals} entries (one per interval); got {len(pieces)}")
     nodes: list[int] = []
     fracs: list[float] = []
     actions = []
+    origin: list[int] = []  # the input interval of every output interval (-1: from a split)
+    bound = tol / max(margin, 1.0)
+    nu = pieces[0].uc.shape[1] if pieces is not None else 0
+    lo_u = np.full(nu, -np.inf) if control_lower is None else np.asarray(control_lower, float)
+    hi_u = np.full(nu, np.inf) if control_upper is None else np.asarray(control_upper, float)
     for r, (n, fr, e) in enumerate(zip(mesh.nodes, mesh.fractions, err, strict=True)):
         if e <= tol:
+            act = "keep"
+            if reduce and e <= bound and n > n_min:
+                for n_new in range(n_min, n):
+                    if _represented(pieces, r, r, n_new, bound):
+                        n, act = n_new, "p-"
+                        break
             nodes.append(n)
             fracs.append(fr)
-            actions.append("keep")
+            actions.append(act)
+            origin.append(r if reduce and e <= bound else -1)
             continue
         if np.isfinite(e):
             P = max(1, math.ceil(math.log(e / tol) / math.log(max(n, 2))))
@@ -342,9 +446,42 @@ def refine_mesh(
             nodes += [n_min] * B
             fracs += [fr / B] * B
             actions.append("h")
+        origin += [-1] * (len(nodes) - len(origin))
+    if reduce:
+        nodes, fracs, actions = _merge(nodes, fracs, actions, origin, pieces, lo_u, hi_u, bound,
+                                       smooth_decay, jump_threshold)
     fr_arr = np.array(fracs)
     fr_arr = fr_arr / fr_arr.sum()
     return Mesh(nodes=tuple(nodes), fractions=tuple(float(v) for v in fr_arr)), tuple(actions)
+
+
+def _merge(nodes, fracs, actions, origin, pieces, lo, hi, bound, smooth_decay, jump_threshold):
+    """Join runs of adjacent reducible intervals (see :func:`refine_mesh`)."""
+    out_n: list[int] = []
+    out_f: list[float] = []
+    actions = list(actions)
+    i = 0
+    while i < len(nodes):
+        n, fr, j = nodes[i], fracs[i], i
+        r0 = origin[i]
+        if r0 >= 0 and _legendre_decay(pieces[r0]) >= smooth_decay:
+            while (
+                j + 1 < len(nodes)
+                and origin[j + 1] == origin[j] + 1
+                and _legendre_decay(pieces[origin[j + 1]]) >= smooth_decay
+                and _continuous_control(pieces[origin[j]], pieces[origin[j + 1]], lo, hi, jump_threshold)
+                and _represented(pieces, r0, origin[j + 1], max(n, nodes[j + 1]), bound)
+            ):
+                n = max(n, nodes[j + 1])
+                fr += fracs[j + 1]
+                j += 1
+            if j > i:
+                for r in range(r0, origin[j] + 1):
+                    actions[r] = "merge"
+        out_n.append(n)
+        out_f.append(fr)
+        i = j + 1
+    return out_n, out_f, tuple(actions)
 
 
 # ----------------------------------------------------------------------------- results
@@ -370,7 +507,8 @@ class MeshIteration:
         Wall time of the NLP build and solve (s).
     warm_start : str
         How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
-        the new mesh) or ``"primal-dual"`` (see :func:`solve`).
+        the new mesh), ``"primal-dual-interpolated"`` (and its multipliers interpolated) or
+        ``"primal-dual"`` (same mesh; see :func:`solve`).
 
     Examples
     --------
@@ -537,6 +675,8 @@ def solve_adaptive(
     max_intervals: int = 400,
     extra_points: int = 1,
     ipopt_options: dict[str, Any] | None = None,
+    transfer_duals: bool = True,
+    mesh_reduction: bool = True,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
@@ -564,6 +704,15 @@ def solve_adaptive(
     extra_points : int
         Extra LGR points of the error estimate.
     ipopt_options : dict, optional
+    transfer_duals : bool
+        Warm-start every refined mesh from the previous solution's primal values *and* its
+        multipliers interpolated onto the new mesh (:func:`solve`'s ``transfer_duals``;
+        ``MeshIteration.warm_start == "primal-dual-interpolated"``). False passes the primal
+        values only (multi-phase: with IPOPT's default options, as :func:`solve_multiphase`).
+    mesh_reduction : bool
+        Also lower degrees and merge intervals where the error is far below ``tol``
+        (:func:`refine_mesh`'s ``reduce``; Liu, Hager & Rao 2015, §4). Default on: measured
+        smaller final meshes at equal wall time (docs/benchmarks.md).
 
     Returns
     -------
@@ -598,6 +747,8 @@ def solve_adaptive(
     n_max = check_int("n_max", n_max, minimum=n_min)
     max_intervals = check_int("max_intervals", max_intervals, minimum=1)
     extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
+    transfer_duals = check_flag("transfer_duals", transfer_duals)
+    mesh_reduction = check_flag("mesh_reduction", mesh_reduction)
     n_phases = len(problem.phases) if multi else 1
     meshes = _initial_meshes(mesh, n_phases, n_min)
     if guess is None and not multi:
@@ -618,12 +769,13 @@ def solve_adaptive(
     errs: list[np.ndarray] = []
     for it in range(max_iterations):
         t_start = time.perf_counter()
-        mode = "primal" if multi and hasattr(guess, "phases") and hasattr(guess, "meshes") else "cold"
         if multi:
-            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options)
+            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options,
+                                   transfer_duals=transfer_duals)
             phase_sols = list(sol.phases)
         else:
-            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options)
+            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options,
+                        transfer_duals=transfer_duals)
             phase_sols = [sol]
         wall = time.perf_counter() - t_start
         errs = _phase_errors(phase_sols, extra)
@@ -637,7 +789,7 @@ def solve_adaptive(
                 success=bool(sol.success),
                 nit=int(sol.nit),
                 solve_s=wall,
-                warm_start=str(getattr(sol, "warm_start", mode)),
+                warm_start=str(sol.warm_start),
             )
         )
         if sol.success:
@@ -660,6 +812,7 @@ def solve_adaptive(
                 control_upper=ps.problem.control_upper,
                 n_min=n_min,
                 n_max=n_max,
+                reduce=mesh_reduction,
             )
             new_meshes.append(nm)
         if not sol.success and all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):

@@ -45,13 +45,25 @@ from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, 
 from adcskit.optimal_control.solve import (
     OptimalControlSolution,
     _as_mesh,
+    _assemble,
+    _bound_duals,
+    _defect_duals,
     _interp_fun,
-    _Piece,
+    _path_duals,
     _resolve_options,
     _solution_funs,
     ipopt_status_code,
 )
-from adcskit.optimal_control.transcription import METHODS, _as_list, _scalar, interval_layout
+from adcskit.optimal_control.transcription import (
+    METHODS,
+    _as_list,
+    _scalar,
+    interval_bounds,
+    interval_layout,
+    interval_times,
+    pack_intervals,
+    unpack_intervals,
+)
 
 __all__ = [
     "Endpoint",
@@ -668,22 +680,7 @@ class _MultiTranscription:
         lbg = np.zeros(self.ng)
         ubg = np.zeros(self.ng)
         for ph, lay, (sx, su, st), mesh in zip(problem.phases, self.layouts, scales, self.meshes, strict=True):
-            nx, nu = ph.n_states, ph.n_controls
-            for iv in lay.intervals:
-                lbz[iv.xs] = np.tile(ph.state_lower / sx, iv.n + 1)
-                ubz[iv.xs] = np.tile(ph.state_upper / sx, iv.n + 1)
-                if nu:
-                    lbz[iv.us] = np.tile(ph.control_lower / su, iv.n)
-                    ubz[iv.us] = np.tile(ph.control_upper / su, iv.n)
-                if iv.xe is not None:
-                    lbz[iv.xe], ubz[iv.xe] = ph.state_lower / sx, ph.state_upper / sx
-            first, last = lay.intervals[0], lay.intervals[-1]
-            fix0 = np.isfinite(ph.initial_state)
-            i0 = np.arange(first.xs.start, first.xs.start + nx)
-            lbz[i0[fix0]] = ubz[i0[fix0]] = (ph.initial_state / sx)[fix0]
-            i_f = np.arange(last.xe.start, last.xe.stop) if self.method == "gauss" else np.arange(last.xs.stop - nx, last.xs.stop)
-            fixf = np.isfinite(ph.final_state)
-            lbz[i_f[fixf]] = ubz[i_f[fixf]] = (ph.final_state / sx)[fixf]
+            interval_bounds(lbz, ubz, self.method, lay.intervals, ph, sx, su)
             lbz[lay.i_t0], ubz[lay.i_t0] = ph.t0_bounds[0] / st, ph.t0_bounds[1] / st
             lbz[lay.i_tf], ubz[lay.i_tf] = ph.tf_bounds[0] / st, ph.tf_bounds[1] / st
             if ph.n_path:
@@ -709,12 +706,14 @@ class _MultiTranscription:
         return lbz, ubz, lbg, ubg
 
     def times(self, lay, t0, tf):
-        out = []
-        for iv in lay.intervals:
-            ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
-            tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
-            out.append((ts, tc, t0 + (tf - t0) * iv.b))
-        return out
+        return interval_times(lay.intervals, t0, tf)
+
+    def lagrangian_gradient(self, z, p, lam_f, lam_g):
+        """``(f, g, ∇_z(lam_f f + lam_gᵀ g), ∇_p)`` of the scaled NLP (IPOPT's oracle)."""
+        fun = getattr(self, "_grad_fun", None)
+        if fun is None:
+            fun = self._grad_fun = self.solver.get_function("nlp_grad")
+        return fun(z, p, lam_f, lam_g)
 
 
 def _fun(name, fn, nx, nu, npar, nout):
@@ -772,6 +771,11 @@ class MultiPhaseSolution:
         Adaptive solves: per phase, the relative error of every interval.
     mesh_history : tuple of MeshIteration
     certificate : ErrorCertificate or None
+    warm_start : str
+        ``"cold"``, ``"primal"`` (a previous solution's polynomials on these meshes) or
+        ``"primal-dual-interpolated"`` (and its multipliers; ``transfer_duals``).
+    nlp : object or None
+        The raw NLP point and row layout (for warm starts).
 
     Examples
     --------
@@ -812,6 +816,8 @@ class MultiPhaseSolution:
     mesh_history: tuple = ()
     certificate: Any = None
     ipopt_status: str = ""
+    warm_start: str = "cold"
+    nlp: Any = field(repr=False, default=None)
 
     def with_adaptive(self, **changes) -> MultiPhaseSolution:
         """A copy with the adaptive-refinement fields (used by :func:`solve_adaptive`)."""
@@ -828,6 +834,7 @@ class MultiPhaseSolution:
             "ipopt_status": self.ipopt_status,
             "message": self.message,
             "nit": self.nit,
+            "warm_start": self.warm_start,
             "objective": self.objective,
             "parameters": self.parameters,
             "events": self.events,
@@ -866,6 +873,7 @@ def solve_multiphase(
     meshes: Sequence[Mesh | tuple[int, int]] | None = None,
     guess: MultiPhaseGuess | MultiPhaseSolution | None = None,
     ipopt_options: dict[str, Any] | None = None,
+    transfer_duals: bool = False,
 ) -> MultiPhaseSolution:
     """Transcribe a multi-phase problem and solve it with IPOPT.
 
@@ -879,6 +887,13 @@ def solve_multiphase(
         Default :func:`default_multiphase_guess`; a previous solution on any meshes
         warm-starts (primal values, from its collocation polynomials).
     ipopt_options : dict, optional
+    transfer_duals : bool
+        With a previous solution of the same problem as ``guess``: also pass IPOPT its
+        multipliers interpolated onto ``meshes`` (each phase as in :func:`solve`; the
+        phase-duration, integral, linkage and event multipliers, whose rows do not depend on
+        the mesh, as they are) and use :data:`WARM_START_IPOPT_OPTIONS`
+        (``warm_start="primal-dual-interpolated"``). Default False: primal values with
+        IPOPT's default options (``"primal"``).
 
     Returns
     -------
@@ -916,9 +931,11 @@ def solve_multiphase(
     if isinstance(meshes, Mesh) or not isinstance(meshes, Sequence) or len(meshes) != len(problem.phases):
         raise InputError(f"meshes must be a sequence of {len(problem.phases)} meshes (one per phase); got {meshes!r}")
     meshes = tuple(_as_mesh(m) for m in meshes)
-    opts = _resolve_options(ipopt_options)
+    transfer_duals = check_flag("transfer_duals", transfer_duals)
     g = _as_multiguess(problem, guess)
     prev = guess if isinstance(guess, MultiPhaseSolution) and guess.problem is problem else None
+    transfer = transfer_duals and prev is not None and prev.nlp is not None and prev.method == method
+    opts = _resolve_options(ipopt_options, warm=transfer)
     t_build = time.perf_counter()
     try:
         tr = _get(problem, method, meshes, opts)
@@ -930,11 +947,16 @@ def solve_multiphase(
             f"building the NLP failed: {exc}"
         ) from None
     build_s = time.perf_counter() - t_build
-    return _solve(problem, tr, g, build_s, prev)
+    return _solve(problem, tr, g, build_s, prev, transfer)
 
 
 def _solve(
-    problem: MultiPhaseProblem, tr: _MultiTranscription, g: MultiPhaseGuess, build_s: float, prev=None
+    problem: MultiPhaseProblem,
+    tr: _MultiTranscription,
+    g: MultiPhaseGuess,
+    build_s: float,
+    prev=None,
+    transfer: bool = False,
 ) -> MultiPhaseSolution:
     t_guess = []
     for ph, gp in zip(problem.phases, g.phases, strict=True):
@@ -945,7 +967,7 @@ def _solve(
         t_guess.append((t0, tf))
     scales, par = tr.scales(problem, t_guess)
     z0 = np.zeros(tr.nz)
-    for k, (ph, lay, gp, (t0, tf), (sx, su, st)) in enumerate(
+    for k, (_ph, lay, gp, (t0, tf), (sx, su, st)) in enumerate(
         zip(problem.phases, tr.layouts, g.phases, t_guess, scales, strict=True)
     ):
         if prev is not None:  # a previous solution: its own polynomials, time-rescaled
@@ -954,12 +976,7 @@ def _solve(
             g0, gf = float(gp.t[0]), float(gp.tf)
             xfun = _interp_fun(gp.t, gp.x, g0, gf, t0, tf)
             ufun = _interp_fun(gp.t if gp.t_u is None else gp.t_u, gp.u, g0, gf, t0, tf)
-        for iv, (ts, tc, tend) in zip(lay.intervals, tr.times(lay, t0, tf), strict=True):
-            z0[iv.xs] = (xfun(ts) / sx).ravel()
-            if ph.n_controls:
-                z0[iv.us] = (ufun(tc) / su).ravel()
-            if iv.xe is not None:
-                z0[iv.xe] = xfun(np.array([tend]))[0] / sx
+        pack_intervals(z0, lay.intervals, t0, tf, xfun, ufun, sx, su)
         z0[lay.i_t0], z0[lay.i_tf] = t0 / st, tf / st
     if problem.n_parameters:
         z0[tr.i_p] = g.parameters / problem.parameter_scale
@@ -968,18 +985,26 @@ def _solve(
     j0 = float(tr.J_fun(z0, par))
     cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
     par[-1] = cJ
+    duals: dict[str, np.ndarray] = {}
+    mode = "cold" if prev is None else "primal"
+    if transfer:
+        d = _multi_duals(problem, tr, prev, z0, par, scales, t_guess, lbz, ubz)
+        if d is not None:
+            duals = {"lam_x0": d[0], "lam_g0": d[1]}
+            mode = "primal-dual-interpolated"
     t_solve = time.perf_counter()
-    res = tr.solver(x0=z0, p=par, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg)
+    res = tr.solver(x0=z0, p=par, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
     solve_s = time.perf_counter() - t_solve
     stats = tr.solver.stats()
     z = np.asarray(res["x"]).ravel()
     lam_g = np.asarray(res["lam_g"]).ravel()
+    lam_x = np.asarray(res["lam_x"]).ravel()
     gv = np.asarray(res["g"]).ravel()
     status = str(stats.get("return_status", "unknown"))
     success = bool(stats.get("success", False))
     if not (np.all(np.isfinite(z)) and np.all(np.isfinite(lam_g))):
         # IPOPT stopped on a non-finite iterate: report the starting point, never NaN
-        z, lam_g = z0.copy(), np.zeros_like(lam_g)
+        z, lam_g, lam_x = z0.copy(), np.zeros_like(lam_g), np.zeros_like(lam_x)
         gv = np.asarray(tr.g_fun(z, par)).ravel()
         success = False
         status = f"{status} (non-finite iterate; the initial guess is reported)"
@@ -1018,7 +1043,96 @@ def _solve(
         build_s=build_s,
         solve_s=solve_s,
         problem=problem,
+        warm_start=mode,
+        nlp=_MultiNLPPoint(
+            method=tr.method, meshes=tr.meshes, z=z, lam_x=lam_x, lam_g=lam_g, par=par.copy(),
+            st=tuple(sc[2] for sc in scales), g_path=tuple(lay.g_path for lay in tr.layouts),
+            g_dur=tuple(lay.g_dur for lay in tr.layouts), g_int=tuple(lay.g_int for lay in tr.layouts),
+            g_links=tr.g_links, g_events=tr.g_events,
+        ),
     )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _MultiNLPPoint:
+    """Raw NLP point of a multi-phase solve and the rows it needs to be carried to other meshes."""
+
+    method: str
+    meshes: tuple[Mesh, ...]
+    z: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    par: np.ndarray
+    st: tuple[float, ...]
+    g_path: tuple[slice, ...]
+    g_dur: tuple[int, ...]
+    g_int: tuple[slice, ...]
+    g_links: slice
+    g_events: slice
+
+
+def _link_row_scales(problem: MultiPhaseProblem, sx_of, st_of) -> np.ndarray:
+    """Scale of every linkage row (state rows: the ``a`` phase's state scales; time rows: its
+    time scale)."""
+    out = []
+    for lk in problem.links:
+        idx = list(range(problem.phases[lk.a].n_states)) if lk.states is None else list(lk.states)
+        out.append(np.asarray(sx_of(lk.a), float)[idx])
+        if lk.time:
+            out.append([st_of(lk.a)])
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _multi_duals(problem, tr, prev, z0, par, scales, t_guess, lbz, ubz):
+    """``(lam_x0, lam_g0)`` of a previous multi-phase solution on ``tr``'s meshes, or None.
+
+    Per phase as :func:`adcskit.optimal_control.solve._interpolated_duals`; the
+    mesh-independent rows (phase durations, integrals, linkages, events) keep their
+    multipliers, rescaled to the new row and objective scales (a row ``g/s`` of a problem
+    with objective ``J/cJ`` has the multiplier ``ν s / cJ`` for the physical ``ν``).
+    """
+    old = prev.nlp
+    def rows(sl):
+        return sl.stop - sl.start
+
+    if (
+        len(old.meshes) != len(tr.layouts)
+        or rows(old.g_links) != rows(tr.g_links)
+        or rows(old.g_events) != rows(tr.g_events)
+    ):
+        return None
+    cJ, cJ_old = float(par[-1]), float(old.par[-1])
+    r = cJ_old / cJ
+    lam_g = np.zeros(tr.ng)
+    for k, (ph, lay, (sx, _su, st), (t0, tf)) in enumerate(
+        zip(problem.phases, tr.layouts, scales, t_guess, strict=True)
+    ):
+        ps = prev.phases[k]
+        if not ps.pieces or ps.pieces[0].lam is None:
+            return None
+        a, b = ps.t0, ps.tf
+
+        def lamfun(t, side, _ps=ps, _a=a, _b=b, _t0=t0, _tf=tf):
+            return _ps._costate_at(_a + (np.asarray(t, float) - _t0) / (_tf - _t0) * (_b - _a), side)
+
+        _defect_duals(lam_g, tr.method, lay.intervals, tr.times(lay, t0, tf), lamfun, sx, cJ)
+        if ph.n_path:
+            old_ivs = interval_layout(tr.method, old.meshes[k], ph.n_states, ph.n_controls, 0, 0)[0]
+            lam_old = old.lam_g[old.g_path[k]].reshape(-1, ph.n_path) * r
+            lam_g[lay.g_path] = _path_duals(old_ivs, lam_old, lay.intervals).ravel()
+        lam_g[lay.g_dur] = old.lam_g[old.g_dur[k]] * r * st / old.st[k]
+        lam_g[lay.g_int] = old.lam_g[old.g_int[k]] * r
+    if tr.g_links.stop > tr.g_links.start:
+        s_new = _link_row_scales(problem, lambda i: scales[i][0], lambda i: scales[i][2])
+        s_old = _link_row_scales(problem, lambda i: scales[i][0], lambda i: old.st[i])
+        lam_g[tr.g_links] = old.lam_g[old.g_links] * r * s_new / s_old
+    lam_g[tr.g_events] = old.lam_g[old.g_events] * r
+    if not np.all(np.isfinite(lam_g)):
+        return None
+    lam_x = _bound_duals(tr.lagrangian_gradient, z0, par, lam_g, lbz, ubz)
+    if not np.all(np.isfinite(lam_x)):
+        return None
+    return lam_x, lam_g
 
 
 def _zero_mayer(x0, t0, xf, tf):
@@ -1028,41 +1142,11 @@ def _zero_mayer(x0, t0, xf, tf):
 def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, success, status, nit, viol):
     nx, nu = ph.n_states, ph.n_controls
     pdm = ca.DM(pval)
-    pieces = []
-    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
-    times = tr.times(lay, t0, tf)
-    for r, (iv, (ts, tc, tend)) in enumerate(zip(lay.intervals, times, strict=True)):
-        xs = z[iv.xs].reshape(iv.n + 1, nx) * sx
-        us = z[iv.us].reshape(iv.n, nu) * su if nu else np.zeros((iv.n, 0))
-        xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
-        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe))
-        lt = -lam_g[iv.g_def].reshape(iv.n, nx) * cJ / sx
-        if tr.method == "gauss":
-            lf = -lam_g[iv.g_quad] * cJ / sx
-            lam_c = lt / iv.w[:, None] + lf
-            lam_s = np.vstack([lf - iv.D[:, 0] @ lt, lam_c])
-            lam_end = lf
-            xc = xs[1:]
-            t_list.append(ts)
-            x_list.append(xs)
-        else:
-            lam_c = lt / iv.w[:, None]
-            lam_end = iv.D[:, -1] @ lt
-            lam_s = lam_c
-            xc = xs[:-1]
-            t_list.append(ts[:-1])
-            x_list.append(xs[:-1])
-        lam_list.append(lam_s)
-        tc_list.append(tc)
-        u_list.append(us)
-        for k in range(iv.n):
-            hk, hu = lay.h_fun(xc[k], us[k], tc[k], pdm, lam_c[k])
-            ham_list.append(float(hk))
-            sw_list.append(np.asarray(hu).ravel())
-        if r == len(lay.intervals) - 1:
-            t_list.append([tend])
-            x_list.append(xe[None, :])
-            lam_list.append(lam_end[None, :])
+    parts = unpack_intervals(lay.intervals, z, sx, su)
+    pieces, samples = _assemble(
+        tr.method, lay.intervals, parts, tr.times(lay, t0, tf), lam_g, cJ, sx,
+        lambda xk, uk, tk, lk: lay.h_fun(xk, uk, tk, pdm, lk),
+    )
     x = ca.SX.sym("x", nx)
     u = ca.SX.sym("u", nu)
     t = ca.SX.sym("t")
@@ -1099,17 +1183,11 @@ def _phase_solution(iphase, ph, lay, tr, z, lam_g, sx, su, t0, tf, pval, cJ, suc
         tf=tf,
         method=tr.method,
         mesh=tr.meshes[iphase],
-        t=np.concatenate(t_list),
-        x=np.vstack(x_list),
-        t_control=np.concatenate(tc_list),
-        u=np.vstack(u_list),
-        costate=np.vstack(lam_list),
-        hamiltonian=np.array(ham_list),
-        switching=np.vstack(sw_list) if sw_list else np.zeros((0, nu)),
+        **samples,
         max_violation=viol,
         build_s=0.0,
         solve_s=0.0,
         problem=proxy,
-        pieces=tuple(pieces),
+        pieces=pieces,
         dynamics_fun=f_fixed,
     )

@@ -47,7 +47,12 @@ from adcskit._validation import as_rng, check_choice, check_flag, check_int, che
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
-from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, get_transcription
+from adcskit.optimal_control.transcription import (
+    DEFAULT_IPOPT_OPTIONS,
+    METHODS,
+    get_transcription,
+    interval_layout,
+)
 
 __all__ = [
     "OptimalControlSolution",
@@ -86,6 +91,67 @@ class _Piece:
     uc: np.ndarray  # (n, nu)
     t_end: float
     x_end: np.ndarray
+    lam_t: np.ndarray | None = None  # costate sample times: support points (Gauss: and t_end)
+    lam: np.ndarray | None = None  # costate estimates at lam_t
+
+
+def _assemble(method: str, intervals, parts, times, lam_g: np.ndarray, cJ: float, sx: np.ndarray, ham):
+    """Pieces, samples, costates and Hamiltonian of one phase from its NLP point.
+
+    Shared by :func:`solve` and the multi-phase solver. ``parts`` are the physical
+    ``(xs, us, xe)`` per interval, ``times`` the ``(ts, tc, t_end)`` per interval,
+    ``lam_g`` CasADi's constraint multipliers (objective scaled by ``1/cJ``, rows of state
+    ``i`` by ``1/sx_i``) and ``ham(x, u, t, λ) -> (H, ∂H/∂u)``. Costate mapping: module
+    docstring. Returns ``(pieces, samples)`` with ``samples`` the solution's ``t, x,
+    t_control, u, costate, hamiltonian, switching`` arrays.
+    """
+    nx = sx.size
+    nu = parts[0][1].shape[1] if parts else 0
+    pieces = []
+    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
+    last = len(intervals) - 1
+    for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(intervals, parts, times, strict=True)):
+        # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
+        lt = -lam_g[iv.g_def].reshape(iv.n, nx) * cJ / sx
+        if method == "gauss":
+            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
+            lam_c = lt / iv.w[:, None] + lf
+            lam_s = np.vstack([lf - iv.D[:, 0] @ lt, lam_c])
+            lam_end = lf
+            xc = xs[1:]
+            t_list.append(ts)
+            x_list.append(xs)
+            lam_t, lam_all = np.append(ts, tend), np.vstack([lam_s, lam_end[None, :]])
+        else:
+            lam_c = lt / iv.w[:, None]
+            lam_end = iv.D[:, -1] @ lt
+            lam_s = lam_c
+            xc = xs[:-1]
+            t_list.append(ts[:-1])
+            x_list.append(xs[:-1])
+            lam_t, lam_all = ts, np.vstack([lam_c, lam_end[None, :]])
+        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe, lam_t=lam_t, lam=lam_all))
+        lam_list.append(lam_s)
+        tc_list.append(tc)
+        u_list.append(us)
+        for k in range(iv.n):
+            hk, hu = ham(xc[k], us[k], tc[k], lam_c[k])
+            ham_list.append(float(hk))
+            sw_list.append(np.asarray(hu).ravel())
+        if r == last:
+            t_list.append([tend])
+            x_list.append(xe[None, :])
+            lam_list.append(lam_end[None, :])
+    samples = {
+        "t": np.concatenate(t_list),
+        "x": np.vstack(x_list),
+        "t_control": np.concatenate(tc_list),
+        "u": np.vstack(u_list),
+        "costate": np.vstack(lam_list),
+        "hamiltonian": np.array(ham_list),
+        "switching": np.vstack(sw_list) if sw_list else np.zeros((0, nu)),
+    }
+    return tuple(pieces), samples
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -224,9 +290,11 @@ class OptimalControlSolution:
     nlp: NLPPoint | None = field(repr=False, default=None)
 
     # ---------------------------------------------------------------- interpolation
-    def _locate(self, t: np.ndarray) -> np.ndarray:
+    def _locate(self, t: np.ndarray, side: str = "left") -> np.ndarray:
+        """Interval of each time; at a mesh point the interval ending there (``side="left"``)
+        or the one starting there (``"right"``)."""
         ends = np.array([p.t_end for p in self.pieces])
-        return np.minimum(np.searchsorted(ends, t, side="left"), len(self.pieces) - 1)
+        return np.minimum(np.searchsorted(ends, t, side=side), len(self.pieces) - 1)
 
     def state_at(self, t) -> np.ndarray:
         """States at times ``t`` (s) by the interval's Lagrange polynomial (S2 eq. 22)."""
@@ -257,6 +325,35 @@ class OptimalControlSolution:
                 k = np.abs(tt[m][:, None] - p.tc[None, :]).argmin(axis=1)
                 out[m] = p.uc[k]
         out = np.clip(out, self.problem.control_lower, self.problem.control_upper)
+        return out if np.ndim(t) else out[0]
+
+    def costate_at(self, t) -> np.ndarray:
+        """Costate estimates at times ``t`` (s) by each interval's costate polynomial.
+
+        The polynomial interpolates the costate mapping's values (module docstring) at the
+        interval's state support points (Gauss: and its end); used to carry multipliers onto
+        another mesh.
+
+        Examples
+        --------
+        >>> from adcskit.optimal_control import solve
+        >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+        >>> sol = solve(double_integrator_min_energy(distance=1.0, duration=1.0), mesh=(4, 3))
+        >>> sol.costate_at(0.5).round(6) + 0.0   # λ_x = -24 d/T³ = -24, λ_v = 12 d/T³ (2t/T - 1) = 0
+        array([-24.,   0.])
+        """
+        return self._costate_at(t)
+
+    def _costate_at(self, t, side: str = "left") -> np.ndarray:
+        if not self.pieces or self.pieces[0].lam is None:
+            raise InputError("this solution carries no costate polynomials")
+        tt = np.atleast_1d(np.asarray(t, float))
+        out = np.empty((tt.size, self.costate.shape[1]))
+        idx = self._locate(tt, side)
+        for j in np.unique(idx):
+            p = self.pieces[j]
+            m = idx == j
+            out[m] = lagrange_matrix(_tau(p.lam_t, p.ts[0], p.t_end), _tau(tt[m], p.ts[0], p.t_end)) @ p.lam
         return out if np.ndim(t) else out[0]
 
     def as_guess(self) -> Guess:
@@ -407,6 +504,7 @@ def solve(
     guess: Guess | OptimalControlSolution | None = None,
     ipopt_options: dict[str, Any] | None = None,
     warm_start: bool | None = None,
+    transfer_duals: bool = False,
 ) -> OptimalControlSolution:
     """Transcribe ``problem`` and solve the NLP with IPOPT.
 
@@ -429,6 +527,13 @@ def solve(
     warm_start : bool, optional
         Use :data:`WARM_START_IPOPT_OPTIONS`. Default: when ``guess`` is a previous solution.
         ``False`` re-solves a previous solution's trajectory with IPOPT's cold defaults.
+    transfer_duals : bool
+        When warm-starting from a previous solution on *another* mesh, also pass IPOPT the
+        multipliers interpolated onto this mesh (``warm_start="primal-dual-interpolated"``):
+        the defect, quadrature and interval-link multipliers that the previous costate
+        polynomials imply (the costate mapping inverted), path multipliers carried as a
+        density in time, and bound multipliers from stationarity at the interpolated point.
+        Default False (primal values only, as before); :func:`solve_adaptive` sets it.
 
     Returns
     -------
@@ -496,7 +601,8 @@ def solve(
             raise InputError(f"ipopt_options not accepted by IPOPT: {last}; got {ipopt_options!r}") from None
         raise InputError(f"problem could not be transcribed by CasADi: {last}") from None
     build_s = time.perf_counter() - t_build
-    return _solve_with(problem, tr, guess, build_s, prev=prev, warm=warm)
+    transfer_duals = check_flag("transfer_duals", transfer_duals)
+    return _solve_with(problem, tr, guess, build_s, prev=prev, warm=warm, transfer_duals=transfer_duals)
 
 
 def _solution_funs(prev: OptimalControlSolution, t0: float, tf: float):
@@ -509,8 +615,102 @@ def _solution_funs(prev: OptimalControlSolution, t0: float, tf: float):
     return (lambda t: prev.state_at(s(t))), (lambda t: prev.control_at(s(t)))
 
 
+def _defect_duals(lam_g, method, intervals, times, lamfun, sx, cJ) -> None:
+    """Write the multipliers of the defect, Gauss quadrature and interval-link rows that the
+    costate function ``lamfun(t) -> (M, nx)`` implies (the costate mapping inverted) into
+    ``lam_g`` (CasADi's sign and scaling: objective ``J / cJ``, rows of state ``i`` over
+    ``sx_i``).
+
+    Radau: ``Λ̃_k = w_k λ(t_k)``; Gauss: ``Λ̃_k = w_k (λ(t_k) − λ(t_end))`` and ``Λ̃_f =
+    λ(t_end)``; the row linking an interval's end state to the next interval's start:
+    ``−λ(t_end)``; CasADi's multiplier is ``−Λ̃ sx / cJ``.
+    """
+    for iv, (_ts, tc, tend) in zip(intervals, times, strict=True):
+        lc = lamfun(tc, "right")  # Radau's τ = −1 point: the estimate of the interval starting there
+        le = lamfun(np.array([tend]), "left")[0]
+        if method == "gauss":
+            lt = iv.w[:, None] * (lc - le)
+            lam_g[iv.g_quad] = -le * sx / cJ
+        else:
+            lt = iv.w[:, None] * lc
+        lam_g[iv.g_def] = (-lt * sx / cJ).ravel()
+        if iv.g_link is not None:
+            lam_g[iv.g_link] = le * sx / cJ
+
+
+def _path_duals(old_intervals, old_lam_path: np.ndarray, new_intervals) -> np.ndarray:
+    """Path-constraint multipliers carried to another mesh as a density in time.
+
+    An NLP path multiplier at collocation point ``k`` is ``μ(t_k) w_k h/2`` for a multiplier
+    density ``μ``; ``μ`` is interpolated linearly in the normalised time (it jumps where a
+    constraint becomes active, so no polynomial) and multiplied by the new weights.
+    """
+    frac_old = np.concatenate([iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a) for iv in old_intervals])
+    wh_old = np.concatenate([iv.w * (iv.b - iv.a) / 2.0 for iv in old_intervals])
+    dens = old_lam_path / wh_old[:, None]
+    frac_new = np.concatenate([iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a) for iv in new_intervals])
+    wh_new = np.concatenate([iv.w * (iv.b - iv.a) / 2.0 for iv in new_intervals])
+    out = np.column_stack([np.interp(frac_new, frac_old, dens[:, i]) for i in range(dens.shape[1])])
+    return out * wh_new[:, None]
+
+
+def _bound_duals(grad_fun, z0, p, lam_g, lbz, ubz) -> np.ndarray:
+    """Bound multipliers consistent with ``lam_g`` at ``z0``: ``λ_x = −∇_z(f + λ_gᵀ g)`` on
+    active bounds (fixed variables: any sign; upper: >= 0; lower: <= 0), zero elsewhere."""
+    grad = -np.asarray(grad_fun(z0, p, 1.0, lam_g)[2]).ravel()
+    tol_b = 1e-9 * (1.0 + np.abs(z0))
+    fixed = ubz - lbz <= tol_b
+    up = ~fixed & (z0 >= ubz - tol_b)
+    lo = ~fixed & (z0 <= lbz + tol_b)
+    lam_x = np.zeros_like(z0)
+    lam_x[fixed] = grad[fixed]
+    lam_x[up] = np.maximum(grad[up], 0.0)
+    lam_x[lo] = np.minimum(grad[lo], 0.0)
+    return lam_x
+
+
+def _interpolated_duals(prev: OptimalControlSolution, problem, tr, z0, p, lbz, ubz, t0: float, tf: float):
+    """``(lam_x0, lam_g0)`` of a previous solution on this NLP's mesh, or None.
+
+    The warm start of a refined mesh: constraint multipliers from the previous costate
+    polynomials (:func:`_defect_duals`) and path-multiplier densities (:func:`_path_duals`),
+    bound multipliers from stationarity at the interpolated point (:func:`_bound_duals`).
+    """
+    if prev.nlp is None or not prev.pieces or prev.pieces[0].lam is None:
+        return None
+    sx, _ = problem.scales()
+    cJ = float(p[-1])
+    a, b = prev.t0, prev.tf
+
+    def lamfun(t, side):
+        return prev._costate_at(a + (np.asarray(t, float) - t0) / (tf - t0) * (b - a), side)
+
+    lam_g = np.zeros(tr.ng)
+    _defect_duals(lam_g, tr.method, tr.intervals, tr.times(t0, tf), lamfun, sx, cJ)
+    if tr.npath:
+        old, _, g_end = interval_layout(prev.method, prev.mesh, tr.nx, tr.nu, 0, 0)
+        n_old = tr.npath * sum(prev.mesh.nodes)
+        if prev.nlp.lam_g.size != g_end + n_old:
+            return None
+        lam_old = prev.nlp.lam_g[g_end : g_end + n_old].reshape(-1, tr.npath) * (float(prev.nlp.p[-1]) / cJ)
+        lam_g[tr.g_path] = _path_duals(old, lam_old, tr.intervals).ravel()
+    if not np.all(np.isfinite(lam_g)):
+        return None
+    lam_x = _bound_duals(tr.lagrangian_gradient, z0, p, lam_g, lbz, ubz)
+    if not np.all(np.isfinite(lam_x)):
+        return None
+    return lam_x, lam_g
+
+
 def _solve_with(
-    problem, tr, guess: Guess, build_s: float, *, prev: OptimalControlSolution | None = None, warm: bool = False
+    problem,
+    tr,
+    guess: Guess,
+    build_s: float,
+    *,
+    prev: OptimalControlSolution | None = None,
+    warm: bool = False,
+    transfer_duals: bool = False,
 ) -> OptimalControlSolution:
     sx, su = problem.scales()
     t0 = problem.t0
@@ -541,6 +741,11 @@ def _solve_with(
         j0 = float(tr.J_fun(z0, p))
         cJ = abs(j0) if np.isfinite(j0) and abs(j0) > 1e-12 else 1.0
         p[-1] = cJ
+        if warm and transfer_duals and prev is not None:
+            d = _interpolated_duals(prev, problem, tr, z0, p, lbz, ubz, t0, tf_g)
+            if d is not None:
+                duals = {"lam_x0": d[0], "lam_g0": d[1]}
+                mode = "primal-dual-interpolated"
     t_solve = time.perf_counter()
     res = tr.solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
     solve_s = time.perf_counter() - t_solve
@@ -553,40 +758,7 @@ def _solve_with(
     status = str(stats.get("return_status", "unknown"))
     success = bool(stats.get("success", False))
     parts, tf = tr.unpack(z, sx, su, s_tf)
-    times = tr.times(t0, tf)
-    pieces = []
-    t_list, x_list, tc_list, u_list, lam_list, ham_list, sw_list = [], [], [], [], [], [], []
-    for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(tr.intervals, parts, times, strict=True)):
-        pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe))
-        # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
-        lt = -lam_g[iv.g_def].reshape(iv.n, tr.nx) * cJ / sx
-        if tr.method == "gauss":
-            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
-            lam_c = lt / iv.w[:, None] + lf
-            lam_0 = lf - iv.D[:, 0] @ lt
-            lam_s = np.vstack([lam_0, lam_c])
-            lam_end = lf
-            xc = xs[1:]
-            t_list.append(ts)
-            x_list.append(xs)
-        else:
-            lam_c = lt / iv.w[:, None]
-            lam_end = iv.D[:, -1] @ lt
-            lam_s = lam_c
-            xc = xs[:-1]
-            t_list.append(ts[:-1])
-            x_list.append(xs[:-1])
-        lam_list.append(lam_s)
-        tc_list.append(tc)
-        u_list.append(us)
-        for k in range(iv.n):
-            hk, hu = tr.h_fun(xc[k], us[k], tc[k], lam_c[k])
-            ham_list.append(float(hk))
-            sw_list.append(np.asarray(hu).ravel())
-        if r == len(tr.intervals) - 1:
-            t_list.append([tend])
-            x_list.append(xe[None, :])
-            lam_list.append(lam_end[None, :])
+    pieces, samples = _assemble(tr.method, tr.intervals, parts, tr.times(t0, tf), lam_g, cJ, sx, tr.h_fun)
     objective = float(tr.J_fun(z, p))
     msg = f"IPOPT: {status} after {int(stats.get('iter_count', 0))} iterations ({tr.method}, mesh {tr.mesh.label()})"
     return OptimalControlSolution(
@@ -601,18 +773,12 @@ def _solve_with(
         tf=tf,
         method=tr.method,
         mesh=tr.mesh,
-        t=np.concatenate(t_list),
-        x=np.vstack(x_list),
-        t_control=np.concatenate(tc_list),
-        u=np.vstack(u_list),
-        costate=np.vstack(lam_list),
-        hamiltonian=np.array(ham_list),
-        switching=np.vstack(sw_list) if sw_list else np.zeros((0, tr.nu)),
+        **samples,
         max_violation=viol,
         build_s=build_s,
         solve_s=solve_s,
         problem=problem,
-        pieces=tuple(pieces),
+        pieces=pieces,
         dynamics_fun=tr.f_fun,
         warm_start=mode,
         nlp=NLPPoint(method=tr.method, mesh=tr.mesh, z=z, lam_x=lam_x, lam_g=lam_g, p=p),

@@ -122,6 +122,63 @@ def interval_layout(method: str, mesh: Mesh, nx: int, nu: int, iz: int, ig: int)
     return out, iz, ig
 
 
+def interval_times(intervals: list[_Interval], t0: float, tf: float):
+    """``(support times, collocation times, end time)`` of every interval on ``[t0, tf]`` (s)."""
+    out = []
+    for iv in intervals:
+        ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
+        tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
+        out.append((ts, tc, t0 + (tf - t0) * iv.b))
+    return out
+
+
+def unpack_intervals(intervals: list[_Interval], z: np.ndarray, sx: np.ndarray, su: np.ndarray):
+    """Physical ``(support states, controls, end state)`` of every interval from the scaled ``z``."""
+    nx, nu = sx.size, su.size
+    out = []
+    for iv in intervals:
+        xs = z[iv.xs].reshape(iv.n + 1, nx) * sx
+        us = z[iv.us].reshape(iv.n, nu) * su if nu else np.zeros((iv.n, 0))
+        xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
+        out.append((xs, us, xe))
+    return out
+
+
+def interval_bounds(lbz, ubz, method: str, intervals: list[_Interval], phase, sx, su) -> None:
+    """Write the scaled box bounds of the states and controls of every interval and the fixed
+    boundary states of ``phase`` (an :class:`OptimalControlProblem` or a multi-phase
+    ``Phase``: ``state_lower/upper``, ``control_lower/upper``, ``initial_state``,
+    ``final_state``; NaN: free) into ``lbz``, ``ubz`` (in place)."""
+    nx = sx.size
+    for iv in intervals:
+        lbz[iv.xs] = np.tile(phase.state_lower / sx, iv.n + 1)
+        ubz[iv.xs] = np.tile(phase.state_upper / sx, iv.n + 1)
+        if np.size(su):
+            lbz[iv.us] = np.tile(phase.control_lower / su, iv.n)
+            ubz[iv.us] = np.tile(phase.control_upper / su, iv.n)
+        if iv.xe is not None:
+            lbz[iv.xe], ubz[iv.xe] = phase.state_lower / sx, phase.state_upper / sx
+    first, last = intervals[0], intervals[-1]
+    fix0 = np.isfinite(phase.initial_state)
+    i0 = np.arange(first.xs.start, first.xs.start + nx)
+    lbz[i0[fix0]] = ubz[i0[fix0]] = (phase.initial_state / sx)[fix0]
+    fixf = np.isfinite(phase.final_state)
+    i_f = np.arange(last.xe.start, last.xe.stop) if method == "gauss" else np.arange(last.xs.stop - nx, last.xs.stop)
+    lbz[i_f[fixf]] = ubz[i_f[fixf]] = (phase.final_state / sx)[fixf]
+
+
+def pack_intervals(z: np.ndarray, intervals: list[_Interval], t0: float, tf: float, xfun, ufun, sx, su) -> None:
+    """Write the scaled states and controls of guess functions ``xfun(t) -> (M, nx)``,
+    ``ufun(t) -> (M, nu)`` into ``z`` at the intervals' slices (in place)."""
+    nu = np.size(su)
+    for iv, (ts, tc, tend) in zip(intervals, interval_times(intervals, t0, tf), strict=True):
+        z[iv.xs] = (xfun(ts) / sx).ravel()
+        if nu:
+            z[iv.us] = (ufun(tc) / su).ravel()
+        if iv.xe is not None:
+            z[iv.xe] = xfun(np.array([tend]))[0] / sx
+
+
 class _Transcription:
     """The compiled NLP of one problem structure on one mesh."""
 
@@ -209,40 +266,21 @@ class _Transcription:
         self.solver = ca.nlpsol("ocp", "ipopt", nlp, opts)
 
     # ------------------------------------------------------------------ numeric helpers
+    def lagrangian_gradient(self, z, p, lam_f, lam_g):
+        """``(f, g, ∇_z(lam_f f + lam_gᵀ g), ∇_p)`` of the scaled NLP (IPOPT's oracle)."""
+        fun = getattr(self, "_grad_fun", None)
+        if fun is None:
+            fun = self._grad_fun = self.solver.get_function("nlp_grad")
+        return fun(z, p, lam_f, lam_g)
+
     def times(self, t0: float, tf: float):
         """Support-state times, collocation times and end times per interval."""
-        out = []
-        for iv in self.intervals:
-            ts = t0 + (tf - t0) * (iv.a + (iv.support + 1.0) / 2.0 * (iv.b - iv.a))
-            tc = t0 + (tf - t0) * (iv.a + (iv.tau + 1.0) / 2.0 * (iv.b - iv.a))
-            out.append((ts, tc, t0 + (tf - t0) * iv.b))
-        return out
+        return interval_times(self.intervals, t0, tf)
 
     def bounds(self, problem: OptimalControlProblem, sx, su, s_tf):
         lbz = np.full(self.nz, -np.inf)
         ubz = np.full(self.nz, np.inf)
-        nx, nu = self.nx, self.nu
-        for iv in self.intervals:
-            lo = np.tile(problem.state_lower / sx, iv.n + 1)
-            hi = np.tile(problem.state_upper / sx, iv.n + 1)
-            lbz[iv.xs], ubz[iv.xs] = lo, hi
-            if nu:
-                lbz[iv.us] = np.tile(problem.control_lower / su, iv.n)
-                ubz[iv.us] = np.tile(problem.control_upper / su, iv.n)
-            if iv.xe is not None:
-                lbz[iv.xe], ubz[iv.xe] = problem.state_lower / sx, problem.state_upper / sx
-        first, last = self.intervals[0], self.intervals[-1]
-        x0 = problem.initial_state
-        fix0 = np.isfinite(x0)
-        i0 = np.arange(first.xs.start, first.xs.start + nx)
-        lbz[i0[fix0]] = ubz[i0[fix0]] = (x0 / sx)[fix0]
-        xf = problem.final_state
-        fixf = np.isfinite(xf)
-        if self.method == "gauss":
-            i_f = np.arange(last.xe.start, last.xe.stop)
-        else:
-            i_f = np.arange(last.xs.stop - nx, last.xs.stop)
-        lbz[i_f[fixf]] = ubz[i_f[fixf]] = (xf / sx)[fixf]
+        interval_bounds(lbz, ubz, self.method, self.intervals, problem, sx, su)
         lbz[self.i_tf], ubz[self.i_tf] = problem.tf_bounds[0] / s_tf, problem.tf_bounds[1] / s_tf
         lbg = np.zeros(self.ng)
         ubg = np.zeros(self.ng)
@@ -255,24 +293,13 @@ class _Transcription:
     def pack(self, t0, tf, xfun, ufun, sx, su, s_tf) -> np.ndarray:
         """Scaled decision vector from guess functions ``xfun(t) -> (M, nx)``, ``ufun``."""
         z = np.zeros(self.nz)
-        for iv, (ts, tc, tend) in zip(self.intervals, self.times(t0, tf), strict=True):
-            z[iv.xs] = (xfun(ts) / sx).ravel()
-            if self.nu:
-                z[iv.us] = (ufun(tc) / su).ravel()
-            if iv.xe is not None:
-                z[iv.xe] = xfun(np.array([tend]))[0] / sx
+        pack_intervals(z, self.intervals, t0, tf, xfun, ufun, sx, su)
         z[self.i_tf] = tf / s_tf
         return z
 
     def unpack(self, z, sx, su, s_tf):
         """Physical states (support points), controls and end states per interval, and tf."""
-        out = []
-        for iv in self.intervals:
-            xs = z[iv.xs].reshape(iv.n + 1, self.nx) * sx
-            us = z[iv.us].reshape(iv.n, self.nu) * su if self.nu else np.zeros((iv.n, 0))
-            xe = z[iv.xe] * sx if iv.xe is not None else xs[-1]
-            out.append((xs, us, xe))
-        return out, float(z[self.i_tf] * s_tf)
+        return unpack_intervals(self.intervals, z, sx, su), float(z[self.i_tf] * s_tf)
 
 
 def _as_list(expr, n: int, what: str) -> list:
@@ -324,11 +351,14 @@ def get_transcription(
 
 
 def clear_cache() -> None:
-    """Forget every compiled NLP (e.g. to time a cold build).
+    """Forget every compiled NLP, single- and multi-phase (e.g. to time a cold build).
 
     Examples
     --------
     >>> from adcskit.optimal_control import clear_cache
     >>> clear_cache()                                     # the next solve rebuilds its NLP
     """
+    from adcskit.optimal_control import multiphase  # imports this module: import here
+
     _CACHE.clear()
+    multiphase._MCACHE.clear()
