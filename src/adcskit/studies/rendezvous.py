@@ -110,10 +110,10 @@ class Config:
     readings: tuple[str, ...] = ("paper", "full")
     method: str = "gauss"
     paper_mesh: tuple[int, int] = (20, 3)
-    adaptive_tol: float = 2e-4
+    adaptive_tol: float = 1e-3
     adaptive_max_iterations: int = 7
     other_readings_start: str = "refined_mesh"
-    jump_factor: float = 5.0
+    jump_factor: float = 1.0
     n_starts: int = 16
     distinct_rtol: float = 1e-4
     match_atol_s: float = 1e-5
@@ -148,8 +148,8 @@ class Config:
         for name in ("adaptive_tol", "distinct_rtol"):
             if not 0 < getattr(self, name) < 1:
                 raise ValueError(f"{name} must be in (0, 1); got {getattr(self, name)}")
-        if not self.jump_factor > 1:
-            raise ValueError(f"jump_factor must be > 1; got {self.jump_factor}")
+        if not self.jump_factor >= 1:
+            raise ValueError(f"jump_factor must be >= 1; got {self.jump_factor}")
         if not self.match_atol_s >= 0:
             raise ValueError(f"match_atol_s must be >= 0; got {self.match_atol_s}")
         if not self.same_rtol < 1:
