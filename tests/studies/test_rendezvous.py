@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 
@@ -114,7 +115,12 @@ def quick_runs(tmp_path_factory):
     docs = []
     for seed in (0, 1):
         run_study("rendezvous", quick=True, seed=seed, out=out / str(seed))
-        docs.append(json.loads((out / str(seed) / "rendezvous" / "result.json").read_text()))
+        d = out / str(seed) / "rendezvous"
+        doc = json.loads((d / "result.json").read_text())
+        doc["_tables"] = {
+            name.removesuffix(".csv"): list(csv.DictReader((d / name).open())) for name in doc["tables"]
+        }
+        docs.append(doc)
     return docs
 
 
@@ -134,7 +140,20 @@ def test_quick_study_structure(quick_runs):
             assert names == [f"{d} / {p}" for d in dyn for p in ("printed digits", "same optimum")]
         assert c["where"] and c["statement"]
     assert all(c["passed"] for c in doc["checks"]), [c for c in doc["checks"] if not c["passed"]]
-    assert len(doc["figures"]) == 14  # Figs 3-15 (13) + Table 4 summary
+    assert len(doc["figures"]) == 15  # Figs 3-15 (13) + Table 4 summary + refinement history
+    # every branch carries its error certificate, and its refinement starts with the primal-dual
+    # re-solve of its own 20x3 optimum (20 intervals x 3 LG points = 60 nodes)
+    br = doc["_tables"]["branches"]
+    assert br and all(math.isfinite(float(b["max_state_error"])) and int(b["n_nodes"]) >= 60 for b in br)
+    assert all(
+        (b["tolerance_met"] == "True") == (float(b["max_state_error"]) <= float(b["tol"])) for b in br
+    )
+    d0 = "eq. 2 as printed"
+    first = [h for h in doc["_tables"]["mesh_history"] if h["iteration"] == "1" and h["dynamics"] == d0]
+    assert len(first) == sum(b["dynamics"] == d0 for b in br)
+    assert all(
+        (h["n_intervals"], h["n_nodes"], h["warm_start"]) == ("20", "60", "primal-dual") for h in first
+    )
     m = doc["measured"]["readings"]["eq. 2 as printed"]["rows"]["[20.0, 0.0, 0.0]"]
     # tf between the pure-translation bound 2*sqrt(20/(sqrt2*0.1)) and the single-axis bound
     # 2*sqrt(20/0.1) = 28.28 s (S2 Table 2 limits: 320 N / 3200 kg = 0.1 m/s^2)
@@ -160,22 +179,79 @@ def test_quick_claims_stable_over_seeds(quick_runs):
         assert main["measured"] < 0.5
 
 
-# Full run (docs/studies/rendezvous.md, root seed 0, 16 starts): per Table 4 row and dynamics
-# reading, each local branch as (20x3 tf, mesh-converged tf) in s.
+def _fake_branch(tf0, tfs, errors, *, tol=1e-5, met=True, nlp_ok=True):
+    """A branch as _branch_record reads it: 20x3 start and a refinement history (no solve)."""
+    from types import SimpleNamespace as NS
+
+    from adcskit.optimal_control import Mesh
+    from adcskit.studies.rendezvous import _Branch
+
+    hist = tuple(
+        NS(
+            objective=t,
+            success=nlp_ok if k == len(tfs) - 1 else True,
+            meshes=(Mesh.uniform(20 * (k + 1), 3),),
+            n_collocation=60 * (k + 1),
+            max_error=e,
+            nit=1 if k == 0 else 30,
+            warm_start="primal-dual" if k == 0 else "primal",
+        )
+        for k, (t, e) in enumerate(zip(tfs, errors, strict=True))
+    )
+    cert = NS(
+        satisfied=met, tol=tol, max_error=errors[-1], n_collocation=hist[-1].n_collocation,
+        mesh_iterations=len(hist), worst_time=1.0,
+    )
+    final = NS(mesh_history=hist, certificate=cert, message="m", tf=tfs[-1], mesh=hist[-1].meshes[0])
+    return _Branch(NS(tf=tf0, success=True, mesh=hist[0].meshes[0]), final, float("nan"), 0.0)
+
+
+def test_branch_record_flags_jumps_and_reports_the_certificate():
+    # jump_factor x adaptive_tol = 1 x 1e-3 = 1e-3 (relative): a refinement of the 25.87 s
+    # optimum that ends on the 26.15 s branch (1.1 % away, S2 row 1's second optimum) is a
+    # jump; a move of 1e-4 (the 20x3 -> converged change of the main row) is not
+    from adcskit.studies.rendezvous import Config, _branch_record
+
+    cfg = Config()
+    assert cfg.same_rtol == pytest.approx(1e-3)
+    ok = _branch_record(_fake_branch(25.8727, [25.8727, 25.8705, 25.8700], [1e-3, 4e-5, 8e-6]), cfg)
+    assert ok["on_branch"] and ok["tolerance_met"] and ok["converged"]
+    assert ok["tf_converged_s"] == 25.8700 and ok["max_error"] == 8e-6 and ok["mesh_iterations"] == 3
+    assert ok["self_resolve_mode"] == "primal-dual" and ok["self_resolve_change"] == 0.0
+    assert ok["max_tf_move"] == pytest.approx(2.7e-3 / 25.8727)
+    jump = _branch_record(_fake_branch(25.8727, [25.8727, 26.1540], [1e-3, 8e-6]), cfg)
+    assert not jump["on_branch"] and "branch jump at mesh iteration 2" in jump["message"]
+    # an intermediate excursion counts too, even if the last solve returns near the start
+    back = _branch_record(_fake_branch(25.8727, [25.8727, 26.15, 25.8701], [1e-3, 1e-4, 8e-6]), cfg)
+    assert not back["on_branch"]
+    # tolerance not met: the achieved error is reported as it is, the value is kept
+    miss = _branch_record(
+        _fake_branch(25.8727, [25.8727, 25.8702], [1e-3, 3e-5], met=False), cfg
+    )
+    assert not miss["tolerance_met"] and not miss["converged"] and miss["max_error"] == 3e-5
+    assert miss["tf_converged_s"] == 25.8702
+    # a failed last NLP solve has no converged value
+    bad = _branch_record(_fake_branch(25.8727, [25.8727, 25.9], [1e-3, 1e-2], met=False, nlp_ok=False), cfg)
+    assert math.isnan(bad["tf_converged_s"]) and not bad["on_branch"]
+
+
+# Full run (docs/studies/rendezvous.md, root seed 0, 16 starts, error-controlled refinement to a
+# relative state error of 1e-3): per Table 4 row and dynamics reading, each local branch as
+# (20x3 tf, converged tf) in s.
 _FULL_RUN = {
     "paper": [
-        [(25.872707, 25.869985), (26.156706, 26.154030)],
-        [(25.789172, 25.787211), (26.036549, 26.033553)],
-        [(25.935950, 25.932394), (26.168250, 26.165240)],
-        [(25.660546, 25.659054), (25.903084, 25.898659)],
-        [(28.279790, 28.278463), (28.569248, 28.564751)],
+        [(25.872706, 25.870312), (26.156705, 26.154567)],
+        [(25.789172, 25.788094), (26.036548, 26.034105)],
+        [(25.935949, 25.933626), (26.168251, 26.165984)],
+        [(25.660545, 25.659990), (25.903083, 25.899238)],
+        [(28.279789, 28.278876), (28.569247, 28.566101)],
     ],
     "full": [
-        [(25.873064, 25.870373), (26.156518, 26.153865)],
-        [(25.789525, 25.787594), (26.036981, 26.033926)],
-        [(25.936541, 25.933023), (26.168950, 26.165930)],
-        [(25.660937, 25.659419), (25.903429, 25.899004)],
-        [(28.280283, 28.278972), (28.569770, 28.565267)],
+        [(25.873064, 25.870744), (26.156518, 26.154421)],
+        [(25.789525, 25.788471), (26.036981, 26.034477)],
+        [(25.936541, 25.934242), (26.168945, 26.166710)],
+        [(25.660937, 25.660378), (25.903429, 25.899577)],
+        [(28.280283, 28.279381), (28.569770, 28.566599)],
     ],
 }
 

@@ -5,13 +5,18 @@ For every initial position of S2 Table 4 and every reading of the rotational dyn
 
 1. *Multistart* on the paper's mesh (20 equal sub-intervals × 3 LG points): the straight-line
    guess and seeded random guesses; every distinct local optimum of the 20×3 NLP is kept.
-2. *Branch tracking*: each distinct optimum is re-solved from itself (primal and dual warm
-   start, a check that it is a KKT point IPOPT stays at) and followed through warm-started
-   finer meshes (:func:`adcskit.optimal_control.solve_mesh_sequence`) until ``tf`` changes by
-   less than ``rtol``; a step that moves ``tf`` by more than ``jump_factor × rtol`` is flagged
-   as a branch jump. The result is one mesh-converged value per local branch.
-3. The second reading continues each branch of the first (same mesh, warm start with the
-   first reading's multipliers; the dynamics differ by O(|ω| n) terms), then refines it.
+2. *Branch tracking by error-controlled refinement*: each distinct optimum is handed to
+   :func:`adcskit.optimal_control.solve_adaptive` on its own 20×3 mesh (the first solve
+   re-solves it from itself with primal and dual warm start, a check that it is a KKT point
+   IPOPT stays at), which refines the mesh by hp rules, warm-starting every solve from the
+   previous one, until the relative state error of every mesh interval is below
+   ``adaptive_tol`` or ``adaptive_max_iterations`` solves are spent. Its error certificate
+   (achieved error, tolerance met or not, intervals, nodes, iterations) is reported beside
+   the converged ``tf``. A refinement whose ``tf`` moves by more than
+   ``jump_factor × adaptive_tol`` (relative) from its 20×3 start is flagged as a branch jump.
+3. The second reading continues each branch of the first (same 20×3 mesh, warm start with the
+   first reading's multipliers; the dynamics differ by O(|ω| n) terms) and refines it the same
+   way.
 
 The paper's claims (S2 §6–7, Table 4) are decided from these branches by the verdict model
 (:mod:`adcskit.studies._verdict`); our questions (how many local optima, where the GPOPS
@@ -19,7 +24,9 @@ column sits) are findings.
 
 References
 ----------
-S2, eq. 2–16 (model), 17–37 (method), Tables 2–4, Figs 3–15, §6–7.
+S2, eq. 2–16 (model), 17–37 (method), Tables 2–4, Figs 3–15, §6–7. Patterson, Hager & Rao,
+Optim. Control Appl. Meth. 36(4), 2015 and Liu, Hager & Rao, J. Franklin Inst. 352(10), 2015
+(the error estimate and hp rules of :func:`solve_adaptive`).
 """
 
 from __future__ import annotations
@@ -32,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import status, track
-from adcskit.optimal_control import bang_bang, multistart, resimulate, solve_mesh_sequence
+from adcskit.optimal_control import bang_bang, multistart, resimulate, solve, solve_adaptive
 from adcskit.optimal_control.problems.rendezvous import rendezvous_problem
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
 from adcskit.studies._verdict import ClaimSpec, FindingSpec
@@ -70,13 +77,26 @@ class Config:
     method : {"gauss", "radau"}
     paper_mesh : (int, int)
         Sub-intervals × LG points of the paper, ``(20, 3)``.
-    refine_meshes : tuple of (int, int)
-        Warm-started refinement of every branch after the paper mesh.
-    rtol : float
-        Refinement of a branch stops when ``tf`` changes by less than this (relative).
+    adaptive_tol : float
+        Relative state error every mesh interval must meet
+        (:func:`adcskit.optimal_control.estimate_error`: collocation polynomial vs an
+        integration of the dynamics under the interpolated control, per state divided by
+        ``1 + max |x|``); the tolerance of the error-controlled refinement of every branch.
+    adaptive_max_iterations : int
+        Most NLP solves of one branch's refinement (the 20×3 re-solve counts). A branch that
+        does not reach ``adaptive_tol`` is reported with its achieved error ("not met").
+    other_readings_start : {"paper_mesh", "refined_mesh"}
+        Where the refinement of a continued branch (readings after the first) starts:
+        ``"paper_mesh"`` from its own 20×3 optimum, exactly as the first reading;
+        ``"refined_mesh"`` on the first reading's final mesh of the branch, warm-started (primal
+        and dual) from the first reading's refined solution: the two dynamics differ by
+        O(|ω| n) terms, so that mesh usually already meets the tolerance and one or two solves
+        certify it. Either way the certificate is computed with this reading's dynamics and
+        the branch-jump test measures ``tf`` from this reading's own 20×3 optimum.
     jump_factor : float
-        A refinement step changing ``tf`` by more than ``jump_factor × rtol`` is a branch jump;
-        two converged values closer than that are the same branch.
+        A refinement whose ``tf`` moves by more than ``jump_factor × adaptive_tol`` (relative)
+        from its 20×3 start is a branch jump; two converged values closer than that are the
+        same branch.
     n_starts : int
         Starts per row on the paper mesh (start 0 is the straight-line guess, the rest random).
     distinct_rtol : float
@@ -90,9 +110,10 @@ class Config:
     readings: tuple[str, ...] = ("paper", "full")
     method: str = "gauss"
     paper_mesh: tuple[int, int] = (20, 3)
-    refine_meshes: tuple[tuple[int, int], ...] = ((40, 4), (80, 4), (160, 4), (320, 4))
-    rtol: float = 1e-5
-    jump_factor: float = 100.0
+    adaptive_tol: float = 1e-3
+    adaptive_max_iterations: int = 7
+    other_readings_start: str = "refined_mesh"
+    jump_factor: float = 1.0
     n_starts: int = 16
     distinct_rtol: float = 1e-4
     match_atol_s: float = 1e-5
@@ -115,16 +136,32 @@ class Config:
             raise ValueError(f"method must be 'gauss' or 'radau'; got {self.method!r}")
         if self.n_starts < 1:
             raise ValueError(f"n_starts must be >= 1; got {self.n_starts}")
-        for m in (self.paper_mesh, *self.refine_meshes):
-            if len(m) != 2 or min(m) < 1:
-                raise ValueError(f"meshes must be (n_intervals >= 1, n_nodes >= 1); got {m!r}")
-        for name in ("rtol", "distinct_rtol"):
+        m = self.paper_mesh
+        if len(m) != 2 or min(m) < 1:
+            raise ValueError(f"paper_mesh must be (n_intervals >= 1, n_nodes >= 1); got {m!r}")
+        if self.other_readings_start not in ("paper_mesh", "refined_mesh"):
+            raise ValueError(
+                f"other_readings_start must be 'paper_mesh' or 'refined_mesh'; got {self.other_readings_start!r}"
+            )
+        if self.adaptive_max_iterations < 1:
+            raise ValueError(f"adaptive_max_iterations must be >= 1; got {self.adaptive_max_iterations}")
+        for name in ("adaptive_tol", "distinct_rtol"):
             if not 0 < getattr(self, name) < 1:
                 raise ValueError(f"{name} must be in (0, 1); got {getattr(self, name)}")
-        if not self.jump_factor > 1:
-            raise ValueError(f"jump_factor must be > 1; got {self.jump_factor}")
+        if not self.jump_factor >= 1:
+            raise ValueError(f"jump_factor must be >= 1; got {self.jump_factor}")
         if not self.match_atol_s >= 0:
             raise ValueError(f"match_atol_s must be >= 0; got {self.match_atol_s}")
+        if not self.same_rtol < 1:
+            raise ValueError(
+                f"jump_factor x adaptive_tol must be < 1; got {self.jump_factor} x {self.adaptive_tol}"
+            )
+
+    @property
+    def same_rtol(self) -> float:
+        """``jump_factor × adaptive_tol``: the relative ``tf`` distance of a branch jump, and
+        within which two converged values are the same branch."""
+        return self.jump_factor * self.adaptive_tol
 
 
 def _paper_row(s0):
@@ -145,35 +182,101 @@ def _cluster(values, rtol):
     return [g[0] for g in out], [len(g) for g in out]
 
 
-def _branch_record(seq) -> dict[str, Any]:
-    s0 = seq.solutions[0]
-    fin = seq.final
-    ok = bool(fin.success)
+@dataclass(frozen=True, slots=True)
+class _Branch:
+    """One local branch under one dynamics reading: its 20×3 optimum and its refinement."""
+
+    start: Any  # OptimalControlSolution on the paper mesh (multistart optimum or continuation)
+    final: Any  # AdaptiveSolution of solve_adaptive started from ``start``
+    continuation_change: float  # |tf(start) - tf(first reading's 20x3)| / tf (NaN: first reading)
+    cpu_s: float  # CPU time of the refinement (s)
+
+
+def _mesh_text(n_intervals: int, n_nodes: int) -> str:
+    return f"{n_intervals} intervals / {n_nodes} nodes"
+
+
+def _branch_record(br: _Branch, cfg: Config) -> dict[str, Any]:
+    """Plain numbers of one branch: 20×3 value, converged value and its error certificate."""
+    fin = br.final
+    hist = fin.mesh_history
+    cert = fin.certificate
+    tf0 = float(br.start.tf) if br.start.success else math.nan
+    # J = tf for this problem (S2: minimum time), so each solve's objective is its tf
+    tfs = [float(h.objective) if h.success else math.nan for h in hist]
+    moves = [abs(t - tf0) / tf0 for t in tfs]
+    finite = [d for d in moves if math.isfinite(d)]
+    jumps = [k for k, d in enumerate(moves) if math.isfinite(d) and d > cfg.same_rtol]
+    ok = bool(hist[-1].success)
+    # the first solve re-solves the 20x3 optimum from itself unless the refinement started on
+    # another mesh (other_readings_start="refined_mesh")
+    from_paper_mesh = hist[0].meshes[0] == br.start.mesh
+    msg = fin.message
+    if jumps:
+        msg += "; branch jump at mesh iteration " + ", ".join(
+            f"{k + 1} (tf {tfs[k]:.5f} s, |dtf|/tf {moves[k]:.2e} > {cfg.same_rtol:.0e})"
+            for k in jumps
+        )
     return {
-        "tf_paper_mesh_s": float(s0.tf) if s0.success else math.nan,
+        "tf_paper_mesh_s": tf0,
         "tf_converged_s": float(fin.tf) if ok else math.nan,
-        "converged": bool(seq.converged),
-        "on_branch": bool(seq.on_branch),
-        "mesh": fin.mesh.label(),
-        "self_resolve_change": float(seq.tf_change[0])
-        if np.isfinite(seq.tf_change[0])
-        else math.nan,
-        "self_resolve_nit": int(s0.nit),
-        "self_resolve_mode": s0.warm_start,
-        "meshes": [x.mesh.label() for x in seq.solutions],
-        "tf_history_s": [float(x.tf) for x in seq.solutions],
-        "message": seq.message,
+        "converged": bool(cert.satisfied),
+        "on_branch": ok and not jumps and math.isfinite(tf0),
+        "max_error": float(cert.max_error),
+        "tol": float(cert.tol),
+        "tolerance_met": bool(cert.satisfied),
+        "n_intervals": int(fin.mesh.n_intervals),
+        "n_nodes": int(cert.n_collocation),
+        "mesh_iterations": int(cert.mesh_iterations),
+        "worst_time_s": float(cert.worst_time),
+        "mesh": _mesh_text(fin.mesh.n_intervals, cert.n_collocation),
+        "max_tf_move": max(finite) if finite else math.nan,
+        "starts_on_paper_mesh": bool(from_paper_mesh),
+        "self_resolve_change": moves[0] if from_paper_mesh else math.nan,
+        "self_resolve_nit": int(hist[0].nit) if from_paper_mesh else -1,
+        "self_resolve_mode": hist[0].warm_start if from_paper_mesh else "",
+        "continuation_change": float(br.continuation_change),
+        "refine_cpu_s": float(br.cpu_s),
+        "history": [
+            {
+                "iteration": k + 1,
+                "n_intervals": int(h.meshes[0].n_intervals),
+                "n_nodes": int(h.n_collocation),
+                "max_error": float(h.max_error),
+                "tf_s": tfs[k],
+                "nit": int(h.nit),
+                "warm_start": h.warm_start,
+            }
+            for k, h in enumerate(hist)
+        ],
+        "message": msg,
     }
 
 
-def _track(prob, reps, cfg: Config) -> list:
-    meshes = [cfg.paper_mesh, *cfg.refine_meshes]
-    return [
-        solve_mesh_sequence(
-            prob, meshes, method=cfg.method, guess=r, rtol=cfg.rtol, jump_factor=cfg.jump_factor
-        )
-        for r in reps
-    ]
+def _nlp_ok(br: _Branch) -> bool:
+    """The last NLP solve of the branch's refinement succeeded (its tf is a KKT point)."""
+    return bool(br.final.mesh_history[-1].success)
+
+
+def _best_branch(branches: list[_Branch]) -> _Branch | None:
+    """The branch with the smallest converged tf (among successful final solves)."""
+    return min((b for b in branches if _nlp_ok(b)), key=lambda b: b.final.tf, default=None)
+
+
+def _refine(prob, start, cfg: Config) -> tuple[Any, float]:
+    """Error-controlled refinement of the branch of ``start`` (a 20×3 optimum, or a refined
+    solution), warm-started from it with primal and dual values on its own mesh, then from
+    each previous solve."""
+    t = time.process_time()
+    sol = solve_adaptive(
+        prob,
+        tol=cfg.adaptive_tol,
+        method=cfg.method,
+        mesh=start.mesh,
+        guess=start,
+        max_iterations=cfg.adaptive_max_iterations,
+    )
+    return sol, time.process_time() - t
 
 
 def _solve_row(s0, cfg: Config, seed: int) -> dict:
@@ -192,20 +295,30 @@ def _solve_row(s0, cfg: Config, seed: int) -> dict:
             if s.success and abs(s.objective - value) <= cfg.distinct_rtol * value
         ]
         reps.append(min(cands, key=lambda s: s.objective))
-    per: dict[str, dict] = {}
-    seqs = _track(prob, reps, cfg)
-    per[first] = {"sequences": seqs}
+    per: dict[str, list[_Branch]] = {first: []}
+    for r in reps:
+        status(f"rendezvous s0={s0}: refining the {r.tf:.4f} s branch")
+        fin, cpu = _refine(prob, r, cfg)
+        per[first].append(_Branch(r, fin, math.nan, cpu))
     for other in cfg.readings[1:]:
         po = rendezvous_problem(s0, dynamics=other)
-        per[other] = {"sequences": _track(po, [q.solutions[0] for q in seqs], cfg)}
+        per[other] = []
+        for b in per[first]:
+            # continue the branch to this reading on the 20x3 mesh (primal-dual warm start)
+            cont = solve(po, method=cfg.method, mesh=b.start.mesh, guess=b.start)
+            change = abs(cont.tf - b.start.tf) / b.start.tf if cont.success else math.inf
+            if cfg.other_readings_start == "refined_mesh" and _nlp_ok(b):
+                fin, cpu = _refine(po, b.final, cfg)
+            else:
+                fin, cpu = _refine(po, cont, cfg)
+            per[other].append(_Branch(cont, fin, change, cpu))
     return {"s0": s0, "multistart": ms, "readings": per, "wall_s": time.perf_counter() - t_start}
 
 
 def _row_measure(res, reading: str, cfg: Config) -> dict[str, Any]:
     """Per-row, per-reading measurements (plain numbers) the claims are decided from."""
-    seqs = res["readings"][reading]["sequences"]
-    branches = [_branch_record(q) for q in seqs]
-    tol_same = cfg.jump_factor * cfg.rtol
+    branches = [_branch_record(b, cfg) for b in res["readings"][reading]]
+    tol_same = cfg.same_rtol
     conv_distinct, conv_counts = _cluster([b["tf_converged_s"] for b in branches], tol_same)
     pm = [b["tf_paper_mesh_s"] for b in branches]
     ms = res["multistart"]
@@ -236,7 +349,7 @@ def _identify(value: float, row: dict, cfg: Config, *, converged: bool) -> int |
 
     ``value`` identifies a branch when that branch's value is the nearest of all our values of
     the row (every branch's 20×3 *and* converged tf, so that a 20×3 value is not mistaken for a
-    converged one or the reverse) and lies within ``jump_factor × rtol`` (relative) of it.
+    converged one or the reverse) and lies within ``jump_factor × adaptive_tol`` (relative) of it.
     """
     key = "tf_converged_s" if converged else "tf_paper_mesh_s"
     cands = [
@@ -248,7 +361,7 @@ def _identify(value: float, row: dict, cfg: Config, *, converged: bool) -> int |
     if not cands:
         return None
     d, i, k = min(cands)
-    if k != key or d > cfg.jump_factor * cfg.rtol * abs(value):
+    if k != key or d > cfg.same_rtol * abs(value):
         return None
     return i
 
@@ -256,7 +369,7 @@ def _identify(value: float, row: dict, cfg: Config, *, converged: bool) -> int |
 def _optimum_distance(value: float, row: dict, cfg: Config) -> float:
     """``|value − best 20×3 optimum|`` in units of the 'same optimum' tolerance: half the
     distance from that optimum to the nearest other value of ours (its own converged value,
-    the other branches), capped at ``jump_factor × rtol``. Below 1: ``value`` is that optimum."""
+    the other branches), capped at ``jump_factor × adaptive_tol``. Below 1: ``value`` is that optimum."""
     vals = [(b["tf_paper_mesh_s"], b["tf_converged_s"]) for b in row["branches"]]
     i_best = int(np.nanargmin([v[0] for v in vals]))
     best = vals[i_best][0]
@@ -264,7 +377,7 @@ def _optimum_distance(value: float, row: dict, cfg: Config) -> float:
         v for j, pair in enumerate(vals) for k, v in enumerate(pair) if not (j == i_best and k == 0)
     ]
     half = 0.5 * min((abs(best - o) for o in others if math.isfinite(o)), default=math.inf)
-    tol = min(half, cfg.jump_factor * cfg.rtol * best)
+    tol = min(half, cfg.same_rtol * best)
     return abs(value - best) / tol
 
 
@@ -413,7 +526,7 @@ def _claim_specs(cfg: Config, rows_present: list[int]) -> list[tuple[ClaimSpec, 
             )
         )
     if len(rows_present) == len(PAPER_ROWS):
-        same = cfg.jump_factor * cfg.rtol
+        same = cfg.same_rtol
         specs.append(
             (
                 ClaimSpec(
@@ -463,7 +576,7 @@ def _gpops_text(m: dict, i: int, cfg: Config) -> str:
     if k is None:
         return f"row {i + 1}: {y} s matches none of {', '.join(f'{v:.5f}' for v in row['converged_optima_s'])} s"
     tf = row["branches"][k]["tf_converged_s"]
-    rank = sum(v < tf * (1 - cfg.jump_factor * cfg.rtol) for v in row["converged_optima_s"]) + 1
+    rank = sum(v < tf * (1 - cfg.same_rtol) for v in row["converged_optima_s"]) + 1
     digits = (
         "equal to its printed digits"
         if abs(y - tf) <= _match_tol(_GPOPS_DECIMALS[i], cfg)
@@ -506,7 +619,7 @@ def _finding_specs(cfg: Config, rows_present: list[int]) -> list[FindingSpec]:
                 id="gpops_on_converged_branches",
                 statement="Every GPOPS value of Table 4 is a mesh-converged local optimum of ours",
                 quantity="rows whose GPOPS value is nearest to one of our converged branch values (of all our "
-                "20x3 and converged values) and within jump_factor x rtol of it; holds above 4.5 of 5",
+                "20x3 and converged values) and within jump_factor x adaptive_tol of it; holds above 4.5 of 5",
                 value=lambda m: float(sum(k is not None for k in m["gpops_branch"])),
                 threshold=len(PAPER_ROWS) - 0.5,
                 stochastic=False,
@@ -544,7 +657,7 @@ def _derive(rows: dict[int, dict], reading: str, cfg: Config) -> dict[str, Any]:
     n_pm = sum(len(r["branches"]) for r in rows.values())
     n_dist = 0
     for r in rows.values():
-        tol_same = cfg.jump_factor * cfg.rtol
+        tol_same = cfg.same_rtol
         for b in r["branches"]:
             others = [o["tf_converged_s"] for o in r["branches"] if o is not b]
             # a branch is distinct when no other branch of the row converges to its value
@@ -574,7 +687,7 @@ def _derive(rows: dict[int, dict], reading: str, cfg: Config) -> dict[str, Any]:
             tfk = r["branches"][kg]["tf_converged_s"]
             grank.append(
                 int(
-                    sum(v < tfk * (1 - cfg.jump_factor * cfg.rtol) for v in r["converged_optima_s"])
+                    sum(v < tfk * (1 - cfg.same_rtol) for v in r["converged_optima_s"])
                 )
             )
     m["gpm_gpops_gap"] = gap
@@ -632,25 +745,28 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     main_sols: dict[str, Any] = {}
     for reading in cfg.readings:
         m = _measurement(results, reading, cfg, rows_present)
-        seqs = main_res["readings"][reading]["sequences"]
-        best = min((q for q in seqs if q.final.success), key=lambda q: q.final.tf, default=None)
+        best = _best_branch(main_res["readings"][reading])
         if best is not None:
-            bb = bang_bang(best.final)
-            h20 = best.solutions[0].hamiltonian
+            fin = best.final
+            bb = bang_bang(fin)
+            h20 = best.start.hamiltonian
+            cert = fin.certificate
             m["main"] = {
-                "tf_paper_mesh_s": float(best.solutions[0].tf),
-                "tf_converged_s": float(best.final.tf),
-                "mesh": best.final.mesh.label(),
+                "tf_paper_mesh_s": float(best.start.tf),
+                "tf_converged_s": float(fin.tf),
+                "mesh": _mesh_text(fin.mesh.n_intervals, cert.n_collocation),
+                "max_error": float(cert.max_error),
+                "tolerance_met": bool(cert.satisfied),
                 "bang_bang_all": bool(bb.all_bang_bang),
                 "at_bound_fraction": bb.at_bound_fraction.tolist(),
                 "n_switches": bb.n_switches.tolist(),
                 "h_mean_paper_mesh": float(np.mean(h20)),
                 "h_std_paper_mesh": float(np.std(h20)),
                 "h_max_dev_paper_mesh": float(np.max(np.abs(h20 + 1.0))),
-                "h_mean_converged": float(np.mean(best.final.hamiltonian)),
-                "h_std_converged": float(np.std(best.final.hamiltonian)),
+                "h_mean_converged": float(np.mean(fin.hamiltonian)),
+                "h_std_converged": float(np.std(fin.hamiltonian)),
             }
-            main_sols[reading] = best.final
+            main_sols[reading] = fin
         else:
             m["main"] = {"bang_bang_all": False, "h_max_dev_paper_mesh": math.inf}
         meas[reading] = m
@@ -663,48 +779,61 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     for reading in cfg.readings:
         name = READING_NAMES[reading]
         allb = [b for r in meas[reading]["rows"].values() for b in r["branches"]]
-        n_conv = sum(b["converged"] for b in allb)
+        n_conv = sum(b["tolerance_met"] for b in allb)
+        errs = [b["max_error"] for b in allb]
         checks.append(
             Check(
-                name=f"[{name}] every branch's refinement converged (|dtf|/tf < {cfg.rtol:g})",
+                name=f"[{name}] every branch's error-controlled refinement meets the state error tolerance "
+                f"{cfg.adaptive_tol:g} within {cfg.adaptive_max_iterations} solves",
                 passed=n_conv == len(allb),
-                detail=f"{n_conv}/{len(allb)} branches converged; meshes {[cfg.paper_mesh, *cfg.refine_meshes]}",
+                detail=f"{n_conv}/{len(allb)} branches met it; achieved max relative state error "
+                f"{min(errs):.2g} ... {max(errs):.2g}; meshes {min(b['n_nodes'] for b in allb)} ... "
+                f"{max(b['n_nodes'] for b in allb)} nodes after {min(b['mesh_iterations'] for b in allb)} ... "
+                f"{max(b['mesh_iterations'] for b in allb)} solves"
+                + "".join(
+                    f"; not met: s0={r['s0_m']} branch {j + 1} ({b['max_error']:.2g})"
+                    for r in meas[reading]["rows"].values()
+                    for j, b in enumerate(r["branches"])
+                    if not b["tolerance_met"]
+                ),
                 kind="check",
             )
         )
         jumps = [b["message"] for b in allb if not b["on_branch"]]
         checks.append(
             Check(
-                name=f"[{name}] no warm-started refinement step jumps branch (|dtf|/tf <= "
-                f"{cfg.jump_factor * cfg.rtol:.0e})",
+                name=f"[{name}] no refinement moves tf by more than jump_factor x adaptive_tol from its 20x3 "
+                f"start (|dtf|/tf <= {cfg.same_rtol:.0e}: no branch jump)",
                 passed=not jumps,
-                detail=f"{len(jumps)} of {len(allb)} branches jumped"
+                detail=f"{len(jumps)} of {len(allb)} branches jumped; largest move "
+                f"{max(b['max_tf_move'] for b in allb):.2e}"
                 + (f": {jumps}" if jumps else ""),
                 kind="check",
             )
         )
-        if reading == first:
-            ch = [b["self_resolve_change"] for b in allb]
-            modes = {b["self_resolve_mode"] for b in allb}
-            worst = max(ch) if ch else math.nan
+        resolved = [b for b in allb if b["starts_on_paper_mesh"]]
+        ch = [b["self_resolve_change"] for b in resolved]
+        modes = {b["self_resolve_mode"] for b in resolved}
+        worst = max(ch) if ch else math.nan
+        if reading == first or resolved:
             checks.append(
                 Check(
-                    name=f"[{name}] re-solving every 20x3 optimum from itself (primal and dual warm start) "
-                    "returns it (|dtf|/tf < 1e-6)",
+                    name=f"[{name}] re-solving every 20x3 optimum from itself (primal and dual warm start, the "
+                    "first solve of its refinement) returns it (|dtf|/tf < 1e-6)",
                     passed=bool(ch) and modes == {"primal-dual"} and worst < 1e-6,
                     detail=f"largest relative change {worst:.2e} over {len(ch)} optima; iterations "
-                    f"{sorted({b['self_resolve_nit'] for b in allb})}; start modes {sorted(modes)}",
+                    f"{sorted({b['self_resolve_nit'] for b in resolved})}; start modes {sorted(modes)}",
                     kind="check",
                 )
             )
-        else:
-            ch = [b["self_resolve_change"] for b in allb]
+        if reading != first:
+            ch = [b["continuation_change"] for b in allb]
             worst = max(ch) if ch else math.nan
             checks.append(
                 Check(
                     name=f"[{name}] continuing each {READING_NAMES[first]} branch to this reading stays on it "
-                    f"(|dtf|/tf <= {cfg.jump_factor * cfg.rtol:.0e})",
-                    passed=bool(ch) and worst <= cfg.jump_factor * cfg.rtol,
+                    f"(|dtf|/tf <= {cfg.same_rtol:.0e})",
+                    passed=bool(ch) and worst <= cfg.same_rtol,
                     detail=f"largest relative change of the 20x3 tf {worst:.2e} over {len(ch)} branches",
                     kind="check",
                 )
@@ -724,8 +853,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         )
     misses = []
     for res in results:
-        seqs = res["readings"][first]["sequences"]
-        best = min((q for q in seqs if q.final.success), key=lambda q: q.final.tf, default=None)
+        best = _best_branch(res["readings"][first])
         if best is not None:
             misses.append(resimulate(best.final).terminal_miss_scaled)
     checks.append(
@@ -758,6 +886,11 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                     "optima_20x3_s": " ".join(f"{v:.5f}" for v in r["optima_paper_mesh_s"]),
                     "starts_per_optimum": " ".join(str(c) for c in r["starts_per_optimum"]),
                     "converged_s": " ".join(f"{b['tf_converged_s']:.5f}" for b in r["branches"]),
+                    "certificate": "; ".join(
+                        f"err {b['max_error']:.1e} {'met' if b['tolerance_met'] else 'NOT met'}, "
+                        f"{b['n_intervals']}/{b['n_nodes']}, {b['mesh_iterations']} it"
+                        for b in r["branches"]
+                    ),
                     "best_20x3_s": r["best_paper_mesh_s"],
                     "best_converged_s": r["best_converged_s"],
                     "gpm_matches_20x3_optimum": None if kg is None else kg + 1,
@@ -775,20 +908,25 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
                         "branch": j + 1,
                         "tf_20x3_s": b["tf_paper_mesh_s"],
                         "tf_converged_s": b["tf_converged_s"],
-                        "mesh": b["mesh"],
-                        "converged": b["converged"],
+                        "max_state_error": b["max_error"],
+                        "tol": b["tol"],
+                        "tolerance_met": b["tolerance_met"],
+                        "n_intervals": b["n_intervals"],
+                        "n_nodes": b["n_nodes"],
+                        "mesh_iterations": b["mesh_iterations"],
                         "on_branch": b["on_branch"],
-                        "first_step_change": b["self_resolve_change"],
+                        "max_tf_move": b["max_tf_move"],
+                        "self_resolve_change": b["self_resolve_change"],
+                        "refine_cpu_s": b["refine_cpu_s"],
                     }
                 )
-                for mesh, tf in zip(b["meshes"], b["tf_history_s"], strict=True):
+                for h in b["history"]:
                     mesh_hist.append(
                         {
                             "s0_m": str(list(res["s0"])),
                             "dynamics": READING_NAMES[reading],
                             "branch": j + 1,
-                            "mesh": mesh,
-                            "tf_s": tf,
+                            **h,
                         }
                     )
             if paper is not None and reading == first:
@@ -832,6 +970,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
     msol = main_sols.get(first)
     figures = _figures(msol) if msol is not None else {}
     figures["table4_tf"] = _table4_figure(meas[first], cfg)
+    figures["mesh_refinement"] = _refinement_figure(meas[first], cfg)
     measured = {
         "readings": {READING_NAMES[r]: _jsonable_meas(meas[r]) for r in cfg.readings},
         "row_wall_s": [res["wall_s"] for res in results],
@@ -846,16 +985,25 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         "bang_bang": True,
     }
     n_multi = sum(len(r["converged_optima_s"]) >= 2 for r in meas[first]["rows"].values())
+    all_br = [b for d in cfg.readings for r in meas[d]["rows"].values() for b in r["branches"]]
+    n_br, n_met = len(all_br), sum(b["tolerance_met"] for b in all_br)
+    worst_err = max(b["max_error"] for b in all_br)
     summary = (
         f"{len(results)} rows of S2 Table 4, {cfg.n_starts} starts each on the {cfg.paper_mesh[0]}x"
-        f"{cfg.paper_mesh[1]} {cfg.method} mesh; every local optimum followed by warm-started refinement to "
-        f"|dtf|/tf < {cfg.rtol:g}; dynamics readings: {', '.join(READING_NAMES[r] for r in cfg.readings)}. "
+        f"{cfg.paper_mesh[1]} {cfg.method} mesh; every local optimum followed by warm-started error-controlled "
+        f"hp refinement (solve_adaptive) to a relative state error of {cfg.adaptive_tol:g} (at most "
+        f"{cfg.adaptive_max_iterations} solves); dynamics readings: "
+        f"{', '.join(READING_NAMES[r] for r in cfg.readings)}. "
+        f"{n_met} of {n_br} branches met the tolerance (worst achieved error {worst_err:.2g}). "
         f"{n_multi} of {len(results)} rows have more than one converged local optimum ({READING_NAMES[first]}). "
         + " ".join(
             f"s0={r['s0_m']}: 20x3 optima "
             + ", ".join(f"{v:.4f}" for v in r["optima_paper_mesh_s"])
             + " s -> converged "
-            + ", ".join(f"{b['tf_converged_s']:.5f}" for b in r["branches"])
+            + ", ".join(
+                f"{b['tf_converged_s']:.5f}" + ("" if b["tolerance_met"] else f" (error {b['max_error']:.1g}, not met)")
+                for b in r["branches"]
+            )
             + " s;"
             for r in meas[first]["rows"].values()
         )
@@ -867,7 +1015,8 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         "NLP solved by IPOPT (interior point, exact Hessian, MUMPS) through CasADi instead of the paper's SQP; "
         "the transcription is the paper's (eq. 17-34).",
         "The paper reports one solve per row; we run a seeded multistart on the paper mesh and follow every "
-        "local optimum through warm-started mesh refinement (one converged value per local branch).",
+        "local optimum through warm-started error-controlled hp mesh refinement (one converged value per local "
+        "branch, with its error certificate).",
         "Table 3 prints sigma_f = tan(90 deg/2); we use tan(90 deg/4) = 0.4142, the value printed next to it and "
         "the MRP definition of eq. 3.",
         "LVLH rotation omega_LI = [0, -n, 0] (Y = minus orbit normal), n from 580 km altitude with WGS-84 radius "
@@ -935,20 +1084,50 @@ def _table4_figure(m, cfg: Config):
                 color="C2",
                 label="our 20x3 optima" if x == 0 and j == 0 else None,
             )
+            met = b.get("tolerance_met", True)
             ax.plot(
                 x + 0.07,
                 b["tf_converged_s"],
                 "*",
                 ms=9,
                 color="C3",
-                label="same branch, mesh-converged" if x == 0 and j == 0 else None,
+                mfc="C3" if met else "none",
+                label=None,
             )
+    ax.plot([], [], "*", ms=9, color="C3", label="same branch, error-controlled refinement (tol met)")
+    if any(not b.get("tolerance_met", True) for r in rows for b in r["branches"]):
+        ax.plot([], [], "*", ms=9, color="C3", mfc="none", label="same branch, refinement (tol NOT met)")
     ax.set_xticks(range(len(rows)), [str([int(v) for v in r["s0_m"]]) for r in rows], fontsize=8)
     ax.set_xlabel("initial position s0 (m)")
     ax.set_ylabel("tf (s)")
     ax.set_title(f"S2 Table 4: local optima per row ({READING_NAMES[m['reading']]})")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
+    return fig
+
+
+def _refinement_figure(m, cfg: Config):
+    """Error-controlled refinement of every branch: max relative state error vs nodes."""
+    fig, ax = new_figure(figsize=(7.5, 4.4))
+    styles = ("-", "--", ":", "-.")
+    for x, r in enumerate(m["rows"].values()):
+        for j, b in enumerate(r["branches"]):
+            h = b["history"]
+            ax.semilogy(
+                [q["n_nodes"] for q in h],
+                [q["max_error"] for q in h],
+                styles[j % len(styles)],
+                marker="os^D"[j % 4],
+                ms=4,
+                color=f"C{x}",
+                label=f"s0={[int(v) for v in r['s0_m']]}, branch {j + 1} ({b['tf_converged_s']:.3f} s)",
+            )
+    ax.axhline(cfg.adaptive_tol, color="k", lw=0.8, ls="--", label=f"tolerance {cfg.adaptive_tol:g}")
+    ax.set_xlabel("collocation points (all intervals)")
+    ax.set_ylabel("max relative state error (-)")
+    ax.set_title(f"hp refinement of every branch from its 20x3 optimum ({READING_NAMES[m['reading']]})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6, ncol=2, loc="upper right")
     return fig
 
 
@@ -980,7 +1159,7 @@ def _figures(sol) -> dict:
         ax.legend(fontsize=8)
         figs[name] = fig
 
-    lbl = f" ({sol.mesh.label()} mesh, tf = {sol.tf:.4f} s)"
+    lbl = f" ({_mesh_text(sol.mesh.n_intervals, sum(sol.mesh.nodes))}, tf = {sol.tf:.4f} s)"
     panel("fig03_torques", "Control torques" + lbl, tc, u[:, :3], ["T1", "T2", "T3"], "N m", ".-")
     panel("fig04_forces", "Control forces" + lbl, tc, u[:, 3:], ["F1", "F2", "F3"], "N", ".-")
     panel("fig05_rates", "Angular rate relative to LVLH", t, x[:, :3], ["ω1", "ω2", "ω3"], "rad/s")
@@ -1039,8 +1218,8 @@ STUDY = Study(
     quick={
         "rows_m": ((20.0, 0.0, 0.0), (20.0, 4.0, 4.0)),
         "n_starts": 4,
-        "refine_meshes": ((40, 4),),
-        "rtol": 1e-3,
+        "adaptive_tol": 1e-3,
+        "adaptive_max_iterations": 5,
         "jump_factor": 5.0,
     },
     doc="docs/studies/rendezvous.md",
