@@ -175,3 +175,21 @@ def test_validation_of_new_options():
         ControllerSpec(kind="pwm", allocation="lp-min-fuel")
     with pytest.raises(InputError, match="minmax"):
         Scenario(estimator=EstimatorSpec(kind="minmax"), sensors=SensorSpec(mag_rate_hz=0.0))
+
+
+def test_same_seedsequence_gives_same_samples_on_every_call():
+    # the closed-loop study pairs configurations by passing one SeedSequence to several
+    # simulate() calls; scipy's LatinHypercube spawns from the generator's SeedSequence, so
+    # without the copy in simulate() every call drew other dispersions (found 2026-11-27)
+    sc = Scenario(sim=SimSpec(dt=0.02, t_final=1.0, metrics_from_s=0.5),
+                  dispersions=DispersionSpec(inertia_rel=0.1, thrust_rel=0.05, initial_attitude_deg=0.5))
+    ss = np.random.SeedSequence(2026)
+    a = simulate(sc, 8, rng=ss)
+    b = simulate(sc, 8, rng=ss)
+    assert ss.n_children_spawned == 0
+    for k in a.parameters:
+        np.testing.assert_array_equal(a.parameters[k], b.parameters[k])
+    np.testing.assert_array_equal(a.metrics["rms_error"], b.metrics["rms_error"])
+    # a Generator is consumed: a second call from the same one draws other dispersions
+    g = np.random.default_rng(2026)
+    assert not np.array_equal(simulate(sc, 8, rng=g).parameters["inertia"], simulate(sc, 8, rng=g).parameters["inertia"])

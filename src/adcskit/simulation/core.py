@@ -495,9 +495,12 @@ def simulate(
         The closed loop (see :mod:`adcskit.simulation.scenario`).
     n_samples : int
         Number of samples (dispersed parameters and independent noise per sample).
-    rng : Generator or int, optional
+    rng : int, SeedSequence or Generator, optional
         Randomness of the dispersions and per-sample seeds (``None`` -> seed 0). The same
-        ``rng`` gives bit-identical results on every executor and chunking.
+        ``rng`` gives bit-identical results on every executor and chunking; an int or a
+        SeedSequence gives the same samples on every call (a SeedSequence is copied, not
+        advanced), a Generator is consumed (and so is the SeedSequence inside it: scipy's
+        Latin-hypercube sampler spawns from it).
     executor : spec or Executor, optional
         ``serial`` (default: one process, all cores through numba's ``prange``),
         ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``.
@@ -530,6 +533,11 @@ def simulate(
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     if not isinstance(record, bool):
         raise InputTypeError(f"record must be a bool; got {record!r}")
+    if isinstance(rng, np.random.SeedSequence):
+        # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
+        # SeedSequence, so reusing the caller's object would give every call other dispersions
+        rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
+                                     n_children_spawned=rng.n_children_spawned)
     gen = as_rng(rng)
     t_start = time.perf_counter()
     prep, params = _prepare(scenario, n_samples, gen)
