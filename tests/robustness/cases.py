@@ -1053,6 +1053,6 @@ def _simulate_kw() -> dict[str, Any]:
 
 
 case("simulation.simulate", target=_warmed("simulation.simulate", _simulate_kw), kinds={"scenario": "object", "executor": "skip", "directory": "skip"},
-     nan_ok=("settling_time", "nees"), slow=True)(
+     nan_ok=("settling_time", "nees", "box_active_fraction"), slow=True)(
     _simulate_kw
 )
