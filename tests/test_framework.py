@@ -196,3 +196,27 @@ def test_mark_comparable_rule_for_claims_and_findings():
     assert comparable({"n_seeds": ch}) == {"any": True, "f-any": True, "f-mesh": True}
     assert comparable({"mesh.size": ch}) == {"any": False, "f-any": False, "f-mesh": False}
     assert comparable({"noise": ch}) == {"any": False, "f-any": False, "f-mesh": True}
+
+
+
+@pytest.mark.parametrize("kind", ["claims", "findings", "neither"])
+def test_cli_run_line_tallies_findings_of_a_study_without_claims(kind, monkeypatch, tmp_path):
+    # a study of our own questions (closed-loop) has findings, not paper claims: its `run`
+    # line tallies the findings; a study with claims keeps the claims tally unchanged
+    import argparse
+
+    import adcskit.cli as cli
+    import adcskit.studies._runner as runner
+    from adcskit.studies._base import StudyResult
+    from adcskit.studies._verdict import Claim, Finding
+
+    claims = [Claim(id="c", statement="s", outcome="holds")] if kind == "claims" else []
+    findings = ([Finding(id="f1", statement="a", outcome="holds"), Finding(id="f2", statement="b", outcome="holds"),
+                 Finding(id="f3", statement="c", outcome="does not hold")] if kind != "neither" else [])
+    monkeypatch.setattr(runner, "run_study", lambda *a, **k: StudyResult(study="x", claims=claims, findings=findings))
+    ok, line = cli._run_one("x", argparse.Namespace(quick=True, seed=0, out=str(tmp_path)), None)
+    assert ok
+    expected = {"claims": "paper's claims: 1 holds ->",
+                "findings": "paper's claims: none; findings: 2 holds, 1 does not hold ->",
+                "neither": "paper's claims: no claims ->"}[kind]
+    assert expected in line, line

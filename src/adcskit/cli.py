@@ -123,7 +123,12 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
     from adcskit.studies._verdict import tally
 
     counts = tally(c.display_outcome for c in result.all_claims())
-    verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n) or "no claims"
+    verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n)
+    if not verdicts and result.findings:
+        # a study of our own questions (e.g. closed-loop): tally its findings instead
+        found = tally(f.display_outcome for f in result.findings)
+        verdicts = "none; findings: " + ", ".join(f"{n} {o}" for o, n in found.items() if n)
+    verdicts = verdicts or "no claims"
     return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, paper's claims: {verdicts} -> {Path(args.out) / name}"
 
 

@@ -254,7 +254,7 @@ def test_validation_errors():
     with pytest.raises(InputError, match="failed"):
         ThrusterSpec(positions=((1, 0, 0),), directions=((0, 1, 0),), failed=(3,))
     with pytest.raises(InputError, match="allocation"):
-        ControllerSpec(kind="pwm", allocation="nnls")
+        ControllerSpec(kind="pwm", allocation="lp-min-fuel")
     with pytest.raises(InputError, match="wahba"):
         Scenario(estimator=EstimatorSpec(kind="wahba"), sensors=SensorSpec(sun_rate_hz=0.0))
     with pytest.raises(InputError, match="table_t"):

@@ -20,13 +20,19 @@ def quick(tmp_path_factory):
 def test_every_finding_decided_on_two_seeds(quick):
     _, d = quick
     ids = {f["id"] for f in d["findings"]}
-    assert ids == {"q1-layout-propellant", "q2-mekf-vs-qmethod", "q3-robust-gains-spread",
+    assert ids == {"q1-layout-propellant", "q2-mekf-vs-qmethod", "q2-minmax-vs-qmethod", "q3-robust-gains-spread",
                    "q4-optimal-slew-settling", "q4-optimal-slew-propellant"}
     for f in d["findings"]:
         assert f["outcome"] in (*OUTCOMES, "not comparable"), f
         assert f["n_seeds"] == 2
     q1 = next(f for f in d["findings"] if f["id"] == "q1-layout-propellant")
     assert len(q1["readings"]) == 4  # two allocations x (all thrusters, one failed)
+    q2m = next(f for f in d["findings"] if f["id"] == "q2-minmax-vs-qmethod")
+    assert len(q2m["readings"]) == 3  # bounded / Gaussian errors, bounded with equal weights
+    # the min-max box statistic is measured for every reading and is a fraction
+    for key, v in d["measured"].items():
+        if key.startswith("q2_minmax_box_active_fraction"):
+            assert 0.0 <= v <= 1.0
 
 
 def test_stable_outcomes(quick):

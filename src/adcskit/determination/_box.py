@@ -1,6 +1,8 @@
-"""Compiled solver of ``max qᵀ K q`` on the unit sphere inside a box (min-max stage 2).
+"""Compiled solver of ``max qᵀ K q`` on the unit sphere inside a box (min-max stage 2), and
+the whole compiled min-max interval determination of one epoch (:func:`minmax_one`).
 
-Private helper of :mod:`adcskit.determination.robust`. By the KKT conditions an optimum has
+Private helper of :mod:`adcskit.determination.robust` and of the closed-loop kernel
+(:mod:`adcskit.simulation._kernels`). By the KKT conditions an optimum has
 a set C of components at a bound and the free rest F satisfying ``(μ I − K_FF) q_F = K_FC q_C``
 with ``|q_F|² = 1 − |q_C|²``. For every one of the 3⁴ = 81 active-set patterns we solve this
 trust-region-type secular equation for its global root ``μ > λ_max(K_FF)`` (Moré & Sorensen
@@ -14,6 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from adcskit.determination._kernels import NOT_CONVERGED, OK, QMETHOD, TRIAD, _solve_one
 
 
 @njit(cache=True, error_model="numpy")
@@ -134,3 +138,60 @@ def box_sphere_max(K, lb, ub, qbest):
             q[F[a]] = x[a]
         best = _consider(K, q, lb, ub, best, qbest)
     return best
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp, qt, lb, ub, qb):
+    """S0's min-max interval solution of problem ``i`` (compiled; no Python objects).
+
+    The same two stages as ``robust_wahba(method="minmax", solver="closed-form")``: the
+    q-method of the interval midpoints ``VB[i]``/``VR[i]`` (weights ``WW[i]``, normalised to
+    sum 1) is the global optimum when it lies in the box ``q_T ± search_range·|q_T|`` around
+    the TRIAD quaternion ``q_T`` of the same midpoints (S0 §4-1); otherwise the box is active
+    and :func:`box_sphere_max` maximises ``qᵀ K^m q`` on the sphere inside it exactly. The
+    interval radii do not enter: ``α = β = 0`` is feasible and gives ``ΔL = 0`` (S0 eq. 7;
+    see :mod:`adcskit.determination.robust`).
+
+    Writes the canonical quaternion (``q4 >= 0``) to ``WQ[i]``. ``qt``, ``lb``, ``ub``,
+    ``qb`` (4,) are scratch; the rest are :func:`_solve_one`'s arguments. Returns
+    ``(status, box_active)``: status 0 on success, else a Wahba status code
+    (:data:`adcskit.determination.wahba.STATUS_MESSAGES`) or ``NOT_CONVERGED`` when no point
+    of the sphere inside the box was found.
+    """
+    st = _solve_one(VB, VR, WW, i, i, TRIAD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    if st != OK:
+        return st, False
+    for a in range(4):
+        qt[a] = WQ[i, a]
+    # q-method of the same midpoints; leaves K = K^m (normalised weights) in K
+    st = _solve_one(VB, VR, WW, i, i, QMETHOD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    if st != OK:
+        return st, False
+    dot = 0.0
+    for a in range(4):
+        dot += WQ[i, a] * qt[a]
+    sgn = -1.0 if dot < 0.0 else 1.0  # the box is around the TRIAD sign
+    inside = True
+    for a in range(4):
+        half = search_range * abs(qt[a])
+        lb[a] = qt[a] - half
+        ub[a] = qt[a] + half
+        v = sgn * WQ[i, a]
+        if v < lb[a] - 1e-15 or v > ub[a] + 1e-15:
+            inside = False
+    if inside:
+        return OK, False
+    val = box_sphere_max(K, lb, ub, qb)
+    if not np.isfinite(val):
+        for a in range(4):
+            WQ[i, a] = np.nan
+        return NOT_CONVERGED, True
+    nrm = 0.0
+    for a in range(4):
+        nrm += qb[a] * qb[a]
+    nrm = np.sqrt(nrm)
+    if qb[3] < 0.0:
+        nrm = -nrm
+    for a in range(4):
+        WQ[i, a] = qb[a] / nrm
+    return OK, True

@@ -36,6 +36,7 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
+from adcskit.determination._box import minmax_one
 from adcskit.determination._kernels import _solve_one
 from adcskit.estimation import _mekf_kernels as _mk
 
@@ -68,11 +69,13 @@ def wahba_one(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
     U_ON, U_OFF, T_S, T_MIN, PULSE_ROUND,
     KP0, KP1, KP2, KI0, KI1, KI2, KD0, KD1, KD2, TL0, TL1, TL2,
     K_WIN, SETTLE_BAND, REC_EVERY, K_NEES, BUF_MASK, W_SUN, W_MAG, RPI_EPS,
-) = range(51)
-N_COEFS = 51
+    ALLOC_MODE, SEARCH_RANGE,
+) = range(53)
+N_COEFS = 53
 
-EST_TRUTH, EST_WAHBA, EST_MEKF = 0, 1, 2
+EST_TRUTH, EST_WAHBA, EST_MEKF, EST_MINMAX = 0, 1, 2, 3
 CTRL_SCHMITT, CTRL_PWM, CTRL_OPEN = 0, 1, 2
+ALLOC_RPI, ALLOC_BVLS = 0, 1
 
 # ----------------------------------------------------------------- per-sample parameters P
 # J (9, row-major), Jinv (9), q0 (4), w0 (3), delay, d0 (3), damp (3), dphase (3),
@@ -83,12 +86,12 @@ N_PARAMS = 44
 
 # ----------------------------------------------------------------- metrics
 (M_MEAN_ERR, M_RMS_ERR, M_MAX_ERR, M_RMS_X, M_RMS_Y, M_RMS_Z, M_SETTLE, M_FINAL_ERR, M_PROP,
- M_FIRINGS, M_ONTIME, M_KNOW_RMS, M_NEES, M_NEES_N, M_MAX_RATE) = range(15)
-N_METRICS = 15
+ M_FIRINGS, M_ONTIME, M_KNOW_RMS, M_NEES, M_NEES_N, M_MAX_RATE, M_BOX_ACTIVE) = range(16)
+N_METRICS = 16
 METRIC_NAMES = (
     "mean_error", "rms_error", "max_error", "rms_error_x", "rms_error_y", "rms_error_z",
     "settling_time", "final_error", "propellant", "firings", "on_time", "knowledge_rms",
-    "nees_mean", "nees_count", "max_rate",
+    "nees_mean", "nees_count", "max_rate", "box_active_fraction",
 )
 
 # ----------------------------------------------------------------- trace channels
@@ -96,9 +99,9 @@ METRIC_NAMES = (
 N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 
 # ----------------------------------------------------------------- per-sample scratch TS
-# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3)
+# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3), idx (3)
 N_TS_PER_THR = 6
-N_TS_EXTRA = 15
+N_TS_EXTRA = 18
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 _MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -288,6 +291,185 @@ def rpi_allocate(A, m0, m1, m2, fmax, mask, F, free, S, r, y, eps):
 
 
 @register_jitable
+def _free_lsq(A, F, state, fmax, m0, m1, m2, idx, nfree, G, rhs, y, eps):
+    """Least-squares values ``y[:nfree]`` of the free thrusters ``idx[:nfree]`` (<= 3) for the
+    torque left by the bound ones: ``min |A_F y - (m - A_B F_B)|`` through the normal
+    equations ``(A_Fᵀ A_F + eps tr I) y = A_Fᵀ r`` (Cholesky, at most 3x3)."""
+    n = F.shape[0]
+    r0 = m0
+    r1 = m1
+    r2 = m2
+    for j in range(n):
+        if state[j] != 2.0:
+            f = F[j]
+            r0 -= A[0, j] * f
+            r1 -= A[1, j] * f
+            r2 -= A[2, j] * f
+    tr = 0.0
+    for a in range(nfree):
+        ja = int(idx[a])
+        rhs[a] = A[0, ja] * r0 + A[1, ja] * r1 + A[2, ja] * r2
+        for c in range(nfree):
+            jc = int(idx[c])
+            G[3 * a + c] = A[0, ja] * A[0, jc] + A[1, ja] * A[1, jc] + A[2, ja] * A[2, jc]
+        tr += G[4 * a]
+    reg = eps * tr + 1e-300
+    # in-place Cholesky G = L Lᵀ (lower triangle), then two triangular solves into y
+    for a in range(nfree):
+        d = G[4 * a] + reg
+        for c in range(a):
+            d -= G[3 * a + c] * G[3 * a + c]
+        d = math.sqrt(max(d, reg))
+        G[4 * a] = d
+        for e in range(a + 1, nfree):
+            v = G[3 * e + a]
+            for c in range(a):
+                v -= G[3 * e + c] * G[3 * a + c]
+            G[3 * e + a] = v / d
+    for a in range(nfree):
+        v = rhs[a]
+        for c in range(a):
+            v -= G[3 * a + c] * y[c]
+        y[a] = v / G[4 * a]
+    for a in range(nfree - 1, -1, -1):
+        v = y[a]
+        for c in range(a + 1, nfree):
+            v -= G[3 * c + a] * y[c]
+        y[a] = v / G[4 * a]
+
+
+@register_jitable
+def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
+    """Exact bounded least-squares allocation ``min |A F - m|, 0 <= F <= fmax`` (NNLS with
+    upper bounds), no allocation: the active-set method of Lawson & Hanson (1974, ch. 23)
+    extended to two-sided bounds as in Stark & Parker's BVLS (1995).
+
+    Hand-written because it must run inside the numba closed-loop kernel once per command
+    period and per sample (scipy's ``lsq_linear(method="bvls")``, which
+    :func:`adcskit.thrusters.allocate` uses for ``"nnls"``, cannot be called from compiled
+    code). The produced torque ``A F`` is the unique projection of ``m`` onto the attainable
+    set, so it agrees with the library's; the forces themselves are not unique when the
+    layout is redundant.
+
+    Starts with every thruster at its lower bound; each outer step frees the bound thruster
+    whose gradient ``a_jᵀ (m - A F)`` most violates the KKT conditions, then the inner loop
+    solves the free set's least-squares problem (:func:`_free_lsq`), steps back to the
+    feasible box where it leaves it and re-binds the thrusters that hit a bound. With three
+    torque components at most three thrusters are free (the residual vanishes with three
+    independent free columns). ``state`` (n,): 0 at 0, 1 at ``fmax``, 2 free, 3/4 at 0/``fmax``
+    but excluded for this step (its free solution moved it out of the box: Lawson & Hanson's
+    guard against cycling), -1 failed (``mask == 0``, stays at 0). ``G`` (9), ``rhs``, ``y``,
+    ``idx`` (3): scratch. Returns the number of outer iterations.
+
+    References
+    ----------
+    Lawson C. L., Hanson R. J., *Solving Least Squares Problems*, Prentice-Hall 1974, ch. 23;
+    Stark P. B., Parker R. L., "Bounded-variable least-squares: an algorithm and
+    applications", Computational Statistics 10, 129-141, 1995. S3 eq. 13 (bounds).
+    """
+    n = F.shape[0]
+    amax = 0.0
+    fsum = 0.0
+    for j in range(n):
+        F[j] = 0.0
+        state[j] = 0.0 if mask[j] > 0.0 else -1.0
+        for a in range(3):
+            amax = max(amax, abs(A[a, j]))
+        if mask[j] > 0.0:
+            fsum += fmax[j]
+    mn = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    tol = 1e-11 * amax * (mn + amax * fsum) + 1e-300
+    nfree = 0
+    nit = 0
+    for _ in range(3 * n + 10):
+        nit += 1
+        r0 = m0
+        r1 = m1
+        r2 = m2
+        for j in range(n):
+            f = F[j]
+            r0 -= A[0, j] * f
+            r1 -= A[1, j] * f
+            r2 -= A[2, j] * f
+        best = tol
+        js = -1
+        for j in range(n):
+            st = state[j]
+            if st == 0.0 or st == 1.0:
+                w = A[0, j] * r0 + A[1, j] * r1 + A[2, j] * r2
+                v = w if st == 0.0 else -w
+                if v > best:
+                    best = v
+                    js = j
+        if js < 0 or nfree >= 3:
+            break
+        prev = state[js]
+        state[js] = 2.0
+        idx[nfree] = js
+        nfree += 1
+        first = True
+        for _ in range(n + 4):
+            _free_lsq(A, F, state, fmax, m0, m1, m2, idx, nfree, G, rhs, y, eps)
+            if first:
+                first = False
+                zs = y[nfree - 1]
+                if (prev == 0.0 and zs <= 0.0) or (prev == 1.0 and zs >= fmax[js]):
+                    nfree -= 1
+                    state[js] = prev + 3.0
+                    break
+            ok = True
+            for a in range(nfree):
+                ja = int(idx[a])
+                if y[a] < 0.0 or y[a] > fmax[ja]:
+                    ok = False
+            if ok:
+                for a in range(nfree):
+                    F[int(idx[a])] = y[a]
+                for j in range(n):  # progress made: the excluded thrusters may re-enter
+                    if state[j] >= 3.0:
+                        state[j] -= 3.0
+                break
+            # step from the feasible F_F towards y up to the first bound
+            alpha = 1.0
+            for a in range(nfree):
+                ja = int(idx[a])
+                f = F[ja]
+                if y[a] < 0.0:
+                    t = f / (f - y[a])
+                    if t < alpha:
+                        alpha = t
+                elif y[a] > fmax[ja]:
+                    t = (fmax[ja] - f) / (y[a] - f)
+                    if t < alpha:
+                        alpha = t
+            k = 0
+            for a in range(nfree):
+                ja = int(idx[a])
+                f = F[ja] + alpha * (y[a] - F[ja])
+                if f <= 1e-14 * fmax[ja]:
+                    F[ja] = 0.0
+                    state[ja] = 0.0
+                elif f >= fmax[ja] * (1.0 - 1e-14):
+                    F[ja] = fmax[ja]
+                    state[ja] = 1.0
+                else:
+                    F[ja] = f
+                    idx[k] = ja
+                    k += 1
+            nfree = k
+            if nfree == 0:
+                break
+    for j in range(n):
+        if mask[j] <= 0.0:
+            F[j] = 0.0
+        elif F[j] < 0.0:
+            F[j] = 0.0
+        elif F[j] > fmax[j]:
+            F[j] = fmax[j]
+    return nit
+
+
+@register_jitable
 def _schmitt(s, u, u_on, u_off):
     """Three-level Schmitt trigger with memory (S4 Fig. 1)."""
     if s == 0.0:
@@ -311,7 +493,7 @@ def _schmitt(s, u, u_on, u_off):
 
 def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                 FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
-                SQ, SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT):
+                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
     """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
 
     See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
@@ -357,6 +539,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     k_nees = int(C[K_NEES])
     bmask = int(C[BUF_MASK])
     eps = C[RPI_EPS]
+    alloc_mode = int(C[ALLOC_MODE])
+    search_range = C[SEARCH_RANGE]
     dt_g = h_gyro * dt
     record = REC.shape[0] > 0
     J = P[i, P_J:P_J + 9]
@@ -375,7 +559,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     Ssc = ts[so:so + 9]
     rsc = ts[so + 9:so + 12]
     ysc = ts[so + 12:so + 15]
-    for j in range(6 * n + 15):
+    isc = ts[so + 15:so + 18]
+    for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
     for a in range(buf.shape[0]):
         for j in range(n):
@@ -447,6 +632,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     nees_n = 0
     nees_last = math.nan
     wmax = 0.0
+    n_det = 0
+    n_box = 0
     qf0 = QREF[n_steps, 0]
     qf1 = QREF[n_steps, 1]
     qf2 = QREF[n_steps, 2]
@@ -558,6 +745,17 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 if st == 0:
                     for a in range(4):
                         qe[a] = WQ[i, a]
+            elif est_mode == EST_MINMAX and nobs == 2:
+                st, active = minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, SB[i], SR[i],
+                                        SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
+                                        SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12],
+                                        RS[i, 12:16])
+                n_det += 1
+                if active:
+                    n_box += 1
+                if st == 0:
+                    for a in range(4):
+                        qe[a] = WQ[i, a]
             if est_mode == EST_MEKF:
                 we0 = gy[0] - be[0]
                 we1 = gy[1] - be[1]
@@ -605,6 +803,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 row = k // h_ctrl
                 for j in range(n):
                     F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
+            elif alloc_mode == ALLOC_BVLS:
+                bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                              Ssc, rsc, ysc, isc, eps)
             else:
                 rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
                              Ssc, rsc, ysc, eps)
@@ -729,6 +930,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
     OUT[i, M_NEES_N] = nees_n
     OUT[i, M_MAX_RATE] = wmax
+    OUT[i, M_BOX_ACTIVE] = n_box / n_det if n_det > 0 else math.nan
 
 
 @register_jitable
@@ -764,13 +966,14 @@ sample_loop_jit = njit(cache=True, nogil=True)(sample_loop)
 @njit(parallel=True, cache=True, nogil=True)
 def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
                  AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
-                 SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT):
+                 SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
     """CPU driver: every sample in parallel (``prange``), each through :func:`sample_loop`."""
     for i in prange(P.shape[0]):
         sample_loop_jit(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                     FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
-                    SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, OUT, REC, TOT)
+                    SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT)
 
 
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
+bvls_allocate_jit = njit(cache=True, nogil=True)(bvls_allocate)
 rk4_step_jit = njit(cache=True, nogil=True)(rk4_step)

@@ -78,7 +78,9 @@ class SimulationResult:
         by the end; 0 = never outside the band), ``final_error`` (rad), ``propellant`` (kg),
         ``firings`` (pulses), ``on_time`` (s, commanded, all thrusters), ``knowledge_rms``
         (rad), ``nees_mean`` (MEKF NEES averaged over its epochs; NaN without MEKF),
-        ``nees_count``, ``max_rate`` (rad/s).
+        ``nees_count``, ``max_rate`` (rad/s), ``box_active_fraction`` (``minmax``
+        estimator: fraction of its determination epochs at which the search box was active,
+        i.e. the answer differs from the q-method of the same midpoints; NaN otherwise).
     on_time_per_thruster : ndarray (N, n), s
         Commanded on-time of each thruster.
     t : ndarray (R,) or None, s
@@ -404,11 +406,16 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     uni = sc.sensors.noise == "uniform"
     C[_k.NOISE_UNIFORM] = 1.0 if uni else 0.0
     fil = 1.0 / math.sqrt(3.0) if uni else 1.0
-    C[_k.W_SUN] = 1.0 / max(s_sun * fil, 1e-12) ** 2
-    C[_k.W_MAG] = 1.0 / max(s_mag * fil, 1e-12) ** 2
+    if sc.estimator.weights == "equal":
+        C[_k.W_SUN] = C[_k.W_MAG] = 1.0
+    else:
+        C[_k.W_SUN] = 1.0 / max(s_sun * fil, 1e-12) ** 2
+        C[_k.W_MAG] = 1.0 / max(s_mag * fil, 1e-12) ** 2
     C[_k.SIG_V] = sc.sensors.gyro_arw
     C[_k.SIG_U] = sc.sensors.gyro_rrw
-    C[_k.EST_MODE] = {"truth": _k.EST_TRUTH, "wahba": _k.EST_WAHBA, "mekf": _k.EST_MEKF}[sc.estimator.kind]
+    C[_k.EST_MODE] = {"truth": _k.EST_TRUTH, "wahba": _k.EST_WAHBA, "minmax": _k.EST_MINMAX,
+                      "mekf": _k.EST_MEKF}[sc.estimator.kind]
+    C[_k.SEARCH_RANGE] = sc.estimator.search_range
     C[_k.WAHBA_METHOD] = WAHBA_CODES[sc.estimator.wahba_method]
     c = sc.controller
     C[_k.CTRL_MODE] = {"schmitt": _k.CTRL_SCHMITT, "pwm": _k.CTRL_PWM, "open-loop": _k.CTRL_OPEN}[c.kind]
@@ -429,6 +436,7 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     buf_len = 1 << max(2, int(math.ceil(math.log2(max_delay / dt + 3))))
     C[_k.BUF_MASK] = buf_len - 1
     C[_k.RPI_EPS] = 1e-12
+    C[_k.ALLOC_MODE] = _k.ALLOC_BVLS if (c.kind == "pwm" and c.allocation == "nnls") else _k.ALLOC_RPI
     shared = dict(C=C, POS=np.ascontiguousarray(pos), MDOT=np.full(nt, th.mdot), FAILED=failed,
                   ENV=env, QREF=np.ascontiguousarray(qref), WREF=np.ascontiguousarray(wref),
                   ATAB=atab, ANOM=A_nom, FNOM=np.full(nt, th.f_max), AMASK=amask, buf_len=buf_len,
@@ -463,7 +471,7 @@ def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bo
         e((n, 4)), e((n, 3)), e((n, 6, 6)), e((n, 48)), e((n, 12)), e((n, 3)),
         np.zeros((n, 2, 3)), np.zeros((n, 2, 3)), np.ones((n, 2)), e((n, 4)), e((n, 3)), e((1, 0, 0)),
         e((n, 2, 3)), e((n, 2, 3)), e((n, 4)), e((n, 3, 3)), e((n, 3, 3)), e((n, 4, 4)), e((n, 3, 3)),
-        e((n, 3, 3)), e((n, 8)), OUT, REC, TOT,
+        e((n, 3, 3)), e((n, 8)), e((n, 16)), OUT, REC, TOT,
     )
     wall = time.perf_counter() - t0
     return {"out": OUT, "tot": TOT, "rec": REC if record else None, "wall": wall}
@@ -487,9 +495,12 @@ def simulate(
         The closed loop (see :mod:`adcskit.simulation.scenario`).
     n_samples : int
         Number of samples (dispersed parameters and independent noise per sample).
-    rng : Generator or int, optional
+    rng : int, SeedSequence or Generator, optional
         Randomness of the dispersions and per-sample seeds (``None`` -> seed 0). The same
-        ``rng`` gives bit-identical results on every executor and chunking.
+        ``rng`` gives bit-identical results on every executor and chunking; an int or a
+        SeedSequence gives the same samples on every call (a SeedSequence is copied, not
+        advanced), a Generator is consumed (and so is the SeedSequence inside it: scipy's
+        Latin-hypercube sampler spawns from it).
     executor : spec or Executor, optional
         ``serial`` (default: one process, all cores through numba's ``prange``),
         ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``.
@@ -522,6 +533,11 @@ def simulate(
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     if not isinstance(record, bool):
         raise InputTypeError(f"record must be a bool; got {record!r}")
+    if isinstance(rng, np.random.SeedSequence):
+        # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
+        # SeedSequence, so reusing the caller's object would give every call other dispersions
+        rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
+                                     n_children_spawned=rng.n_children_spawned)
     gen = as_rng(rng)
     t_start = time.perf_counter()
     prep, params = _prepare(scenario, n_samples, gen)

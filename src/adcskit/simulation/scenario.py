@@ -363,14 +363,31 @@ class EstimatorSpec(_Spec):
 
     Attributes
     ----------
-    kind : {"truth", "wahba", "mekf"}
+    kind : {"truth", "wahba", "minmax", "mekf"}
         ``truth``: the true attitude and rate (ideal knowledge); ``wahba``: a point solution
         of Wahba's problem from the sun sensor and magnetometer at every epoch with both
-        (``wahba_method``), propagated with the raw gyro in between; ``mekf``: the
+        (``wahba_method``), propagated with the raw gyro in between; ``minmax``: S0's robust
+        interval determination at those epochs (min-max goal attainment, eqs. 3-8, the
+        ``closed-form`` solver of :func:`adcskit.determination.robust_wahba`, compiled:
+        the q-method of the interval midpoints restricted to the box
+        ``q_TRIAD ± search_range |q_TRIAD|``), propagated like ``wahba``; ``mekf``: the
         multiplicative EKF with gyro-bias estimation (Lefferts, Markley & Shuster 1982).
+        The intervals are the sensors' bounded-error boxes (the measured vector ± the error
+        bound per component, reference vectors exact); min-max does not depend on their
+        radii (``α = β = 0`` is feasible with ``ΔL = 0``), so they need not be passed.
+        The worst-case formulation (Ahmed & Kerrigan 2011) is not available in the loop
+        (a nonsmooth min-max over the box vertices solved by SLSQP, not compiled).
     wahba_method : str
-        A compiled :func:`adcskit.determination.solve_wahba` method (``q-method``, ``quest``,
-        ``esoq2``, ``svd``, ``foam``, ``triad``, ``two-vector``).
+        ``wahba``: a compiled :func:`adcskit.determination.solve_wahba` method
+        (``q-method``, ``quest``, ``esoq2``, ``svd``, ``foam``, ``flae``, ``triad``,
+        ``two-vector``).
+    search_range : float
+        ``minmax``: half-width of the search box relative to each TRIAD component (S0 §4-1:
+        0.1).
+    weights : {"inverse-variance", "equal"}
+        ``wahba`` and ``minmax``: Wahba weights of the sun sensor and magnetometer,
+        ``1/σ²`` of each sensor's error (σ = bound/√3 for bounded errors) or equal (S0
+        prints only ``Σ a_i = 1``).
     init_error_deg : float
         Std of the initial knowledge error per axis (also the MEKF's initial sigma).
 
@@ -379,17 +396,30 @@ class EstimatorSpec(_Spec):
     >>> from adcskit.simulation import EstimatorSpec
     >>> EstimatorSpec(kind="wahba", wahba_method="q-method").kind
     'wahba'
+    >>> EstimatorSpec(kind="minmax", search_range=0.1, weights="equal").search_range   # S0 §4-1
+    0.1
     """
 
-    kind: Literal["truth", "wahba", "mekf"] = "mekf"
+    kind: Literal["truth", "wahba", "minmax", "mekf"] = "mekf"
     wahba_method: str = "q-method"
+    search_range: float = 0.1
+    weights: Literal["inverse-variance", "equal"] = "inverse-variance"
     init_error_deg: float = 1.0
 
     def __post_init__(self) -> None:
-        check_choice("kind", self.kind, ("truth", "wahba", "mekf"))
+        if self.kind == "worst-case":
+            raise InputError(
+                "kind='worst-case' is not available inside the closed loop: the worst-case "
+                "(Ahmed & Kerrigan) solution is a nonsmooth optimisation over the interval box "
+                "vertices solved by SLSQP, not a compiled kernel; use kind='minmax', or "
+                "adcskit.determination.robust_wahba(method='worst-case') epoch by epoch"
+            )
+        check_choice("kind", self.kind, ("truth", "wahba", "minmax", "mekf"))
         from adcskit.simulation.core import WAHBA_CODES
 
         check_choice("wahba_method", self.wahba_method, WAHBA_CODES)
+        check_positive("search_range", self.search_range)
+        check_choice("weights", self.weights, ("inverse-variance", "equal"))
         _nonneg("init_error_deg", self.init_error_deg, "deg")
 
 
@@ -462,8 +492,11 @@ class ControllerSpec(_Spec):
 
     ``schmitt`` demands take only 27 values, so they are allocated once, outside the kernel,
     by any :data:`adcskit.thrusters.ALLOCATION_METHODS` entry (``pinv-redistribute``,
-    ``nnls``, ``lp-min-fuel``); ``pwm`` demands are allocated inside the kernel by the
-    redistributed pseudo-inverse (``pinv-redistribute`` only).
+    ``nnls``, ``lp-min-fuel``); ``pwm`` demands are allocated inside the kernel at every
+    command period, by the redistributed pseudo-inverse (``pinv-redistribute``) or by the
+    exact bounded least squares (``nnls``: a compiled Lawson-Hanson / BVLS active set whose
+    torque equals :func:`adcskit.thrusters.allocate`'s ``nnls``); ``lp-min-fuel`` is not
+    compiled and serves ``schmitt`` only.
 
     Examples
     --------
@@ -471,6 +504,8 @@ class ControllerSpec(_Spec):
     >>> c = ControllerSpec(kind="pwm", period_s=0.2)      # continuous PID + pulse-width modulation
     >>> c.kind, c.allocation
     ('pwm', 'pinv-redistribute')
+    >>> ControllerSpec(kind="pwm", allocation="nnls").allocation   # exact allocation in the kernel
+    'nnls'
     """
 
     kind: Literal["schmitt", "pwm", "open-loop"] = "schmitt"
@@ -503,10 +538,10 @@ class ControllerSpec(_Spec):
         from adcskit.thrusters import ALLOCATION_METHODS
 
         check_choice("allocation", self.allocation, ALLOCATION_METHODS)
-        if self.kind == "pwm" and self.allocation != "pinv-redistribute":
+        if self.kind == "pwm" and self.allocation not in ("pinv-redistribute", "nnls"):
             raise InputError(
-                "allocation must be 'pinv-redistribute' with kind='pwm' (continuous demands are "
-                f"allocated inside the kernel); got {self.allocation!r}"
+                "allocation must be 'pinv-redistribute' or 'nnls' with kind='pwm' (continuous "
+                f"demands are allocated inside the compiled kernel); got {self.allocation!r}"
             )
         check_choice("min_on_time", self.min_on_time, ("drop", "round"))
 
@@ -675,8 +710,10 @@ class Scenario(_Spec):
                 if m < 1.0 - 1e-9 or abs(m - round(m)) > 1e-6 * m:
                     raise InputError(f"1 / sensors.{name} must be a whole multiple (>= 1) of the gyro period "
                                      f"{g:g} s; got {p:g} s")
-        if self.estimator.kind == "wahba" and (self.sensors.sun_rate_hz <= 0 or self.sensors.mag_rate_hz <= 0):
-            raise InputError("estimator.kind='wahba' needs both the sun sensor and the magnetometer (rates > 0)")
+        if self.estimator.kind in ("wahba", "minmax") and (self.sensors.sun_rate_hz <= 0
+                                                            or self.sensors.mag_rate_hz <= 0):
+            raise InputError(f"estimator.kind={self.estimator.kind!r} needs both the sun sensor and the "
+                             "magnetometer (rates > 0)")
         if self.estimator.kind == "mekf" and max(self.sensors.sun_rate_hz, self.sensors.mag_rate_hz,
                                                  self.sensors.star_tracker_rate_hz) <= 0:
             raise InputError("estimator.kind='mekf' needs at least one attitude sensor (a rate > 0)")
