@@ -220,3 +220,15 @@ def test_cli_run_line_tallies_findings_of_a_study_without_claims(kind, monkeypat
                 "findings": "paper's claims: none; findings: 2 holds, 1 does not hold ->",
                 "neither": "paper's claims: no claims ->"}[kind]
     assert expected in line, line
+
+
+def test_execution_only_keys_are_neutral_in_the_studies_that_have_them():
+    # changing only how a campaign runs (task size, cache directory, backend, recorded traces)
+    # must not label the paper's claims or our findings "not comparable"
+    from adcskit.studies import get_study
+
+    assert {"task_size", "campaign_dir", "backend", "n_seeds"} <= set(get_study("onoff-tuning").neutral_keys)
+    assert {"record_samples", "n_seeds"} <= set(get_study("closed-loop").neutral_keys)
+    for name in ("onoff-tuning", "closed-loop"):
+        fields = set(get_study(name).config_cls.__dataclass_fields__)
+        assert set(get_study(name).neutral_keys) <= fields, name

@@ -152,3 +152,12 @@ def test_tune_robust_prints_estimate_and_reports_backend(capsys):
 def test_evaluate_gains_backend_is_validated():
     with pytest.raises(InputError, match="backend"):
         evaluate_gains([1.0, 0.0, 1.0], settings=TINY, backend="numpy")
+
+
+def test_task_size_leaves_the_campaign_unchanged():
+    # onoff-tuning lists task_size as a neutral (execution-only) config key: the samples are
+    # drawn once and tasks carry index ranges, so the split must not change any number
+    kw = dict(settings=LoopSettings(t_final=3.0, t_window=1.0), rng=5)
+    a = monte_carlo(GAINS, TABLE5, 60, task_size=7, **kw).metrics.as_array()
+    b = monte_carlo(GAINS, TABLE5, 60, task_size=60, **kw).metrics.as_array()
+    np.testing.assert_array_equal(a, b)
