@@ -254,3 +254,31 @@ def test_solve_adaptive_with_mesh_reduction_reaches_the_optimum_on_fewer_points(
     assert abs(red.objective - 4.0) / 4.0 < 1e-5
     # measured: 26 vs 60 collocation points (the unconstrained arcs are cubic)
     assert red.certificate.n_collocation < plain.certificate.n_collocation
+
+
+@pytest.mark.parametrize("method", ["radau", "gauss"])
+def test_a_switch_beside_a_mesh_point_moves_the_mesh_point_onto_it(method):
+    # minimum-time double integrator (Bryson & Ho §7.3): tf = 2, one switch at tf/2 = 1 s.
+    # A mesh point at 0.495 tf lies just before it: the switch shows only in the first
+    # collocation value of the second interval (off the bound, the jump to the next value
+    # below jump_threshold); the interval's quadrature-mean control puts the switch at
+    # ~1% of it, beside the mesh point, which is moved there instead of splitting
+    p = double_integrator_min_time()
+    sol = solve(p, method=method, mesh=Mesh(nodes=(4, 4), fractions=(0.495, 0.505)))
+    kw = dict(tol=1e-6, pieces=sol.pieces, control_lower=p.control_lower, control_upper=p.control_upper)
+    new, act = refine_mesh(sol.mesh, estimate_error(sol), **kw)
+    assert act == ("keep", "snap") and new.nodes == (4, 4)
+    # on the current solution's switch tf/2: the mean estimate is exact for a control entering
+    # linearly (agreement to the NLP tolerance, 1e-8 relative)
+    assert abs(new.breaks[1] - 0.5) < 1e-6
+    # re-solved on the moved mesh point: tf and the switch are exact to the NLP tolerance
+    # (each arc's state is quadratic, represented exactly by 4 points)
+    s2 = solve(p, method=method, mesh=new, guess=sol)
+    assert abs(s2.tf - 2.0) < 1e-6 and abs(new.breaks[1] * s2.tf - 1.0) < 1e-6
+    assert np.max(estimate_error(s2)) < 1e-6
+    # snap=0: the old rule, the interval is split into equal parts with the switch still
+    # beside the mesh point
+    new0, act0 = refine_mesh(sol.mesh, estimate_error(sol), snap=0.0, **kw)
+    assert act0 == ("keep", "h") and abs(new0.breaks[1] - 0.495) < 1e-12
+    with pytest.raises(InputError):
+        refine_mesh(sol.mesh, estimate_error(sol), snap=0.5, **kw)

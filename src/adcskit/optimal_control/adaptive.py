@@ -65,6 +65,7 @@ from adcskit._validation import (
     check_flag,
     check_int,
     check_positive,
+    check_range,
 )
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix, legendre_gauss_radau
@@ -212,7 +213,9 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
 
     A jump is a change between consecutive collocation points larger than ``threshold``
     times the channel's range (its bound span where finite, else its range over the interval),
-    a bang-bang switch or a constraint corner.
+    a bang-bang switch or a constraint corner; or a bang-bang switch beside a mesh point,
+    shown only by an edge collocation value off the bound all the others lie on
+    (:func:`_edge_switch`; the jump between points there can be below ``threshold``).
     """
     uc = piece.uc
     if uc.shape[0] < 2 or uc.shape[1] == 0:
@@ -221,20 +224,33 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
     span = np.where(span > 0, span, np.inf)
     d = np.abs(np.diff(uc, axis=0)) / span  # (n-1, nu)
     k, j = np.unravel_index(np.argmax(d), d.shape)
-    if d[k, j] < threshold:
-        return None
     t_a, t_b = float(piece.ts[0]), float(piece.t_end)
+    edge = False
+    if d[k, j] < threshold:
+        j = _edge_switch(uc, lo, hi)
+        if j is None:
+            return None
+        edge = True
+        k = 0 if d[0, j] >= d[-1, j] else d.shape[0] - 1
     tm = 0.5 * (piece.tc[k] + piece.tc[k + 1])
     frac = (tm - t_a) / (t_b - t_a)
     lo_j, hi_j = lo[j], hi[j]
     if np.isfinite(hi_j - lo_j) and hi_j > lo_j:
-        # a bang-bang switch (first and last collocation values on opposite bounds): place the
-        # break where a single switch gives the same quadrature-weighted mean control as the
-        # collocation solution, ``∫ u dt`` (exact for a control entering linearly)
+        # a bang-bang switch (first and last collocation values on opposite bounds, or, for a
+        # switch beside a mesh point, all values but the first or last on one bound): place
+        # the break where a single switch gives the same quadrature-weighted mean control as
+        # the collocation solution, ``∫ u dt`` (exact for a control entering linearly)
         a, b = uc[0, j], uc[-1, j]
         tol_b = 0.05 * (hi_j - lo_j)
-        first_hi = abs(a - hi_j) <= tol_b and abs(b - lo_j) <= tol_b
-        first_lo = abs(a - lo_j) <= tol_b and abs(b - hi_j) <= tol_b
+        if edge:
+            # the value off the bound belongs to the opposite bound's side of the switch
+            first_hi = bool(
+                np.all(np.abs(uc[:-1, j] - hi_j) <= tol_b) or np.all(np.abs(uc[1:, j] - lo_j) <= tol_b)
+            )
+            first_lo = not first_hi
+        else:
+            first_hi = abs(a - hi_j) <= tol_b and abs(b - lo_j) <= tol_b
+            first_lo = abs(a - lo_j) <= tol_b and abs(b - hi_j) <= tol_b
         if first_hi or first_lo:
             tau_c = 2.0 * (piece.tc - t_a) / (t_b - t_a) - 1.0
             w = _quadrature_weights(tau_c)
@@ -244,6 +260,28 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
             if 0.0 < f_sw < 1.0:
                 frac = f_sw
     return float(frac)
+
+
+def _edge_switch(uc: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> int | None:
+    """The control channel (or None) whose collocation values all lie on one bound but for
+    the first or the last, which is off that bound: a bang-bang switch so close to a mesh
+    point that only the edge collocation value shows it (the largest such edge offset)."""
+    best, arg = 0.0, None
+    if uc.shape[0] < 2:
+        return None
+    for j in range(uc.shape[1]):
+        lo_j, hi_j = lo[j], hi[j]
+        if not (np.isfinite(hi_j - lo_j) and hi_j > lo_j):
+            continue
+        span = hi_j - lo_j
+        tol_b = 0.05 * span
+        col = uc[:, j]
+        for bound in (lo_j, hi_j):
+            for rest, edge_v in ((col[:-1], col[-1]), (col[1:], col[0])):
+                off = abs(edge_v - bound) / span
+                if off > 0.05 and off > best and np.all(np.abs(rest - bound) <= tol_b):
+                    best, arg = off, j
+    return arg
 
 
 def _quadrature_weights(tau: np.ndarray) -> np.ndarray:
@@ -327,6 +365,7 @@ def refine_mesh(
     jump_threshold: float = 0.5,
     reduce: bool = False,
     reduce_margin: float = 10.0,
+    snap: float = 0.02,
 ) -> tuple[Mesh, tuple[str, ...]]:
     """The next mesh of the hp scheme and the action taken per interval.
 
@@ -362,6 +401,12 @@ def refine_mesh(
         Liu, Hager & Rao decide by their error model.)
     reduce_margin : float
         Safety factor (> 1) of the reduction tests.
+    snap : float
+        A bang-bang switch detected within this fraction of an interval from a mesh point
+        shared with a neighbour moves that mesh point onto the switch (the interval keeps its
+        points; the two intervals' fractions change, their sum does not) instead of splitting
+        the interval; in ``[0, 0.5)``, 0 disables it. A switch that moved a little after the
+        re-solve is tracked by the mesh point rather than cut off in a sliver interval.
 
     Returns
     -------
@@ -369,7 +414,8 @@ def refine_mesh(
         The refined mesh (the same mesh when every error is below ``tol``).
     action : tuple of str
         ``"keep"``, ``"p"`` (degree raised), ``"h"`` (split into equal parts), ``"h-jump"``
-        (split at a detected control jump), and with ``reduce``: ``"p-"`` (degree lowered)
+        (split at a detected control jump), ``"snap"`` (a neighbouring mesh point moved onto
+        a detected switch), and with ``reduce``: ``"p-"`` (degree lowered)
         or ``"merge"`` (joined with its neighbour(s)).
 
     References
@@ -395,6 +441,7 @@ def refine_mesh(
     n_max = check_int("n_max", n_max, minimum=n_min)
     reduce = check_flag("reduce", reduce)
     margin = check_positive("reduce_margin", reduce_margin)
+    snap = check_range("snap", snap, 0.0, 0.5, hi_open=True)
     if reduce and pieces is None:
         raise InputError("reduce=True needs the solution's pieces")
     if pieces is not None and len(pieces) != mesh.n_intervals:
@@ -407,7 +454,10 @@ def refine_mesh(
     nu = pieces[0].uc.shape[1] if pieces is not None else 0
     lo_u = np.full(nu, -np.inf) if control_lower is None else np.asarray(control_lower, float)
     hi_u = np.full(nu, np.inf) if control_upper is None else np.asarray(control_upper, float)
+    starts: list[int] = []  # first output interval of every input interval
+    snaps: list[tuple[int, int, float]] = []  # (input interval, side -1/+1, switch fraction)
     for r, (n, fr, e) in enumerate(zip(mesh.nodes, mesh.fractions, err, strict=True)):
+        starts.append(len(nodes))
         if e <= tol:
             act = "keep"
             if reduce and e <= bound and n > n_min:
@@ -432,10 +482,22 @@ def refine_mesh(
             hi = np.full(piece.uc.shape[1], np.inf) if control_upper is None else np.asarray(control_upper, float)
             jump = _control_jump(piece, lo, hi, jump_threshold)
             smooth = jump is None and _legendre_decay(piece) >= smooth_decay
+        side = 0
+        if jump is not None and snap > 0.0:
+            if jump <= snap and r > 0:
+                side = -1
+            elif jump >= 1.0 - snap and r < mesh.n_intervals - 1:
+                side = 1
         if smooth and n + P <= n_max:
             nodes.append(n + P)
             fracs.append(fr)
             actions.append("p")
+        elif side:
+            # a switch beside a mesh point: move that mesh point onto it (below)
+            nodes.append(n)
+            fracs.append(fr)
+            actions.append("snap")
+            snaps.append((r, side, float(jump)))
         elif jump is not None and 0.02 < jump < 0.98:
             nodes += [max(n_min, n), max(n_min, n)]
             fracs += [fr * jump, fr * (1.0 - jump)]
@@ -447,6 +509,19 @@ def refine_mesh(
             fracs += [fr / B] * B
             actions.append("h")
         origin += [-1] * (len(nodes) - len(origin))
+    starts.append(len(nodes))
+    moved: set[int] = set()  # input mesh points already moved (k: between intervals k-1 and k)
+    for r, side, f in snaps:
+        k = r if side < 0 else r + 1
+        if k in moved:
+            continue
+        moved.add(k)
+        b = starts[k]  # output mesh point between output intervals b-1 and b
+        d = f * mesh.fractions[r] if side < 0 else -(1.0 - f) * mesh.fractions[r]
+        if fracs[b - 1] + d <= 0.0 or fracs[b] - d <= 0.0:
+            continue
+        fracs[b - 1] += d
+        fracs[b] -= d
     if reduce:
         nodes, fracs, actions = _merge(nodes, fracs, actions, origin, pieces, lo_u, hi_u, bound,
                                        smooth_decay, jump_threshold)
