@@ -51,6 +51,7 @@ from adcskit.optimal_control.solve import (
     _interp_fun,
     _path_duals,
     _resolve_options,
+    _run_ipopt,
     _solution_funs,
     ipopt_status_code,
 )
@@ -992,16 +993,7 @@ def _solve(
         if d is not None:
             duals = {"lam_x0": d[0], "lam_g0": d[1]}
             mode = "primal-dual-interpolated"
-    t_solve = time.perf_counter()
-    res = tr.solver(x0=z0, p=par, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
-    solve_s = time.perf_counter() - t_solve
-    stats = tr.solver.stats()
-    z = np.asarray(res["x"]).ravel()
-    lam_g = np.asarray(res["lam_g"]).ravel()
-    lam_x = np.asarray(res["lam_x"]).ravel()
-    gv = np.asarray(res["g"]).ravel()
-    status = str(stats.get("return_status", "unknown"))
-    success = bool(stats.get("success", False))
+    z, lam_g, lam_x, gv, stats, status, success, solve_s = _run_ipopt(tr.solver, z0, par, lbz, ubz, lbg, ubg, duals)
     if not (np.all(np.isfinite(z)) and np.all(np.isfinite(lam_g))):
         # IPOPT stopped on a non-finite iterate: report the starting point, never NaN
         z, lam_g, lam_x = z0.copy(), np.zeros_like(lam_g), np.zeros_like(lam_x)

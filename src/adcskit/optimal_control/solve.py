@@ -702,6 +702,17 @@ def _interpolated_duals(prev: OptimalControlSolution, problem, tr, z0, p, lbz, u
     return lam_x, lam_g
 
 
+def _run_ipopt(solver, z0, p, lbz, ubz, lbg, ubg, duals: dict[str, np.ndarray]):
+    """One IPOPT call of a built NLP: ``(z, lam_g, lam_x, g, stats, status, success, solve_s)``."""
+    t_solve = time.perf_counter()
+    res = solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
+    solve_s = time.perf_counter() - t_solve
+    stats = solver.stats()
+    z, lam_g, lam_x, g = (np.asarray(res[k]).ravel() for k in ("x", "lam_g", "lam_x", "g"))
+    status = str(stats.get("return_status", "unknown"))
+    return z, lam_g, lam_x, g, stats, status, bool(stats.get("success", False)), solve_s
+
+
 def _solve_with(
     problem,
     tr,
@@ -746,17 +757,8 @@ def _solve_with(
             if d is not None:
                 duals = {"lam_x0": d[0], "lam_g0": d[1]}
                 mode = "primal-dual-interpolated"
-    t_solve = time.perf_counter()
-    res = tr.solver(x0=z0, p=p, lbx=lbz, ubx=ubz, lbg=lbg, ubg=ubg, **duals)
-    solve_s = time.perf_counter() - t_solve
-    stats = tr.solver.stats()
-    z = np.asarray(res["x"]).ravel()
-    lam_g = np.asarray(res["lam_g"]).ravel()
-    lam_x = np.asarray(res["lam_x"]).ravel()
-    g = np.asarray(res["g"]).ravel()
+    z, lam_g, lam_x, g, stats, status, success, solve_s = _run_ipopt(tr.solver, z0, p, lbz, ubz, lbg, ubg, duals)
     viol = float(np.max(np.concatenate([[0.0], lbg - g, g - ubg, lbz - z, z - ubz]))) if g.size else 0.0
-    status = str(stats.get("return_status", "unknown"))
-    success = bool(stats.get("success", False))
     parts, tf = tr.unpack(z, sx, su, s_tf)
     pieces, samples = _assemble(tr.method, tr.intervals, parts, tr.times(t0, tf), lam_g, cJ, sx, tr.h_fun)
     objective = float(tr.J_fun(z, p))
