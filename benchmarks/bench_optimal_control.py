@@ -321,6 +321,17 @@ def figures(results, sols, outdir):
     return paths
 
 
+def _emit(out: dict, path: str | None) -> int:
+    """Write the results as JSON to ``path``, or print them when no path is given."""
+    text = json.dumps(out, indent=1, default=float)
+    if path:
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(text)
+    else:
+        print(text)
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="tol 1e-4, no dymos")
@@ -336,19 +347,14 @@ def main(argv=None) -> int:
 
     tol = args.tol if args.tol is not None else (1e-4 if args.quick else 1e-6)
     use_dymos = not (args.quick or args.no_dymos)
+    with_rigid_body = args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)
     results, sols = [], {}
     if args.ablation:
-        for name, prob, guess, mesh in problems(args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)):
+        for name, prob, guess, mesh in problems(with_rigid_body):
             if not args.only or name in args.only:
                 results += run_ablation(name, prob, guess, tol, mesh)
-        text = json.dumps({"tol": tol, "ablation": results}, indent=1, default=float)
-        if args.json:
-            with open(args.json, "w", encoding="utf-8") as fh:
-                fh.write(text)
-        else:
-            print(text)
-        return 0
-    for name, prob, guess, mesh in problems(args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)):
+        return _emit({"tol": tol, "ablation": results}, args.json)
+    for name, prob, guess, mesh in problems(with_rigid_body):
         if args.only and name not in args.only:
             continue
         ref, src = reference_objective(name)
@@ -396,13 +402,7 @@ def main(argv=None) -> int:
     out = {"tol": tol, "results": results}
     if args.figures:
         out["figures"] = figures(results, sols, args.figures)
-    text = json.dumps(out, indent=1, default=float)
-    if args.json:
-        with open(args.json, "w", encoding="utf-8") as fh:
-            fh.write(text)
-    else:
-        print(text)
-    return 0
+    return _emit(out, args.json)
 
 
 if __name__ == "__main__":
