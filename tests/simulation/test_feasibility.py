@@ -102,25 +102,37 @@ def _layout_dirs(th: ThrusterSpec, n: int, mis_deg: float, seed: int) -> np.ndar
 
 @pytest.mark.parametrize("failed", [(), (2,)])
 def test_batched_controllability_equals_the_lp_sample_by_sample(failed):
-    # two implementations: the batched certificate (null-space correction of the nominal's
-    # positive combination, Gordan direction of an uncontrollable nominal) + LP fallback vs
-    # check_controllability (positive-span LP, Davis 1954) on every sample; 25 deg
+    # two implementations: the zonotope in-radius (support function over the generator-pair
+    # normals) vs check_controllability (positive-span LP, Davis 1954) on every sample; 25 deg
     # misalignment makes both answers occur, a zero thrust level drops a column
     th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, failed=failed)
-    n = 200
+    n = 120
     dirs = _layout_dirs(th, n, 25.0, seed=7)
     flev = np.full((n, th.n), 10.0)
     flev[::17, 4] = 0.0
-    ok, nominal, first_bad = _controllability(Scenario(thrusters=th), dirs, flev)
+    feas = _controllability(Scenario(thrusters=th), dirs, flev)
     pos = np.asarray(th.positions) - np.asarray(th.com)
     work = np.setdiff1d(np.arange(th.n), failed)
     ref = np.array([check_controllability(np.cross(pos, dirs[i]).T[:, [j for j in work if flev[i, j] > 0]]).success
                     for i in range(n)])
-    np.testing.assert_array_equal(ok, ref)
-    assert nominal.success == (failed == ())
-    if failed == ():
-        assert 0 < ok.sum() < n  # dispersions change the answer in both directions of the test
-        assert first_bad is not None and not first_bad.success
+    np.testing.assert_array_equal(feas["controllable"], ref)
+    assert 0 < ref.sum() < n  # dispersions change the answer in both directions of the test
+    assert feas["nominal"].success == (failed == ())
+    assert not feas["first_bad"].success
+    assert np.all(feas["authority"][~ref] < 1e-12) and np.all(feas["authority"][ref] > 1e-6)  # N m
+
+
+def test_torque_authority_closed_form():
+    # six thrusters giving +-x, +-y, +-z torques of 1 m x F: the attainable set is the box
+    # [-F, F]^3, whose in-radius is F; one failed thruster leaves 0 along that direction
+    from adcskit.simulation.core import _torque_authority
+
+    A = np.hstack([np.eye(3), -np.eye(3)])[None] * 10.0
+    assert _torque_authority(A)[0] == pytest.approx(10.0, rel=1e-12)
+    assert _torque_authority(A[:, :, :5])[0] == pytest.approx(0.0, abs=1e-12)
+    # S3's reference layout (S3 §6) at 10 N: an in-radius between 0 and the largest column
+    r = _torque_authority((S3_REFERENCE_A * 10.0)[None])[0]
+    assert 0.0 < r <= 10.0 * np.sqrt(2.0)
 
 
 def test_misaligned_samples_flagged_individually():

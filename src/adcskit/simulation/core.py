@@ -111,10 +111,13 @@ class SimulationResult:
         i.e. the answer differs from the q-method of the same midpoints; NaN otherwise).
     controllable : ndarray (N,) bool
         Whether the sample's thrusters (failed ones removed, each with its dispersed
-        direction) positively span R^3, i.e. can produce torque in every direction
-        (:func:`adcskit.thrusters.check_controllability`). Checked before the run; an
-        uncontrollable sample is still simulated, with an
-        :class:`adcskit.errors.UncontrollableWarning` and ``success=False``.
+        direction and thrust) can produce torque in every direction (their torques
+        positively span R^3, the test of :func:`adcskit.thrusters.check_controllability`);
+        ``parameters["torque_authority"]`` (N m) is the torque each sample can produce in
+        its weakest direction. Checked before the run; uncontrollable samples are still
+        simulated, with an :class:`adcskit.errors.UncontrollableWarning` and
+        ``success=False``. A layout that is uncontrollable without dispersions gives both
+        even if some misaligned samples span every direction (with a tiny authority).
     on_time_per_thruster : ndarray (N, n), s
         Commanded on-time of each thruster.
     t : ndarray (R,) or None, s
@@ -126,7 +129,9 @@ class SimulationResult:
     parameters : dict of str to ndarray
         The dispersed parameters of every sample (inertia, thrust levels, delay, ...);
         ``inertia_physical`` (bool) flags the samples whose dispersed principal moments
-        satisfy the triangle inequality (see :class:`~adcskit.simulation.DispersionSpec`).
+        satisfy the triangle inequality (see :class:`~adcskit.simulation.DispersionSpec`);
+        ``mass_flow`` (kg/s per thruster) scales with the dispersed ``thrust``;
+        ``torque_authority`` (N m) is the torque available in every direction.
     seeds : ndarray (N,) uint64
         Per-sample noise seeds.
     n_samples, n_steps : int
@@ -138,8 +143,8 @@ class SimulationResult:
         Campaign bookkeeping (chunks resumed from ``directory``).
     executor : str
     success : bool
-        Every sample controllable and every metric finite where it must be (pointing error,
-        propellant).
+        The layout and every sample controllable, and every metric finite where it must be
+        (pointing error, propellant).
     message : str
 
     Examples
@@ -366,22 +371,48 @@ def _draw(scenario: Scenario, n: int, gen: np.random.Generator) -> dict[str, np.
     return draws
 
 
-def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> tuple[np.ndarray, Any, Any]:
-    """Per-sample positive-span test of the working thrusters (before the flight).
+def _torque_authority(A: np.ndarray) -> np.ndarray:
+    """Torque available in every direction: the radius of the largest ball about 0 inside the
+    attainable set ``{A F : 0 <= F_j <= 1}`` of each sample, ``A`` (n, 3, k) in N m per unit
+    command (columns ``F_max,j (r_j - com) x d_j``).
 
-    Returns ``(controllable (n,) bool, nominal Controllability, Controllability of the first
-    uncontrollable dispersed sample or None)``. A sample's torque directions are
-    ``(r_j - com) x d_j`` of its non-failed thrusters with a thrust level > 0 (positive
-    scaling of a column does not change the positive span). Samples whose layout equals the
-    nominal one share its answer; the others are certified in one batch: with ``F0 > 0`` the
-    nominal's most positive null combination (``A0 F0 = 0``), a sample's ``A`` of rank 3
-    positively spans R^3 if ``F0 + delta > 0`` for the least-norm ``delta`` with
-    ``A delta = -A F0`` (then ``A (F0 + delta) = 0`` with all forces positive: Davis 1954);
-    the few samples this sufficient test leaves open go through
-    :func:`adcskit.thrusters.check_controllability` one by one.
+    The attainable set is a zonotope; every facet normal of a zonotope in R^3 is the cross
+    product of two of its generators, and ``h(u) = sum_j max(0, u . a_j)`` is its support
+    function, so the radius is ``min h(u)`` over the unit cross products ``+-(a_i x a_j)``
+    (further normals only raise the minimum: ``h(u) >= r`` for every unit ``u``). It is > 0
+    iff the columns positively span R^3 (Davis 1954), the test of
+    :func:`adcskit.thrusters.check_controllability`.
     """
-    from scipy.optimize import linprog
+    n, _, k = A.shape
+    out = np.zeros(n)
+    if k < 2 or n == 0:
+        return out
+    ii, jj = np.triu_indices(k, 1)
+    for lo in range(0, n, 128):  # chunks: (m, k(k-1)/2, k) temporaries
+        a = A[lo:lo + 128]
+        N = np.cross(a[:, :, ii], a[:, :, jj], axis=1)  # (m, 3, p)
+        nrm = np.linalg.norm(N, axis=1)
+        big = np.max(np.linalg.norm(a, axis=1), axis=1)  # largest column norm per sample
+        ok = nrm > 1e-12 * (big * big)[:, None]
+        U = N / np.where(ok, nrm, 1.0)[:, None, :]
+        d = np.einsum("map,mak->mpk", U, a)
+        h = np.minimum(np.maximum(d, 0.0).sum(axis=2), np.maximum(-d, 0.0).sum(axis=2))
+        r = np.where(ok, h, np.inf).min(axis=1)
+        out[lo:lo + 128] = np.where(np.isfinite(r), r, 0.0)  # all columns parallel: rank 1
+    return out
 
+
+def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> dict[str, Any]:
+    """Per-sample feasibility of the working thrusters, before the flight.
+
+    A sample's torque columns are ``F_j (r_j - com) x d_j`` of its non-failed thrusters, with
+    its dispersed directions ``d_j`` and thrust levels ``F_j`` (N). ``authority`` (N m) is the
+    torque it can produce in *every* direction (:func:`_torque_authority`); the sample is
+    controllable iff that is > 1e-9 of its largest column (positive span). The nominal layout
+    (failed thrusters removed, no dispersion) and the first uncontrollable sample also get
+    :func:`adcskit.thrusters.check_controllability`, whose message names the unreachable
+    direction.
+    """
     from adcskit.thrusters import check_controllability
 
     th = scenario.thrusters
@@ -390,63 +421,37 @@ def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> 
     work = np.ones(nt, bool)
     work[list(th.failed)] = False
     cols = np.flatnonzero(work)
-    A0 = np.cross(pos, np.asarray(th.directions)).T[:, cols]
+    A0 = np.cross(pos, np.asarray(th.directions)).T[:, cols] * th.f_max
     nominal = check_controllability(A0) if cols.size else None
-    nom_ok = bool(nominal is not None and nominal.success)
-    out = np.full(n, nom_ok)
-    if n == 0 or cols.size == 0:
-        return out, nominal, None
-    A = np.swapaxes(np.cross(pos[None], dirs), 1, 2)[:, :, cols]  # (n, 3, k)
-    live = flev[:, cols] > 0.0
-    same = np.all(live, axis=1) & np.all(A == A0[None], axis=(1, 2))
-    todo = np.flatnonzero(~same)
-    if todo.size and nom_ok:
-        k = cols.size
-        scale = max(float(np.abs(A0).max()), 1e-300)
-        res = linprog(np.r_[np.zeros(k), -1.0], A_ub=np.hstack([-np.eye(k), np.ones((k, 1))]), b_ub=np.zeros(k),
-                      A_eq=np.hstack([A0 / scale, np.zeros((3, 1))]), b_eq=np.zeros(3),
-                      bounds=[(0.0, 1.0)] * k + [(None, 1.0)], method="highs")
-        cand = todo[np.all(live[todo], axis=1)]  # a dropped (zero-thrust) column goes to the LP below
-        if res.status == 0 and cand.size:
-            F0 = res.x[:k]
-            As = A[cand] / scale
-            G = np.einsum("sak,sbk->sab", As, As)
-            ev = np.linalg.eigvalsh(G)
-            rank3 = ev[:, 0] > 1e-20 * np.maximum(ev[:, 2], 1e-300)
-            y = np.linalg.solve(np.where(rank3[:, None, None], G, np.eye(3)), np.einsum("sak,k->sa", As, F0)[..., None])
-            F = F0[None] - np.einsum("sak,sa->sk", As, y[..., 0])  # A F = 0 (least-norm correction of F0)
-            cert = rank3 & np.all(F > 1e-9, axis=1)
-            out[cand[cert]] = True
-            todo = np.setdiff1d(todo, cand[cert])
-    elif todo.size and nominal.rank == 3:
-        # Gordan's alternative of the nominal: every torque has a positive component along w,
-        # so -w is unreachable; a sample whose columns all keep w . a_j > 0 stays uncontrollable
-        w = -nominal.unreachable
-        scale = max(float(np.abs(A0).max()), 1e-300)
-        proj = np.einsum("sak,a->sk", A[todo], w) / scale
-        sure = np.all(np.where(live[todo], proj > 1e-9, True), axis=1)
-        todo = todo[~sure]  # out[...] already False
+    A = np.swapaxes(np.cross(pos[None], dirs), 1, 2)[:, :, cols] * flev[:, None, cols]  # (n, 3, k), N m
+    auth = _torque_authority(A)
+    big = np.max(np.linalg.norm(A, axis=1), axis=1) if cols.size else np.zeros(n)
+    ok = auth > 1e-9 * big
     first_bad = None
-    for i in todo:
-        c = check_controllability(A[i][:, live[i]]) if live[i].any() else None
-        out[i] = bool(c is not None and c.success)
-        if not out[i] and first_bad is None:
-            first_bad = c
-    return out, nominal, first_bad
+    bad = np.flatnonzero(~ok)
+    if bad.size and cols.size:
+        first_bad = check_controllability(A[bad[0]])
+    return {"controllable": ok, "authority": auth, "nominal": nominal, "first_bad": first_bad}
 
 
-def _controllability_message(scenario: Scenario, ok: np.ndarray, nominal: Any, first_bad: Any) -> str:
+def _controllability_message(scenario: Scenario, feas: dict[str, Any]) -> str:
+    """Why a scenario fails the feasibility test (empty when it passes)."""
     th = scenario.thrusters
+    ok, nominal, auth = feas["controllable"], feas["nominal"], feas["authority"]
     failed = f" with thruster(s) {list(th.failed)} failed" if th.failed else ""
     if nominal is None:
         return f"the layout has no working thruster{failed}: no torque can be produced"
+    n_ok = int(np.count_nonzero(ok))
     if not nominal.success:
-        return (f"the thruster layout{failed} cannot produce torque in every direction: {nominal.message}; "
-                f"no sample can reach or hold every attitude")
-    n_bad = int(np.count_nonzero(~ok))
-    why = f" (first such sample: {first_bad.message})" if first_bad is not None else ""
-    return (f"{n_bad} of {ok.size} samples cannot produce torque in every direction with their dispersed "
-            f"thrusters{failed} (misalignment or zero thrust){why}")
+        tail = ("no sample can produce torque in every direction" if n_ok == 0 else
+                f"{n_ok} of {ok.size} dispersed samples span every direction only through their misalignment, "
+                f"with at most {np.max(auth[ok]):.3g} N m in their weakest direction")
+        return f"the thruster layout{failed} cannot produce torque in every direction: {nominal.message}; {tail}"
+    if n_ok == ok.size:
+        return ""
+    why = f" (first such sample: {feas['first_bad'].message})" if feas["first_bad"] is not None else ""
+    return (f"{ok.size - n_ok} of {ok.size} samples cannot produce torque in every direction with their "
+            f"dispersed thrusters{failed} (misalignment or zero thrust){why}")
 
 
 def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
@@ -573,16 +578,16 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
                   ENV=env, QREF=np.ascontiguousarray(qref), WREF=np.ascontiguousarray(wref),
                   ATAB=atab, ANOM=A_nom, FNOM=np.full(nt, th.f_max), AMASK=amask, buf_len=buf_len,
                   n_steps=n_steps)
-    controllable, nominal, first_bad = _controllability(sc, dirs, flev)
+    feas = _controllability(sc, dirs, flev)
     per_sample = dict(P=P, DIRS=np.ascontiguousarray(dirs), FLEV=np.ascontiguousarray(flev),
                       MDOT=np.ascontiguousarray(mdot))
     params = {
         "inertia": J, "inertia_physical": _triangle_ok(lam), "thrust": flev, "mass_flow": mdot,
+        "torque_authority": feas["authority"],
         "directions": dirs, "delay": draws["delay"],
         "initial_quaternion": q0, "initial_rate": P[:, _k.P_W0:_k.P_W0 + 3].copy(),
         "gyro_bias": P[:, _k.P_BIAS:_k.P_BIAS + 3].copy(), "disturbance_scale": draws["disturbance"],
     }
-    feas = {"controllable": controllable, "nominal": nominal, "first_bad": first_bad}
     return {"shared": shared, "per_sample": per_sample, "feasibility": feas}, params
 
 
@@ -696,9 +701,8 @@ def simulate(
     prep, params = _prepare(scenario, n_samples, gen)
     feas = prep["feasibility"]
     controllable = feas["controllable"]
-    feas_msg = ""
-    if not controllable.all():
-        feas_msg = _controllability_message(scenario, controllable, feas["nominal"], feas["first_bad"])
+    feas_msg = _controllability_message(scenario, feas)
+    if feas_msg:
         warnings.warn(f"simulate: {feas_msg}", UncontrollableWarning, stacklevel=2)
     seeds = np.random.SeedSequence(int(gen.integers(2**63))).generate_state(n_samples, dtype=np.uint64)
     if chunk_size is None:
@@ -730,7 +734,7 @@ def simulate(
         t = None
     metrics = {name: out[:, j] * f for name, (j, f) in _METRICS.items()}
     finite = bool(np.all(np.isfinite(metrics["pointing_rms_deg"])) and np.all(np.isfinite(metrics["propellant_kg"])))
-    ok = finite and bool(controllable.all())
+    ok = finite and not feas_msg
     n_unphys = int(np.count_nonzero(~params["inertia_physical"]))
     msg = (f"{n_samples} samples x {n_steps} steps; {camp.n_chunks} chunk(s), {camp.n_resumed} resumed"
            + ("" if finite else "; some samples produced non-finite metrics")
