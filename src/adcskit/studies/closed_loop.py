@@ -328,6 +328,7 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
     q1_rows = []
     prop_hist: dict[str, np.ndarray] = {}
     q1_ctrl: dict[str, list[float]] = {}
+    q1_auth: dict[str, list[float]] = {}
     for s_i, seq in enumerate(seeds):
         sub = seq.spawn(3)
         opt_layout = _design_layout(cfg, int(sub[0].generate_state(1)[0]))
@@ -341,10 +342,12 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
                 r = sim(_geo_base(cfg, th, alloc), sub[1])  # same dispersion/noise seed for both layouts
                 res[name] = r
                 q1_ctrl.setdefault(f"{name}, {reading}", []).append(float(np.mean(r.controllable)))
+                q1_auth.setdefault(f"{name}, {reading}", []).append(float(np.mean(r.parameters["torque_authority"])))
                 q1_rows.append({"seed": s_i, "reading": reading, "layout": name,
                                 "failed_thruster": fail[name][0] if failed == "one failed" else -1,
                                 "still_controllable": fail[name][1] if failed == "one failed" else True,
                                 "controllable_fraction": float(np.mean(r.controllable)),
+                                "torque_authority_mean_nm": float(np.mean(r.parameters["torque_authority"])),
                                 "propellant_mean_kg": _mean(r.metrics["propellant_kg"]),
                                 "pointing_rms_mean_deg": _mean(r.metrics["pointing_rms_deg"]),
                                 "settled_fraction": float(np.mean(np.isfinite(r.metrics["settling_time_s"]))),
@@ -359,6 +362,8 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
         # fraction of the Monte-Carlo samples whose thrusters (failed one removed, dispersed
         # misalignment) can produce torque in every direction (simulate's feasibility test)
         measured[f"q1_controllable_fraction[{key}]"] = float(np.mean(fr))
+        # torque available in the weakest direction (N m), mean over samples and seeds
+        measured[f"q1_torque_authority_nm[{key}]"] = float(np.mean(q1_auth[key]))
     f1 = F1.evaluate(q1_runs, default=Q1_READINGS[0])
 
     # ---------------------------------------------------------------- Q2: estimators (LEO)
