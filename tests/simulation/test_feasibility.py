@@ -143,6 +143,19 @@ def test_misaligned_samples_flagged_individually():
     assert 0 < res.controllable.sum() < 8 and not res.success
 
 
+def test_nominally_uncontrollable_layout_fails_even_where_misalignment_spans():
+    # S3 reference without thruster 2, 0.5 deg misalignment (the closed-loop study's Q1): some
+    # samples' tilted torques positively span R^3 with a sliver of authority; the layout still
+    # fails and the message quotes that sliver (N m) against 10 N thrusters
+    sc = Scenario(thrusters=ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, failed=(2,)), sim=TINY,
+                  dispersions=DispersionSpec(misalignment_deg=0.5))
+    with pytest.warns(UncontrollableWarning, match="only through their misalignment"):
+        res = simulate(sc, 16, rng=0)
+    assert 0 < res.controllable.sum() < 16 and not res.success
+    # a 3-sigma 0.5 deg tilt of a 14 N m column (sqrt(2) m x 10 N) gives ~0.4 N m; intact: ~9.9 N m
+    assert np.max(res.parameters["torque_authority"]) < 0.5
+
+
 # ----------------------------------------------------------------- inertia and q0
 
 
