@@ -3,7 +3,8 @@
 numba compiles a dispatcher on its first call in a process unless its on-disk cache
 (``cache=True``: an index ``*.nbi`` beside the module's ``__pycache__`` and one ``*.nbc`` file
 per compiled signature) holds an entry that numba will accept: one written from the same
-source file (modification time and size), for the same numba version, for this machine's
+source file (numba's source stamp; in numba 0.68 a SHA-256 of the file's contents), for the
+same numba version, for this machine's
 code generator and for the function's current bytecode. :func:`will_compile` applies the same
 tests to the index as numba's own loader (``numba.core.caching.IndexDataCacheFile``), so a
 notice printed from it is not printed on a warm cache and is printed after an edit of the
