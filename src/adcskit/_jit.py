@@ -1,7 +1,7 @@
 """Whether a numba kernel will compile on its next call (for an honest "compiling once" notice).
 
 numba compiles a dispatcher on its first call in a process unless its on-disk cache
-(``cache=True``: an index ``*.nbi`` beside the module's ``__pycache__`` and one ``*.nbc`` file
+(``cache=True``: an index ``*.nbi`` in the module's ``__pycache__`` and one ``*.nbc`` file
 per compiled signature) holds an entry that numba will accept: one written from the same
 source file (numba's source stamp; in numba 0.68 a SHA-256 of the file's contents), for the
 same numba version, for this machine's
