@@ -357,11 +357,13 @@ class DaskExecutor(Executor):
             index = {f.key: i for f, i in zip(futures, todo, strict=True)}
             left = None if deadline is None else max(1e-3, deadline - time.monotonic())
             for fut in as_completed(futures, timeout=left):
-                if fut.cancelled():  # lost with a worker (its dependency, the shared data)
+                try:
+                    value = fut.result(timeout=None if deadline is None else max(1e-3, deadline - time.monotonic()))
+                except cf.CancelledError as exc:  # lost with a worker, with the shared data it needs
                     lost.append(index[fut.key])
-                    reason = _cancel_reason(fut)
+                    reason = str(exc)
                     continue
-                results[index[fut.key]] = fut.result()
+                results[index[fut.key]] = value
                 advance(1)
         except (DaskTimeoutError, TimeoutError) as exc:
             client.cancel(futures)
@@ -380,14 +382,6 @@ class DaskExecutor(Executor):
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
-
-
-def _cancel_reason(fut: Any) -> str:
-    try:
-        fut.result(timeout=1)
-    except BaseException as exc:  # noqa: BLE001 - only its message is kept
-        return str(exc)
-    return "cancelled"
 
 
 def _parse_count(spec: str, text: str) -> int | None:
