@@ -84,6 +84,27 @@ def test_successive_maps_sharing_a_dict_with_the_same_keys_equal_serial(dask_loc
     _wait_until(lambda: _n_scheduler_tasks(dask_local2.client) == 0, "the scheduler to forget every key")
 
 
+def _sleep(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def _raise_timeout(_):
+    raise TimeoutError("the task's own timeout")
+
+
+def test_a_map_past_its_timeout_raises_instead_of_hanging(dask_local2):
+    import test_dask as mod
+
+    # a second client of the session's cluster, with a short bound on each map
+    with DaskExecutor(dask_local2.client.scheduler.address, timeout=0.3) as ex:
+        with pytest.raises(TimeoutError, match=r"did not finish within timeout = 0.3 s"):
+            ex.map(mod._sleep, [1.5, 1.5])
+        with pytest.raises(TimeoutError, match="the task's own timeout"):  # not mistaken for ours
+            dask_local2.map(mod._raise_timeout, [0])
+    assert dask_local2.map(mod._sleep, [0.0, 0.0]) == [0.0, 0.0]  # the cluster is usable again
+
+
 def _kill_mid_campaign(pids: list[int], marks: Path, n_started: int, victims: str, killed: list[int]):
     """Watchdog thread body: once ``n_started`` tasks have started, SIGKILL the worker process
     that ran the first task (``victims='one'``) or every worker process (``victims='all'``)."""

@@ -23,8 +23,9 @@ Data shared by every task (e.g. the Monte-Carlo sample arrays) is passed once, a
 ``map(fn, tasks, shared=data)``, and every task then runs ``fn(task, data)``: the serial
 executor passes the object, the process pool writes it once to a temporary file that each
 worker loads once, and Dask scatters it once to the workers (:meth:`Client.scatter`,
-broadcast), so the task graph holds only the small tasks and a reference to the data —
-never a copy of the data per task.
+broadcast, under a fresh random key per call, released once the results are back), so the
+task graph holds only the small tasks and a reference to the data — never a copy of the
+data per task.
 
 Hand-written here: only the thin adapter; the pools are the standard library's and Dask's.
 """
@@ -321,6 +322,8 @@ class DaskExecutor(Executor):
         tasks = list(tasks)
         results: list[Any] = [None] * len(tasks)
         todo = list(range(len(tasks)))
+        if not todo:
+            return results
         deadline = None if self._timeout is None else time.monotonic() + self._timeout
         reason = ""
         with bar(description, len(tasks)) as advance:
@@ -367,6 +370,8 @@ class DaskExecutor(Executor):
                 advance(1)
         except (DaskTimeoutError, TimeoutError) as exc:
             client.cancel(futures)
+            if deadline is None or time.monotonic() < deadline:
+                raise  # a task's own TimeoutError, not this map's deadline
             raise TimeoutError(
                 f"Dask map on {self.spec} did not finish within timeout = {self._timeout:g} s"
             ) from exc
