@@ -194,11 +194,12 @@ def test_onoff_tuning_campaign_path_on_dask_equals_serial(dask_local2, tmp_path)
         np.testing.assert_array_equal(dask.metrics.as_array(), serial.metrics.as_array(), err_msg=case)
 
 
-def _comparable(result) -> dict:
+def _comparable(result) -> str:
+    """The result as JSON text (floats as repr: bit for bit; NaN compares as text)."""
     d = result.to_dict()
     d.pop("runtime_s", None)
     d.pop("executor", None)  # the one field that names where the campaigns ran
-    return json.loads(json.dumps(d, default=repr))
+    return json.dumps(d, default=repr, sort_keys=True)
 
 
 @pytest.mark.slow
@@ -233,13 +234,14 @@ def _dask_cli(kind: str) -> list[str]:
 @contextlib.contextmanager
 def _loopback_cluster(n_workers: int = 2):
     """A `dask-scheduler` and ``n_workers`` `dask-worker` processes on 127.0.0.1, torn down on
-    exit (SIGTERM to each process group, SIGKILL after a bounded wait)."""
+    exit (SIGTERM to each process group, then SIGKILL; the scheduler also exits by itself
+    after 300 s without a client and the workers 60 s after losing it)."""
     port = _free_port()
     address = f"127.0.0.1:{port}"
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(SRC), str(TESTS), str(Path(__file__).parent)])}
     common = dict(env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     procs = [subprocess.Popen([*_dask_cli("scheduler"), "--host", "127.0.0.1", "--port", str(port),
-                               "--no-dashboard", "--no-show"], **common)]
+                               "--no-dashboard", "--no-show", "--idle-timeout", "300"], **common)]
     try:
         for _ in range(n_workers):
             procs.append(subprocess.Popen([*_dask_cli("worker"), f"tcp://{address}", "--host", "127.0.0.1",
@@ -254,9 +256,10 @@ def _loopback_cluster(n_workers: int = 2):
             try:
                 p.wait(timeout=15)
             except subprocess.TimeoutExpired:
-                with contextlib.suppress(ProcessLookupError):
-                    os.killpg(p.pid, signal.SIGKILL)
+                p.kill()
                 p.wait(timeout=15)
+            with contextlib.suppress(ProcessLookupError):  # no orphaned worker process either
+                os.killpg(p.pid, signal.SIGKILL)
 
 
 _CLI_WITH_FAKE_STUDY = """
