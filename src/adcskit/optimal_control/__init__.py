@@ -29,8 +29,10 @@ from adcskit.optimal_control.adaptive import (
 )
 from adcskit.optimal_control.analysis import (
     BangBangResult,
+    OptimalityCheck,
     ResimulationResult,
     bang_bang,
+    check_optimality,
     resimulate,
 )
 from adcskit.optimal_control.multiphase import (
@@ -69,6 +71,7 @@ from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS
 __all__ = [
     "AdaptiveSolution",
     "BangBangResult",
+    "OptimalityCheck",
     "Endpoint",
     "ErrorCertificate",
     "Link",
@@ -96,6 +99,7 @@ __all__ = [
     "ResimulationResult",
     "WARM_START_IPOPT_OPTIONS",
     "bang_bang",
+    "check_optimality",
     "clear_cache",
     "default_guess",
     "gauss_differentiation_matrix",

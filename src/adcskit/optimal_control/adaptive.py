@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import casadi as ca
@@ -366,6 +366,7 @@ def refine_mesh(
     reduce: bool = False,
     reduce_margin: float = 10.0,
     snap: float = 0.02,
+    min_width: float = 0.0,
 ) -> tuple[Mesh, tuple[str, ...]]:
     """The next mesh of the hp scheme and the action taken per interval.
 
@@ -407,6 +408,11 @@ def refine_mesh(
         points; the two intervals' fractions change, their sum does not) instead of splitting
         the interval; in ``[0, 0.5)``, 0 disables it. A switch that moved a little after the
         re-solve is tracked by the mesh point rather than cut off in a sliver interval.
+    min_width : float
+        Smallest interval, as a fraction of the phase's duration (``[0, 0.1]``): an interval
+        the refinement would make narrower is merged into its narrower neighbour (with the
+        larger point count), so a switch cannot pile up slivers (:func:`solve_adaptive`
+        uses 1e-6).
 
     Returns
     -------
@@ -442,6 +448,7 @@ def refine_mesh(
     reduce = check_flag("reduce", reduce)
     margin = check_positive("reduce_margin", reduce_margin)
     snap = check_range("snap", snap, 0.0, 0.5, hi_open=True)
+    min_width = check_range("min_width", min_width, 0.0, 0.1)
     if reduce and pieces is None:
         raise InputError("reduce=True needs the solution's pieces")
     if pieces is not None and len(pieces) != mesh.n_intervals:
@@ -525,6 +532,14 @@ def refine_mesh(
     if reduce:
         nodes, fracs, actions = _merge(nodes, fracs, actions, origin, pieces, lo_u, hi_u, bound,
                                        smooth_decay, jump_threshold)
+    if min_width > 0.0:
+        nodes, fracs = list(nodes), list(fracs)
+        while len(fracs) > 1 and min(fracs) < min_width * sum(fracs):
+            i = int(np.argmin(fracs))
+            j = i - 1 if i == len(fracs) - 1 or (i > 0 and fracs[i - 1] <= fracs[i + 1]) else i + 1
+            a, b = min(i, j), max(i, j)
+            nodes[a:b + 1] = [max(nodes[a], nodes[b])]
+            fracs[a:b + 1] = [fracs[a] + fracs[b]]
     fr_arr = np.array(fracs)
     fr_arr = fr_arr / fr_arr.sum()
     return Mesh(nodes=tuple(nodes), fractions=tuple(float(v) for v in fr_arr)), tuple(actions)
@@ -627,7 +642,7 @@ class ErrorCertificate:
     Attributes
     ----------
     satisfied : bool
-        The NLP converged and every interval's relative state error is ``<= tol``.
+        ``error_met and optimality_met``: what ``success`` of :func:`solve_adaptive` requires.
     tol : float
     max_error : float
     worst_phase, worst_interval : int
@@ -638,6 +653,19 @@ class ErrorCertificate:
     mesh_iterations : int
     estimator : str
         How the error was measured.
+    error_met : bool
+        The NLP converged and every interval's relative state error is ``<= tol``.
+    optimality_met : bool
+        The first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` hold (single-phase problems; for a
+        multi-phase problem, or with ``check_optimality=False``, they are not checked and
+        this repeats the NLP's convergence: ``optimality_checks`` is then empty).
+    optimality_checks : tuple of str
+        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``).
+    optimality_figures : dict
+        ``h_spread``, ``h_target_error``, ``switching_violation`` and the ``threshold``
+        they were held to (relative to the size of the Hamiltonian's terms).
+    optimality_detail : str
 
     Examples
     --------
@@ -659,6 +687,11 @@ class ErrorCertificate:
     n_collocation: int
     mesh_iterations: int
     estimator: str
+    error_met: bool = False
+    optimality_met: bool = False
+    optimality_checks: tuple[str, ...] = ()
+    optimality_figures: dict[str, float] = field(default_factory=dict)
+    optimality_detail: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -717,15 +750,45 @@ def _phase_errors(phase_sols, extra):
     return [estimate_error(s, extra_points=extra) for s in phase_sols]
 
 
-def _certificate(phase_sols, errs, tol, success, n_iter, extra) -> ErrorCertificate:
+def default_optimality_threshold(tol: float) -> float:
+    """Threshold of the optimality figures used by :func:`solve_adaptive` for a tolerance.
+
+    ``max(0.02, 2 √tol)``: see :func:`~adcskit.optimal_control.check_optimality` and
+    docs/optimal-control.md ("What success certifies") for the calibration.
+
+    Examples
+    --------
+    >>> default_optimality_threshold(1e-6), default_optimality_threshold(1.0)
+    (0.02, 2.0)
+    """
+    tol = check_positive("tol", tol)
+    return float(max(0.02, 2.0 * math.sqrt(tol)))
+
+
+def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, check=True,
+                 threshold=0.02) -> ErrorCertificate:
+    from adcskit.optimal_control.analysis import check_optimality as _check
+
     worst = (-1, -1, -np.inf)
     for i, e in enumerate(errs):
         if e.size and np.max(e) > worst[2]:
             worst = (i, int(np.argmax(e)), float(np.max(e)))
     ip, ir, emax = worst
     piece = phase_sols[ip].pieces[ir]
+    opt = None
+    if check and not multi and success:
+        opt = _check(phase_sols[0], threshold=threshold)
+    if opt is not None:
+        o_met, o_checks, o_fig, o_detail = opt.met, opt.checks, dict(
+            h_spread=opt.h_spread, h_target_error=opt.h_target_error,
+            switching_violation=opt.switching_violation, threshold=opt.threshold), opt.detail
+    else:
+        why = ("not checked (check_optimality=False)" if not check else
+               "not checked (multi-phase problem)" if multi else "not checked (the NLP failed)")
+        o_met, o_checks, o_fig, o_detail = bool(success), (), {}, why
+    dyn_ok = bool(success and emax <= tol)
     return ErrorCertificate(
-        satisfied=bool(success and emax <= tol),
+        satisfied=bool(dyn_ok and o_met),
         tol=tol,
         max_error=emax,
         worst_phase=ip,
@@ -734,6 +797,11 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra) -> ErrorCertific
         n_collocation=int(sum(sum(s.mesh.nodes) for s in phase_sols)),
         mesh_iterations=n_iter,
         estimator=_estimator_text(extra),
+        error_met=dyn_ok,
+        optimality_met=bool(o_met),
+        optimality_checks=tuple(o_checks),
+        optimality_figures=o_fig,
+        optimality_detail=o_detail,
     )
 
 
@@ -752,6 +820,9 @@ def solve_adaptive(
     ipopt_options: dict[str, Any] | None = None,
     transfer_duals: bool = True,
     mesh_reduction: bool = True,
+    min_width: float = 1e-6,
+    check_optimality: bool = True,
+    optimality_threshold: float | None = None,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
@@ -824,6 +895,13 @@ def solve_adaptive(
     extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
     transfer_duals = check_flag("transfer_duals", transfer_duals)
     mesh_reduction = check_flag("mesh_reduction", mesh_reduction)
+    min_width = check_range("min_width", min_width, 0.0, 0.1)
+    check_optimality_flag = check_flag("check_optimality", check_optimality)
+    from adcskit.optimal_control.analysis import check_optimality as _check_optimality
+    optimality_threshold = (
+        default_optimality_threshold(tol) if optimality_threshold is None
+        else check_positive("optimality_threshold", optimality_threshold)
+    )
     n_phases = len(problem.phases) if multi else 1
     meshes = _initial_meshes(mesh, n_phases, n_min)
     if guess is None and not multi:
@@ -841,67 +919,143 @@ def solve_adaptive(
     message = ""
     converged = False
     sol = None
+    good = None  # (solution, phase solutions, errors, meshes) of the last converged NLP
     errs: list[np.ndarray] = []
-    for it in range(max_iterations):
+    phase_sols: list = []
+    n_solves = 0
+    infeasible_meshes = 0  # consecutive meshes on which IPOPT proved the NLP infeasible
+    stop_infeasible = False
+    cold_next = False
+
+    def run(meshes, guess, opts, warm):
         t_start = time.perf_counter()
         if multi:
-            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options,
-                                   transfer_duals=transfer_duals)
-            phase_sols = list(sol.phases)
+            out = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=opts,
+                                   transfer_duals=transfer_duals and warm is not False)
+            ps = list(out.phases)
         else:
-            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options,
-                        transfer_duals=transfer_duals)
-            phase_sols = [sol]
+            out = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=opts,
+                        transfer_duals=transfer_duals and warm is not False, warm_start=warm)
+            ps = [out]
         wall = time.perf_counter() - t_start
-        errs = _phase_errors(phase_sols, extra)
-        emax = float(max(np.max(e) for e in errs))
+        e = _phase_errors(ps, extra)
         history.append(
             MeshIteration(
                 meshes=tuple(meshes),
                 n_collocation=int(sum(sum(m.nodes) for m in meshes)),
-                max_error=emax,
-                objective=float(sol.objective),
-                success=bool(sol.success),
-                nit=int(sol.nit),
+                max_error=float(max(np.max(v) for v in e)),
+                objective=float(out.objective),
+                success=bool(out.success),
+                nit=int(out.nit),
                 solve_s=wall,
-                warm_start=str(sol.warm_start),
+                warm_start=str(out.warm_start),
             )
         )
+        return out, ps, e
+
+    while n_solves < max_iterations:
+        # after a failed optimality check the refined mesh is solved with IPOPT's cold defaults
+        # (from the previous primal point): the warm start's tiny barrier keeps a switch
+        # where it sits, cold ones let it move
+        sol, phase_sols, errs = run(meshes, guess, ipopt_options, False if cold_next else None)
+        cold_next = False
+        n_solves += 1
+        # a failed NLP is never refined from: retry on the same mesh (IPOPT's cold defaults
+        # from the last good point or the guess, more iterations), then fall back to the last
+        # good solution (below)
+        retry_opts = dict(ipopt_options or {})
+        retry_opts["max_iter"] = 3 * int(retry_opts.get("max_iter", 500))
+        if not sol.success and n_solves < max_iterations and sol.status != 3:
+            start = good[0] if good is not None else guess
+            sol, phase_sols, errs = run(meshes, start, retry_opts, False)
+            n_solves += 1
+        if not sol.success and sol.status == 3 and n_solves < max_iterations and not multi and good is None:
+            # proved infeasible from the first guess: once more from a perturbed (symmetry-breaking) guess
+            sol, phase_sols, errs = run(meshes, symmetry_breaking_guess(problem, amplitude=0.5), retry_opts, False)
+            n_solves += 1
+        emax = float(max(np.max(e) for e in errs))
         if sol.success:
+            infeasible_meshes = 0
+            good = (sol, phase_sols, errs, list(meshes))
             guess = sol  # warm start of the next mesh
+        else:
+            infeasible_meshes = infeasible_meshes + 1 if sol.status == 3 else 0
+            if infeasible_meshes >= 2:
+                stop_infeasible = True
+                message = (
+                    f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive meshes "
+                    f"(last {meshes[0].label() if not multi else 'per-phase meshes'}); the problem's constraints "
+                    "(bounds, boundary values, tf_bounds, path) may have no solution"
+                )
+                break
+        opt_split = None
         if sol.success and emax <= tol:
-            converged = True
-            message = f"tolerance {tol:g} met on mesh iteration {it + 1}: max relative error {emax:.3g}"
-            break
-        if it == max_iterations - 1:
+            opt = None
+            if check_optimality_flag and not multi:
+                opt = _check_optimality(sol, threshold=optimality_threshold)
+            if opt is None or opt.met:
+                converged = True
+                message = f"tolerance {tol:g} met on mesh iteration {len(history)}: max relative error {emax:.3g}"
+                break
+            # the dynamics meet tol but the optimality conditions do not: refine where H departs
+            # from its median (a misplaced switch bounds an arc of wrong H), else beside switches
+            opt_split = _optimality_split(sol, opt, min_width)
+            cold_next = True
+            if n_solves < max_iterations and opt_split is not None:
+                new_meshes = [opt_split]
+                if new_meshes[0] == meshes[0]:
+                    message = (f"tolerance {tol:g} met but the optimality conditions are not and the mesh cannot be "
+                               f"refined further (min_width={min_width:g})")
+                    break
+        if n_solves >= max_iterations:
             message = f"max_iterations={max_iterations} reached with max relative error {emax:.3g} > tol {tol:g}"
             break
-        new_meshes = []
-        for m, ps, e in zip(meshes, phase_sols, errs, strict=True):
-            nm, _ = refine_mesh(
-                m,
-                e,
-                tol=tol,
-                pieces=ps.pieces,
-                control_lower=ps.problem.control_lower,
-                control_upper=ps.problem.control_upper,
-                n_min=n_min,
-                n_max=n_max,
-                reduce=mesh_reduction,
-            )
-            new_meshes.append(nm)
-        if not sol.success and all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
-            # the NLP failed on a mesh whose error estimate is already small: refine uniformly
-            new_meshes = [Mesh(nodes=tuple(min(n + 1, n_max) for n in m.nodes), fractions=m.fractions) for m in meshes]
+        if opt_split is not None:
+            pass
+        elif sol.success:
+            new_meshes = []
+            for m, ps, e in zip(meshes, phase_sols, errs, strict=True):
+                nm, _ = refine_mesh(
+                    m,
+                    e,
+                    tol=tol,
+                    pieces=ps.pieces,
+                    control_lower=ps.problem.control_lower,
+                    control_upper=ps.problem.control_upper,
+                    n_min=n_min,
+                    n_max=n_max,
+                    reduce=mesh_reduction,
+                    min_width=min_width,
+                )
+                new_meshes.append(nm)
+            if all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
+                message = (
+                    f"the mesh cannot be refined further (min_width={min_width:g}, n_max={n_max}); stopped with "
+                    f"max relative error {emax:.3g} > tol {tol:g}"
+                )
+                break
+        else:
+            # the NLP failed on this mesh even after the retry: refine it uniformly (p, or h at
+            # n_max) and start again from the last good solution
+            new_meshes = [_uniform_refinement(m, n_max, min_width) for m in meshes]
         if any(nm.n_intervals > max_intervals for nm in new_meshes):
             message = (
                 f"max_intervals={max_intervals} would be exceeded; stopped with max relative error {emax:.3g} > tol {tol:g}"
             )
             break
         meshes = new_meshes
-    if not sol.success:
-        message = f"{message}; last NLP: {sol.message}"
-    cert = _certificate(phase_sols, errs, tol, sol.success, len(history), extra)
+    failed_nlp = sol
+    if not sol.success and good is not None:
+        # report the last converged NLP, never a failed iterate
+        sol, phase_sols, errs, meshes = good
+        message = f"{message}; the last NLP failed ({failed_nlp.message}): the last converged mesh is reported"
+    elif not sol.success:
+        if sol.status == 3 and not stop_infeasible:
+            message = f"infeasible: IPOPT proved the NLP locally infeasible ({sol.message}); {message}"
+        else:
+            message = f"{message}; last NLP: {sol.message}"
+    cert = _certificate(phase_sols, errs, tol, sol.success, len(history), extra, multi=multi,
+                        check=check_optimality_flag, threshold=optimality_threshold)
     emax = cert.max_error
     extras = dict(
         max_error=emax,
@@ -909,12 +1063,61 @@ def solve_adaptive(
         mesh_history=tuple(history),
         certificate=cert,
     )
-    ok = bool(converged and sol.success)
+    ok = bool(converged and sol.success and cert.satisfied)
+    if converged and sol.success and not cert.optimality_met:
+        message = f"optimality conditions NOT met ({cert.optimality_detail}); {message}"
     if multi:
         return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)
     base = {f.name: getattr(sol, f.name) for f in fields(OptimalControlSolution)}
     base.update(success=ok, message=f"{message} ({sol.message})")
     return AdaptiveSolution(**base, **extras)
+
+
+def _optimality_split(sol, opt, min_width: float) -> Mesh | None:
+    """Halve the intervals holding a collocation point whose ``H`` departs from the median by
+    more than the threshold (else those beside a control switch), keeping ``min_width``."""
+    mesh = sol.mesh
+    lo, hi = sol.problem.control_lower, sol.problem.control_upper
+    from adcskit.optimal_control.analysis import _switch_adjacent
+
+    dev = np.abs(sol.hamiltonian - opt.h_median) / opt.h_scale
+    bad = dev > opt.threshold if np.isfinite(opt.h_spread) and opt.h_spread > opt.threshold else None
+    if bad is None or not np.any(bad):
+        bad = _switch_adjacent(sol.u, lo, hi)
+    if not np.any(bad):
+        return None
+    owner = np.repeat(np.arange(mesh.n_intervals), mesh.nodes)
+    marked = set(owner[bad].tolist())
+    nodes: list[int] = []
+    fr: list[float] = []
+    for r, (n, f) in enumerate(zip(mesh.nodes, mesh.fractions, strict=True)):
+        if r in marked and f / 2.0 >= min_width:
+            nodes += [n, n]
+            fr += [f / 2.0, f / 2.0]
+        else:
+            nodes.append(n)
+            fr.append(f)
+    a = np.array(fr)
+    return Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+
+
+def _uniform_refinement(mesh: Mesh, n_max: int, min_width: float) -> Mesh:
+    """One more collocation point per interval; intervals already at ``n_max`` are halved
+    (while the halves stay at least ``min_width`` wide)."""
+    nodes: list[int] = []
+    fr: list[float] = []
+    for n, f in zip(mesh.nodes, mesh.fractions, strict=True):
+        if n < n_max:
+            nodes.append(n + 1)
+            fr.append(f)
+        elif f / 2.0 >= min_width:
+            nodes += [n, n]
+            fr += [f / 2.0, f / 2.0]
+        else:
+            nodes.append(n)
+            fr.append(f)
+    a = np.array(fr)
+    return Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
 
 
 def _initial_meshes(mesh, n_phases: int, n_min: int) -> list[Mesh]:

@@ -43,7 +43,14 @@ import numpy as np
 
 from adcskit._progress import track
 from adcskit._results import compact_repr
-from adcskit._validation import as_array, as_rng, check_choice, check_flag, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    as_rng,
+    check_choice,
+    check_flag,
+    check_int,
+    check_positive,
+)
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
