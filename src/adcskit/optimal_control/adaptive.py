@@ -823,6 +823,7 @@ def solve_adaptive(
     min_width: float = 1e-6,
     check_optimality: bool = True,
     optimality_threshold: float | None = None,
+    switch_times: bool = True,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
@@ -897,6 +898,7 @@ def solve_adaptive(
     mesh_reduction = check_flag("mesh_reduction", mesh_reduction)
     min_width = check_range("min_width", min_width, 0.0, 0.1)
     check_optimality_flag = check_flag("check_optimality", check_optimality)
+    switch_times = check_flag("switch_times", switch_times)
     from adcskit.optimal_control.analysis import check_optimality as _check_optimality
     optimality_threshold = (
         default_optimality_threshold(tol) if optimality_threshold is None
@@ -926,6 +928,8 @@ def solve_adaptive(
     infeasible_meshes = 0  # consecutive meshes on which IPOPT proved the NLP infeasible
     stop_infeasible = False
     cold_next = False
+    last_sig = None
+    tried_sigs: set[bytes] = set()
 
     def run(meshes, guess, opts, warm):
         t_start = time.perf_counter()
@@ -974,6 +978,27 @@ def solve_adaptive(
             sol, phase_sols, errs = run(meshes, symmetry_breaking_guess(problem, amplitude=0.5), retry_opts, False)
             n_solves += 1
         emax = float(max(np.max(e) for e in errs))
+        if sol.success and switch_times and not multi and n_solves < max_iterations:
+            structure = _bang_structure(sol)
+            sig = None if structure is None else structure[0].tobytes()
+            if sig is not None and sig == last_sig and sig not in tried_sigs:
+                # the bang-bang structure is stable over two meshes: free the switch times
+                tried_sigs.add(sig)
+                t_start = time.perf_counter()
+                polished = _switch_time_solve(problem, sol, structure, tol=tol, method=method, n_min=n_min,
+                                              n_max=n_max, min_width=min_width, ipopt_options=ipopt_options)
+                n_solves += 1
+                if polished is not None and polished[0].success:
+                    sol, nit_p = polished
+                    phase_sols = [sol]
+                    errs = _phase_errors(phase_sols, extra)
+                    emax = float(np.max(errs[0]))
+                    meshes = [sol.mesh]
+                    history.append(MeshIteration(
+                        meshes=(sol.mesh,), n_collocation=int(sum(sol.mesh.nodes)), max_error=emax,
+                        objective=float(sol.objective), success=True, nit=int(nit_p),
+                        solve_s=time.perf_counter() - t_start, warm_start="switch-times"))
+            last_sig = sig
         if sol.success:
             infeasible_meshes = 0
             good = (sol, phase_sols, errs, list(meshes))
@@ -1118,6 +1143,172 @@ def _uniform_refinement(mesh: Mesh, n_max: int, min_width: float) -> Mesh:
             fr.append(f)
     a = np.array(fr)
     return Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+
+
+# ----------------------------------------------------------------------------- switch times
+def _bang_structure(sol, on_bound: float = 0.02, max_transition: float = 0.05):
+    """The arcs of a bang-bang solution: ``(values, boundaries)`` with ``values`` (K, nu) in
+    {−1, +1} (lower / upper bound) and the K − 1 switch-time estimates (s), or None.
+
+    Per channel, consecutive on-bound collocation points on opposite bounds bracket a switch
+    (placed mid-way); off-bound points between them are the discretisation smearing it, as
+    long as the gap is at most ``max_transition`` of the horizon. A longer off-bound run (a
+    singular or smooth arc), an infinite bound, or no switch at all gives None: such
+    solutions are left to the general refinement. Switches of different channels closer than
+    ``1e-4`` of the horizon are one boundary.
+    """
+    pr = sol.problem
+    lo, hi = pr.control_lower, pr.control_upper
+    if pr.n_controls == 0 or not np.all(np.isfinite(lo) & np.isfinite(hi) & (hi > lo)):
+        return None
+    span = hi - lo
+    u, tc = sol.u, sol.t_control
+    T = float(sol.tf - sol.t0)
+    cls = np.where(np.abs(u - hi) <= on_bound * span, 1, np.where(np.abs(u - lo) <= on_bound * span, -1, 0))
+    switch_t: list[float] = []
+    for j in range(u.shape[1]):
+        k_on = np.flatnonzero(cls[:, j] != 0)
+        if k_on.size == 0:
+            return None
+        # off-bound stretches at the ends of the horizon are not a bang-bang control either
+        if tc[k_on[0]] - sol.t0 > max_transition * T or sol.tf - tc[k_on[-1]] > max_transition * T:
+            return None
+        for a, b in zip(k_on[:-1], k_on[1:], strict=True):
+            gap = tc[b] - tc[a]
+            if b > a + 1 and gap > max_transition * T:
+                return None  # a long off-bound run: singular or smooth arc
+            if cls[a, j] != cls[b, j]:
+                switch_t.append(0.5 * (tc[a] + tc[b]))
+    if not switch_t:
+        return None
+    ts = np.sort(np.array(switch_t))
+    merged = [ts[0]]
+    for t in ts[1:]:
+        if t - merged[-1] > 1e-4 * T:
+            merged.append(t)
+    edges = np.concatenate(([sol.t0], merged, [sol.tf]))
+    vals = []
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        row = []
+        for j in range(u.shape[1]):
+            k_on = np.flatnonzero(cls[:, j] != 0)
+            k = k_on[np.argmin(np.abs(tc[k_on] - 0.5 * (a + b)))]
+            row.append(cls[k, j])
+        vals.append(row)
+    return np.array(vals, dtype=int), np.array(merged)
+
+
+def _switch_time_solve(problem, sol, structure, *, tol, method, n_min, n_max, min_width, ipopt_options):
+    """Re-solve a bang-bang solution with its switch times as free phase boundaries.
+
+    One phase per arc with the control fixed at the arc's bounds, state and time continuity
+    between phases (:func:`solve_multiphase`, refined by :func:`solve_adaptive`); the optimal
+    switch times then become mesh points of a single-phase mesh (each phase's final mesh
+    scaled into its arc) on which the original problem is solved warm from the multi-phase
+    trajectory. Returns ``(solution, nit)`` or None when a step fails.
+    """
+    from adcskit.optimal_control.multiphase import MultiPhaseGuess, MultiPhaseProblem, Phase
+
+    vals, bounds = structure
+    pr = problem
+    lo, hi = pr.control_lower, pr.control_upper
+    sx, su = pr.scales()
+    t_hi = pr.tf_bounds[1] if np.isfinite(pr.tf_bounds[1]) else pr.t0 + 10.0 * (sol.tf - pr.t0)
+    edges = np.concatenate(([pr.t0], bounds, [sol.tf]))
+    K = len(vals)
+    phases, guesses = [], []
+    for k in range(K):
+        uval = np.where(vals[k] > 0, hi, lo)
+        phases.append(Phase(
+            name=f"arc{k}",
+            dynamics=lambda x, u, t, p, _f=pr.dynamics: _f(x, u, t),
+            lagrange=None if pr.lagrange is None else (lambda x, u, t, p, _g=pr.lagrange: _g(x, u, t)),
+            path=None if pr.path is None else (lambda x, u, t, p, _c=pr.path: _c(x, u, t)),
+            path_lower=pr.path_lower if pr.path is not None else None,
+            path_upper=pr.path_upper if pr.path is not None else None,
+            n_states=pr.n_states,
+            n_controls=pr.n_controls,
+            state_names=pr.state_names,
+            control_names=pr.control_names,
+            state_lower=pr.state_lower,
+            state_upper=pr.state_upper,
+            control_lower=uval,
+            control_upper=uval,
+            initial_state=pr.initial_state if k == 0 else None,
+            final_state=pr.final_state if k == K - 1 else None,
+            t0_bounds=(pr.t0, pr.t0) if k == 0 else (pr.t0, t_hi),
+            tf_bounds=pr.tf_bounds if k == K - 1 else (pr.t0, t_hi),
+            t0_guess=float(edges[k]),
+            tf_guess=float(edges[k + 1]),
+            state_scale=sx,
+            control_scale=su,
+        ))
+        tt = np.linspace(edges[k], edges[k + 1], 9)
+        guesses.append(Guess(t=tt, x=sol.state_at(tt), u=np.tile(uval, (tt.size, 1)), tf=float(max(edges[k + 1], 1e-12))))
+    mayer = pr.mayer
+    multi = MultiPhaseProblem(
+        name=f"{pr.name}-switch-times",
+        phases=phases,
+        objective=None if mayer is None else (lambda ends, p: mayer(ends[0].x0, ends[0].t0, ends[-1].xf, ends[-1].tf)),
+    )
+    try:
+        msol = solve_adaptive(multi, tol=tol, method=method, mesh=[Mesh.uniform(2, n_min + 1)] * K,
+                              guess=MultiPhaseGuess(phases=tuple(guesses), parameters=np.zeros(0)),
+                              max_iterations=6, n_min=n_min, n_max=n_max, ipopt_options=ipopt_options)
+    except (ValueError, RuntimeError):
+        return None
+    nit = sum(m.nit for m in msol.mesh_history)
+    if not msol.success:
+        return None
+    return _join_phases(pr, msol, min_width), nit
+
+
+def _join_phases(pr, msol, min_width: float) -> OptimalControlSolution:
+    """The single-phase solution made of a multi-phase solution's arcs (collapsed arcs,
+    shorter than ``min_width`` of the horizon, left out): one mesh whose points include the
+    phase boundaries, the phases' pieces, samples and costates in sequence."""
+    T = msol.phases[-1].tf - pr.t0
+    keep = [ph for ph in msol.phases if (ph.tf - ph.t0) / T >= max(min_width, 1e-12)]
+    nodes: list[int] = []
+    fr: list[float] = []
+    cat: dict[str, list] = {k: [] for k in ("t", "x", "costate", "t_control", "u", "hamiltonian", "switching")}
+    pieces: list = []
+    for n, ph in enumerate(keep):
+        d = (ph.tf - ph.t0) / T
+        nodes += list(ph.mesh.nodes)
+        fr += [f * d for f in ph.mesh.fractions]
+        end = None if n == len(keep) - 1 else -1  # the next phase starts where this one ends
+        cat["t"].append(ph.t[:end])
+        cat["x"].append(ph.x[:end])
+        cat["costate"].append(ph.costate[:end])
+        for k in ("t_control", "u", "hamiltonian", "switching"):
+            cat[k].append(getattr(ph, k))
+        pieces += list(ph.pieces)
+    a = np.array(fr)
+    mesh = Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+    samples = {k: (np.concatenate(v) if k in ("t", "t_control", "hamiltonian") else np.vstack(v)) for k, v in cat.items()}
+    return OptimalControlSolution(
+        success=bool(msol.success),
+        status=int(msol.status),
+        ipopt_status=str(getattr(msol, "ipopt_status", "")),
+        message=f"switch times as free phase boundaries ({len(keep)} arcs): {msol.message}",
+        nit=int(msol.nit),
+        nfev=int(msol.nfev),
+        objective=float(msol.objective),
+        t0=float(pr.t0),
+        tf=float(keep[-1].tf),
+        method=keep[0].method,
+        mesh=mesh,
+        **samples,
+        max_violation=float(msol.max_violation),
+        build_s=float(getattr(msol, "build_s", 0.0)),
+        solve_s=float(getattr(msol, "solve_s", 0.0)),
+        problem=pr,
+        pieces=tuple(pieces),
+        dynamics_fun=keep[0].dynamics_fun,
+        warm_start="switch-times",
+        nlp=None,
+    )
 
 
 def _initial_meshes(mesh, n_phases: int, n_min: int) -> list[Mesh]:
