@@ -931,14 +931,14 @@ def solve_adaptive(
     last_sig = None
     tried_sigs: set[bytes] = set()
 
-    def run(meshes, guess, opts, warm):
+    def run(meshes, guess, opts, warm, prob=None):
         t_start = time.perf_counter()
         if multi:
             out = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=opts,
                                    transfer_duals=transfer_duals and warm is not False)
             ps = list(out.phases)
         else:
-            out = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=opts,
+            out = solve(prob or problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=opts,
                         transfer_duals=transfer_duals and warm is not False, warm_start=warm)
             ps = [out]
         wall = time.perf_counter() - t_start
@@ -973,6 +973,17 @@ def solve_adaptive(
             start = good[0] if good is not None else guess
             sol, phase_sols, errs = run(meshes, start, retry_opts, False)
             n_solves += 1
+        if (not sol.success and not multi and good is None and problem.free_final_time
+                and n_solves + 1 < max_iterations):
+            # no solution yet of a free-final-time problem: a feasibility step with tf fixed at
+            # its guess, then the free problem from there (IPOPT tends to shrink tf from a poor
+            # guess until the NLP is locally infeasible: the minimum-time oscillator)
+            fixed = problem.replace(tf_bounds=(problem.tf_guess, problem.tf_guess))
+            feas, _, _ = run(meshes, guess, retry_opts, False, prob=fixed)
+            n_solves += 1
+            if feas.success:
+                sol, phase_sols, errs = run(meshes, feas, retry_opts, False)
+                n_solves += 1
         if not sol.success and sol.status == 3 and n_solves < max_iterations and not multi and good is None:
             # proved infeasible from the first guess: once more from a perturbed (symmetry-breaking) guess
             sol, phase_sols, errs = run(meshes, symmetry_breaking_guess(problem, amplitude=0.5), retry_opts, False)
