@@ -77,6 +77,7 @@ __all__ = [
     "AdaptiveSolution",
     "ErrorCertificate",
     "MeshIteration",
+    "default_optimality_threshold",
     "estimate_error",
     "refine_mesh",
     "solve_adaptive",
@@ -758,6 +759,7 @@ def default_optimality_threshold(tol: float) -> float:
 
     Examples
     --------
+    >>> from adcskit.optimal_control import default_optimality_threshold
     >>> default_optimality_threshold(1e-6), default_optimality_threshold(1.0)
     (0.02, 2.0)
     """
@@ -837,7 +839,9 @@ def solve_adaptive(
         Initial mesh (one per phase for a multi-phase problem); default 10 intervals of
         ``n_min + 1`` points, as GPOPS-II starts.
     guess : Guess, OptimalControlSolution, callable, "linear", optional
-        Initial guess (see :func:`solve` / :func:`solve_multiphase`; a callable
+        Accepted: single phase — ``None``, a :class:`Guess`, a previous solution, a callable,
+        ``"linear"``; multi-phase — ``None``, ``"linear"``, a :class:`MultiPhaseGuess` or
+        :class:`MultiPhaseSolution`. Initial guess (see :func:`solve` / :func:`solve_multiphase`; a callable
         ``t -> (x, u)`` is sampled by :func:`guess_from_function`; ``"linear"`` is
         :func:`default_guess`). Default for a single phase: :func:`symmetry_breaking_guess`,
         which does not start on the symmetric stationary point (e.g. the eigenaxis slew of
@@ -860,13 +864,33 @@ def solve_adaptive(
         Also lower degrees and merge intervals where the error is far below ``tol``
         (:func:`refine_mesh`'s ``reduce``; Liu, Hager & Rao 2015, §4). Default on: measured
         smaller final meshes at equal wall time (docs/benchmarks.md).
+    min_width : float
+        Narrowest interval the refinement makes, as a fraction of the phase (``[0, 0.1]``).
+    check_optimality : bool
+        Require the first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` (single phase) for ``success``;
+        when the error test passes and they fail, refinement goes on where ``H`` departs
+        from its median.
+    optimality_threshold : float, optional
+        Bound of the relative optimality figures; default
+        :func:`default_optimality_threshold` ``(tol) = max(0.02, 2 √tol)``.
+    switch_times : bool
+        Once a bang-bang structure is stable over two meshes, re-solve with the switch times
+        as free phase boundaries (one constant-bound arc per phase, :func:`solve_multiphase`)
+        and continue from the joined solution (single phase; counts as one solve).
 
     Returns
     -------
     AdaptiveSolution or MultiPhaseSolution
         The usual solution with ``max_error``, ``interval_errors``, ``mesh_history`` and
-        ``certificate``. ``success`` is True only when IPOPT converged *and* the tolerance
-        holds in every interval; otherwise ``message`` says which limit stopped it.
+        ``certificate``. ``success`` is True only when IPOPT converged, the tolerance holds
+        in every interval *and* the optimality checks hold (``certificate.error_met``,
+        ``certificate.optimality_met``); otherwise ``message`` says what failed, opening with
+        ``"infeasible:"`` when IPOPT proved the NLP infeasible. A failed NLP is never
+        refined from: it is retried (cold IPOPT options and more iterations; a fixed-``tf``
+        feasibility step before any converged solve of a free-final-time problem; a perturbed
+        guess after an infeasible first solve), and the last *converged* solution is returned.
+        Two consecutive meshes proved infeasible end the run.
 
     References
     ----------
