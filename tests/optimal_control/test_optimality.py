@@ -125,11 +125,12 @@ def test_plain_refinement_answer_is_suboptimal_and_the_check_says_so(ffr_plain_r
     assert sol.success and sol.max_error <= 1e-4
     assert abs(sol.objective - FFR_J) / FFR_J > 1e-4
     chk = check_optimality(sol, threshold=default_optimality_threshold(1e-4))
-    # H steps at the misplaced switches (issue 22: 8.7 % spread; here S-scaled, measured 5 %)
-    assert not chk.met and chk.h_spread > 2 * chk.threshold
+    # H steps at the misplaced switches (issue 22: 8.7 % of |H|; relative to the size of H's
+    # terms, measured 3.3 % against <= 0.74 % on correct answers, docs/optimal-control.md)
+    assert not chk.met and chk.h_spread > 1.5 * chk.threshold
 
 
-@pytest.mark.parametrize("method", ["radau", "gauss"])
+@pytest.mark.parametrize("method", ["radau", pytest.param("gauss", marks=pytest.mark.slow)])
 def test_free_flying_robot_meets_1e6_with_exact_switch_times(method):
     sol = solve_adaptive(free_flying_robot(), tol=1e-6, method=method)
     assert sol.success and sol.certificate.satisfied and sol.certificate.optimality_met
@@ -147,14 +148,15 @@ def test_oscillator_min_time_meets_1e6_with_four_switches(method):
     sol = solve_adaptive(p, tol=1e-6, method=method)
     assert sol.success
     assert abs(sol.tf - tf_ref) / tf_ref <= 1e-6
-    bb = bang_bang(sol)
-    assert bb.n_switches.tolist() == [4]
-    # switch times at the phase boundaries: the state error tolerance bounds them too
-    assert np.allclose(bb.switch_times[0], sw_ref, atol=1e-4)
+    assert bang_bang(sol).n_switches.tolist() == [4]
+    # the switches are mesh points (free phase boundaries of the switch-time re-solve): each
+    # of the oracle's switch times is a mesh point to 1e-6 of tf
+    breaks = sol.t0 + sol.mesh.breaks * (sol.tf - sol.t0)
+    assert np.all(np.min(np.abs(breaks[None, :] - sw_ref[:, None]), axis=1) <= 1e-6 * tf_ref)
 
 
 # ----------------------------------------------------------------------------- failure
-@pytest.mark.parametrize("method", ["radau", "gauss"])
+@pytest.mark.parametrize("method", ["radau", pytest.param("gauss", marks=pytest.mark.slow)])
 def test_infeasible_problem_ends_within_three_meshes(method):
     p = double_integrator_min_time().replace(tf_bounds=(0.5, 1.0), tf_guess=0.8)  # needs tf = 2
     sol = solve_adaptive(p, tol=1e-6, method=method)

@@ -450,8 +450,10 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
     for k in range(n):
         fk, gk = fg(xc[k], u[k], tc[k])
         F[k], G[k] = np.asarray(fk).ravel(), float(gk)
-    S = float(np.median(np.abs(G) + np.sum(np.abs(lc * F), axis=1)))
+    terms = np.abs(G) + np.sum(np.abs(lc * F), axis=1)  # size of H's terms at each point
+    S = float(np.median(terms))
     S = S if np.isfinite(S) and S > 0 else 1.0
+    Sk = np.maximum(np.where(np.isfinite(terms), terms, S), S)  # pointwise, never below S
     lo, hi = prob.control_lower, prob.control_upper
     adj = _switch_adjacent(u, lo, hi)
     keep = ~adj if np.any(~adj) else np.ones(n, bool)
@@ -473,7 +475,7 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
         notes.append("H checks not applied (a state bound is active)")
         autonomous = False
     if autonomous:
-        h_spread = float(np.max(np.abs(H[keep] - Hm)) / S)
+        h_spread = float(np.max(np.abs(H[keep] - Hm) / Sk[keep]))
         checks.append("H-constant")
         notes.append(f"H spread {h_spread:.2e}")
     h_target = np.nan

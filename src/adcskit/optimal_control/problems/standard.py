@@ -507,8 +507,10 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
         return s + (z - s) * np.exp(-1j * dt)
 
     best = (np.inf, np.array([]))
+    # each π-long arc moves the state's distance from the origin by at most 2
+    k_max = int(np.ceil(abs(z0) / 2.0)) + 3
     for s0 in (1.0, -1.0):
-        for k in range(0, 120):
+        for k in range(0, k_max):
 
             def end(t1: float, s0: float = s0, k: int = k) -> complex:
                 z, s = flow(z0, s0, t1), s0
@@ -522,7 +524,7 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
                 # the last arc (sign s) must pass through the origin: |z − s| = |0 − s| = 1
                 return abs(z - s) - 1.0
 
-            grid = np.linspace(1e-9, np.pi, 400)
+            grid = np.linspace(1e-9, np.pi, 200)
             vals = np.array([miss(t) for t in grid])
             for a, b, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:], strict=True):
                 if fa == 0.0 or fa * fb < 0.0:
