@@ -1124,7 +1124,7 @@ def solve_adaptive(
         certificate=cert,
     )
     ok = bool(converged and sol.success and cert.satisfied)
-    if converged and sol.success and not cert.optimality_met:
+    if sol.success and cert.error_met and not cert.optimality_met:
         message = f"optimality conditions NOT met ({cert.optimality_detail}); {message}"
     if multi:
         return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)

@@ -348,14 +348,16 @@ def _problem_funs(problem):
     """CasADi functions ``f``, ``g``, ``C`` of a problem and whether they depend on ``t``."""
     import casadi as ca
 
+    from adcskit.optimal_control.transcription import _as_list, _scalar
+
     nx, nu = problem.n_states, problem.n_controls
     x, u, t = ca.SX.sym("x", nx), ca.SX.sym("u", nu), ca.SX.sym("t")
-    f = ca.vertcat(*problem.dynamics(x, u, t))
-    g = ca.SX(0) if getattr(problem, "lagrange", None) is None else ca.SX(problem.lagrange(x, u, t))
+    f = ca.vertcat(*_as_list(problem.dynamics(x, u, t), nx, "dynamics"))
+    g = ca.SX(0) if getattr(problem, "lagrange", None) is None else _scalar(problem.lagrange(x, u, t), "lagrange")
     exprs = [f, g]
     c = None
     if getattr(problem, "path", None) is not None and problem.n_path:
-        c = ca.vertcat(*problem.path(x, u, t))
+        c = ca.vertcat(*_as_list(problem.path(x, u, t), problem.n_path, "path"))
         exprs.append(c)
     autonomous = not any(ca.depends_on(e, t) for e in exprs)
     fg = ca.Function("fg", [x, u, t], [f, g])
@@ -372,7 +374,9 @@ def _mayer_dtf(problem, sol) -> float:
     nx = problem.n_states
     x0, xf = ca.SX.sym("x0", nx), ca.SX.sym("xf", nx)
     t0, tf = ca.SX.sym("t0"), ca.SX.sym("tf")
-    phi = ca.SX(problem.mayer(x0, t0, xf, tf))
+    from adcskit.optimal_control.transcription import _scalar
+
+    phi = _scalar(problem.mayer(x0, t0, xf, tf), "mayer")
     d = ca.Function("d", [x0, t0, xf, tf], [ca.gradient(phi, tf)])
     return float(d(sol.x[0], sol.t0, sol.x[-1], sol.tf))
 
