@@ -325,8 +325,8 @@ class OptimalityCheck:
     >>> from adcskit.optimal_control import solve, check_optimality
     >>> from adcskit.optimal_control.problems import double_integrator_min_energy
     >>> chk = check_optimality(solve(double_integrator_min_energy(), mesh=(4, 3)), threshold=1e-4)
-    >>> chk.met, chk.checks, bool(chk.h_spread < 1e-8)
-    (True, ('H-constant', 'switching-sign'), True)
+    >>> chk.met, chk.checks, bool(chk.h_spread < 1e-8)      # unbounded control: no sign check
+    (True, ('H-constant',), True)
     """
 
     met: bool
@@ -419,7 +419,7 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
     solution : OptimalControlSolution
     threshold : float
         Largest admissible relative figure (dimensionless; :func:`solve_adaptive` uses
-        ``max(0.02, 10 √tol)``... see its docs).
+        :func:`~adcskit.optimal_control.default_optimality_threshold`, ``max(0.02, 2 √tol)``).
 
     Returns
     -------

@@ -336,8 +336,8 @@ class OptimalControlSolution:
         >>> try:
         ...     sol.state_at(1.5)
         ... except ValueError as exc:
-        ...     print(str(exc)[:52])
-        t must lie in the solution's horizon [t0, tf] = [0, 1]
+        ...     print(str(exc)[:40])
+        t must lie in the solution's horizon [t0
         """
         tt = self._times(t)
         out = np.empty((tt.size, self.x.shape[1]))
