@@ -286,17 +286,23 @@ def mekf_propagate(q, b, P, omega_meas, dt, sigma_v, sigma_u, work):
 
 
 @register_jitable
-def _scalar_update(P, work, h0, h1, h2, innov, var):
+def _scalar_update(P, work, h0, h1, h2, innov, var, underweight):
     """One scalar measurement ``z = h · dθ`` (the vector and star-tracker rows have no bias part) with
     residual ``innov`` (already corrected for the accumulated ``dx``) and noise variance
     ``var``: Joseph-form update of ``P`` and ``dx`` (work[_DX:_DX+6]); returns ``innov²/s``.
 
     Joseph form ``(I − K h)P(I − K h)ᵀ + var K Kᵀ`` expanded with ``u = P hᵀ``,
     ``s = h u + var``: ``P − K uᵀ − u Kᵀ + s K Kᵀ`` (symmetric by construction and, unlike
-    ``P − u uᵀ / s``, first-order insensitive to errors in ``K``)."""
+    ``P − u uᵀ / s``, first-order insensitive to errors in ``K``).
+
+    Underweighting (module docstring): while ``h u > var`` the noise variance is inflated to
+    ``var + underweight · h u`` (gain, Joseph form and NIS all use the inflated value)."""
     for i in range(6):
         work[_U + i] = P[i, 0] * h0 + P[i, 1] * h1 + P[i, 2] * h2
-    s = work[_U] * h0 + work[_U + 1] * h1 + work[_U + 2] * h2 + var
+    hu = work[_U] * h0 + work[_U + 1] * h1 + work[_U + 2] * h2
+    if hu > var:
+        var = var + underweight * hu
+    s = hu + var
     inv_s = 1.0 / s
     for i in range(6):
         work[_K + i] = work[_U + i] * inv_s
@@ -320,7 +326,7 @@ def _reset(q, b, work):
 
 
 @register_jitable
-def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work):
+def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work):
     """Vector-measurement update (see the module docstring); returns the NIS or NaN."""
     nb = v_body_meas[0] * v_body_meas[0] + v_body_meas[1] * v_body_meas[1] + v_body_meas[2] * v_body_meas[2]
     nr = v_ref[0] * v_ref[0] + v_ref[1] * v_ref[1] + v_ref[2] * v_ref[2]
@@ -354,13 +360,13 @@ def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work):
         else:
             h0, h1, h2 = -bh1, bh0, 0.0
         innov = work[_Y + i] - (h0 * work[_DX] + h1 * work[_DX + 1] + h2 * work[_DX + 2])
-        nis += _scalar_update(P, work, h0, h1, h2, innov, var)
+        nis += _scalar_update(P, work, h0, h1, h2, innov, var, underweight)
     _reset(q, b, work)
     return nis
 
 
 @register_jitable
-def mekf_update_quaternion(q, b, P, q_meas, sigma, work):
+def mekf_update_quaternion(q, b, P, q_meas, sigma, underweight, work):
     """Star-tracker quaternion update (see the module docstring); returns the NIS or NaN."""
     if not (sigma > 0.0) or not _error_rotvec(q_meas, q, work, _Y):
         return math.nan
@@ -371,7 +377,7 @@ def mekf_update_quaternion(q, b, P, q_meas, sigma, work):
     for i in range(3):
         innov = work[_Y + i] - work[_DX + i]
         nis += _scalar_update(P, work, 1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0,
-                              1.0 if i == 2 else 0.0, innov, var)
+                              1.0 if i == 2 else 0.0, innov, var, underweight)
     _reset(q, b, work)
     return nis
 
@@ -410,8 +416,8 @@ def mekf_nees(q_est, b_est, P, q_true, b_true, work):
 
 
 @register_jitable
-def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, qtrue,
-                btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P, work):
+def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, uw,
+                qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P, work):
     """Run sample ``k`` over all ``T`` epochs (see :func:`filter_batch`). ``P``, ``work``:
     this lane's scratch (6, 6) and (WORK_SIZE,)."""
     T = gyro.shape[1]
@@ -439,12 +445,12 @@ def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigm
             mekf_propagate(q, b, P, gyro[k, t - 1], dt[t - 1], sigma_v, sigma_u, work)
         for j in range(m):
             if math.isfinite(vb[k, t, j, 0]):
-                nis[k, t, j] = mekf_update_vector(q, b, P, vb[k, t, j], vr[kr, t, j], sig[j], work)
+                nis[k, t, j] = mekf_update_vector(q, b, P, vb[k, t, j], vr[kr, t, j], sig[j], uw, work)
             else:
                 nis[k, t, j] = math.nan
         if has_st:
             if math.isfinite(qst[k, t, 0]):
-                nis_st[k, t] = mekf_update_quaternion(q, b, P, qst[k, t], sig_st, work)
+                nis_st[k, t] = mekf_update_quaternion(q, b, P, qst[k, t], sig_st, uw, work)
             else:
                 nis_st[k, t] = math.nan
         for i in range(6):
@@ -458,8 +464,8 @@ def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigm
 
 
 @njit(cache=True, parallel=True, nogil=True)
-def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, qtrue, btrue,
-                 q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr, work):
+def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, uw, qtrue,
+                 btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr, work):
     """All samples in parallel (``prange``), each through :func:`_filter_one`.
 
     Shapes: ``q0`` (N, 4), ``b0`` (N, 3), ``P0`` (N, 6, 6), ``dt`` (T − 1,), ``gyro``
@@ -476,7 +482,7 @@ def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_
         # prange's index is uint64, which would unify with the int 0 of a shared-reference
         # index to float64: pass it as int64
         _filter_one(np.int64(k), q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v,
-                    sigma_u, qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
+                    sigma_u, uw, qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
 
 
 # --- njit dispatchers for callers outside compiled code (the stepping class, tests) ---------

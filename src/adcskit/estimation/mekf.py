@@ -52,7 +52,12 @@ from adcskit._validation import as_array, check_finite, check_int, check_positiv
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import _mekf_kernels as _mk
 
-__all__ = ["MEKFResult", "MultiplicativeEKF", "mekf_filter", "chi2_band"]
+__all__ = ["MEKFResult", "MultiplicativeEKF", "mekf_filter", "chi2_band", "UNDERWEIGHT"]
+
+#: Default measurement-underweighting factor ``p`` (module docstring): while a scalar
+#: measurement row's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²``, the
+#: update uses ``σ² + p h P hᵀ``. ``0`` switches underweighting off (the plain EKF update).
+UNDERWEIGHT = 0.2
 
 
 # ------------------------------------------------------------------------- validation
@@ -114,6 +119,13 @@ def _noise(name: str, value: Any, unit: str) -> float:
     return check_positive(name, value, allow_zero=True, unit=unit)
 
 
+def _underweight(value: Any) -> float:
+    if isinstance(value, (bool, np.bool_)):
+        raise InputTypeError("underweight must be a number >= 0 (the underweighting factor p; 0 "
+                             f"switches it off); got {value!r}")
+    return check_positive("underweight", value, allow_zero=True, max_value=1e6)
+
+
 def chi2_band(dof: int, n_runs: int, alpha: float = 0.05) -> tuple[float, float]:
     """Two-sided ``1 − alpha`` band of the mean of ``n_runs`` independent χ²(dof) values.
 
@@ -168,6 +180,12 @@ class MultiplicativeEKF:
         Gyro angle random walk (Farrenkopf ``σv``), >= 0.
     sigma_u : float, rad/s^1.5
         Gyro bias random walk (Farrenkopf ``σu``), >= 0.
+    underweight : float
+        Measurement-underweighting factor ``p`` >= 0 (default :data:`UNDERWEIGHT` = 0.2):
+        while a measurement row's predicted variance ``h P hᵀ`` exceeds its noise variance
+        ``σ²`` the update uses ``σ² + p h P hᵀ`` (Lefferts, Markley & Shuster 1982), so that a
+        precise first measurement of a poorly known attitude does not lock in the EKF's
+        linearisation error. ``0`` gives the plain EKF update.
 
     Notes
     -----
@@ -195,14 +213,16 @@ class MultiplicativeEKF:
     True
     """
 
-    __slots__ = ("_q", "_b", "_P", "_work", "_sigma_v", "_sigma_u")
+    __slots__ = ("_q", "_b", "_P", "_work", "_sigma_v", "_sigma_u", "_uw")
 
-    def __init__(self, q0: Any, b0: Any, P0: Any, *, sigma_v: float, sigma_u: float) -> None:
+    def __init__(self, q0: Any, b0: Any, P0: Any, *, sigma_v: float, sigma_u: float,
+                 underweight: float = UNDERWEIGHT) -> None:
         self._q = _quat("q0", q0)
         self._b = _vec3("b0", b0)
         self._P = np.ascontiguousarray(_covariance("P0", P0))
         self._sigma_v = _noise("sigma_v", sigma_v, "rad/s^0.5")
         self._sigma_u = _noise("sigma_u", sigma_u, "rad/s^1.5")
+        self._uw = _underweight(underweight)
         self._work = np.zeros(_mk.WORK_SIZE)
 
     @property
@@ -229,6 +249,11 @@ class MultiplicativeEKF:
     def sigma_u(self) -> float:
         """Bias random walk [rad/s^1.5]."""
         return self._sigma_u
+
+    @property
+    def underweight(self) -> float:
+        """Measurement-underweighting factor ``p`` (0: off)."""
+        return self._uw
 
     def propagate(self, omega_meas: Any, dt: float) -> None:
         """Propagate over ``dt`` with the gyro reading held constant.
@@ -274,7 +299,8 @@ class MultiplicativeEKF:
         vb = _vec3("v_body", v_body, nonzero=True)
         vr = _vec3("v_ref", v_ref, nonzero=True)
         s = _sigma("sigma", sigma)
-        return float(_mk.mekf_update_vector_jit(self._q, self._b, self._P, vb, vr, s, self._work))
+        return float(_mk.mekf_update_vector_jit(self._q, self._b, self._P, vb, vr, s, self._uw,
+                                                  self._work))
 
     def update_quaternion(self, q_meas: Any, sigma: float) -> float:
         """Update with a star-tracker attitude ``q_meas = δq(v) ⊗ q_true``, ``v ~ N(0, σ² I)``.
@@ -293,7 +319,8 @@ class MultiplicativeEKF:
         """
         qm = _quat("q_meas", q_meas)
         s = _sigma("sigma", sigma)
-        return float(_mk.mekf_update_quaternion_jit(self._q, self._b, self._P, qm, s, self._work))
+        return float(_mk.mekf_update_quaternion_jit(self._q, self._b, self._P, qm, s, self._uw,
+                                                      self._work))
 
     def nees(self, q_true: Any, b_true: Any) -> float:
         """NEES ``eᵀ P⁻¹ e`` of the current estimate against the truth (about χ²(6)).
@@ -410,6 +437,7 @@ def mekf_filter(
     q_true: Any = None,
     b_true: Any = None,
     full_covariance: bool = False,
+    underweight: float = UNDERWEIGHT,
 ) -> MEKFResult:
     """Run the MEKF over a batch of samples in one compiled call.
 
@@ -449,6 +477,9 @@ def mekf_filter(
         Truth for the NEES (both or neither).
     full_covariance : bool
         Store the full ``(6, 6)`` covariance per epoch (else only its diagonal).
+    underweight : float
+        Measurement-underweighting factor ``p`` >= 0 (default :data:`UNDERWEIGHT` = 0.2; see
+        :class:`MultiplicativeEKF`); ``0`` gives the plain EKF update.
 
     Returns
     -------
@@ -489,6 +520,7 @@ def mekf_filter(
     """
     sv = _noise("sigma_v", sigma_v, "rad/s^0.5")
     su = _noise("sigma_u", sigma_u, "rad/s^1.5")
+    uw = _underweight(underweight)
     if not isinstance(full_covariance, (bool, np.bool_)):
         raise InputTypeError(f"full_covariance must be True or False; got {short_repr(full_covariance)}")
     tt = as_array("t", t, ndim=1)
@@ -598,7 +630,7 @@ def mekf_filter(
     nis_st = np.full((n, T), np.nan)
     c = np.ascontiguousarray
     _mk.filter_batch(c(q0a), c(b0a), P0a, c(dts), c(g), c(vb), c(vr), c(sg), c(qs), float(ss),
-                     sv, su, c(qt), c(bt), q_out, b_out, Pd, P_full, nees, nis, nis_st,
+                     sv, su, uw, c(qt), c(bt), q_out, b_out, Pd, P_full, nees, nis, nis_st,
                      np.empty((n, 6, 6)), np.empty((n, _mk.WORK_SIZE)))
     bad = ~(np.isfinite(q_out).all(axis=(1, 2)) & np.isfinite(Pd).all(axis=(1, 2))
             & (Pd > 0).all(axis=(1, 2)))
