@@ -213,20 +213,26 @@ def test_static_covariance_equals_wahba_covariance(mode):
     # (a) "no-time": no time elapses between updates (the bias never couples in), or
     # (b) "no-gyro-noise": σv = σu = 0, zero rate, and the bias known (P0 bias block 0),
     # and the estimate sits at the truth with noise-free data (H is then evaluated at the
-    # true body vectors, the ones solve_wahba uses).
+    # true body vectors, the ones solve_wahba uses). The identity is that of the plain EKF
+    # update (underweight=0); underweighting counts the first updates with an inflated noise,
+    # so its covariance is larger in the Loewner order (less information per update).
     r = _two_vectors()
     sig = np.array([1e-3, 3e-3])
     q = random_quat(rng=4)
     body = (quat_to_dcm(q) @ r.T).T
     n = 40
     P0 = np.diag([1e-2] * 3 + ([1e-6] * 3 if mode == "no-time" else [0.0] * 3))
-    f = MultiplicativeEKF(q, np.zeros(3), P0, sigma_v=0.0 if mode != "no-time" else 1e-4,
-                          sigma_u=0.0 if mode != "no-time" else 1e-6)
+    kw = dict(sigma_v=0.0 if mode != "no-time" else 1e-4, sigma_u=0.0 if mode != "no-time" else 1e-6)
+    f = MultiplicativeEKF(q, np.zeros(3), P0, underweight=0.0, **kw)
+    fu = MultiplicativeEKF(q, np.zeros(3), P0, **kw)  # default underweighting
     for _ in range(n):
         if mode == "no-gyro-noise":
             f.propagate(np.zeros(3), 1.0)
+            fu.propagate(np.zeros(3), 1.0)
         for i in range(2):
             f.update_vector(body[i], r[i], sig[i])
+            fu.update_vector(body[i], r[i], sig[i])
+    assert np.linalg.eigvalsh(fu.P[:3, :3] - f.P[:3, :3]).min() >= -1e-12 * np.abs(f.P).max()
     w = solve_wahba(np.tile(body, (n, 1)), np.tile(r, (n, 1)), np.tile(1.0 / sig**2, n))
     expected = np.linalg.inv(np.linalg.inv(P0[:3, :3]) + np.linalg.inv(w.cov))
     # exact identity up to rounding (the Joseph recursion of 80 updates: ~1e-12 relative)

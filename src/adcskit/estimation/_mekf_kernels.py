@@ -33,7 +33,7 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     [rad/s] held constant over the step. ``sigma_v`` [rad/s^0.5] angle random walk,
     ``sigma_u`` [rad/s^1.5] bias random walk (Farrenkopf model). Exact discrete ``Φ`` and
     ``Q`` for the held rate (closed forms below).
-``mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work) -> float``
+``mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work) -> float``
     One vector measurement ``v_body_meas ≈ A(q_true) v_ref`` (both (3,), normalised here),
     isotropic noise ``sigma`` [rad] per axis (the 3-vector model ``R = σ² I``, Markley &
     Crassidis 2014 §6.2.1). Processed as three sequential scalar updates with a frozen
@@ -41,8 +41,9 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     Joseph-form covariance update, then the multiplicative reset. Returns the normalised
     innovation squared ``νᵀ S⁻¹ ν`` (NIS; ~χ²(2) for unit vectors with noise transverse to
     the direction, ~χ²(3) for isotropic 3-vector noise). If either vector is non-finite or
-    zero, or ``sigma`` is not > 0, nothing changes and NaN is returned.
-``mekf_update_quaternion(q, b, P, q_meas, sigma, work) -> float``
+    zero, or ``sigma`` is not > 0, nothing changes and NaN is returned. ``underweight`` is
+    the measurement-underweighting factor ``p >= 0`` (below; 0: the plain EKF update).
+``mekf_update_quaternion(q, b, P, q_meas, sigma, underweight, work) -> float``
     Star-tracker update: ``q_meas = δq(v) ⊗ q_true``, ``v ~ N(0, σ² I)`` [rad], body frame.
     Returns the NIS (~χ²(3)); NaN and no change for a non-finite/zero ``q_meas``.
 ``mekf_nees(q_est, b_est, P, q_true, b_true, work) -> float``
@@ -77,6 +78,18 @@ angle-random-walk part integrates to ``σv² dt I`` exactly); for ``w → 0`` it
 Markley & Crassidis eq. 6.93. Quaternion: ``q⁺ = δq(ω̂ dt) ⊗ q`` (exact for the held rate),
 ``δq(θ) = [sin(|θ|/2) θ/|θ|, cos(|θ|/2)]``; reset ``q⁺ = δq(dθ̂) ⊗ q⁻``, ``b⁺ = b⁻ + Δb̂``.
 
+Measurement underweighting (Zanetti, DeMars & Bishop 2010, after Lear's Shuttle practice;
+the remedy for a precise first update that Lefferts, Markley & Shuster 1982 discuss; ``p``
+default 0.2, chosen by the Monte-Carlo NEES in docs/estimation-mekf.md): for each scalar row ``h`` with noise variance ``σ²``, while
+``h P hᵀ > σ²`` the update uses the inflated variance ``σ² + p h P hᵀ`` (gain, Joseph form
+and NIS alike), i.e. ``S = (1 + p) h P hᵀ + σ²``. A precise measurement of a poorly known
+attitude then removes only about ``1/(1 + p)`` of the innovation per update, so the EKF's
+linearisation error — for a unit vector ``½ |dθ_∥| |dθ_⊥|`` transverse to it, with ``dθ_∥``
+the unobserved rotation about it — is never folded in with a covariance that cannot hold
+it; once ``h P hᵀ <= σ²`` the update is the plain EKF one. Both update kernels go through
+the one helper ``_scalar_update``, which the batch filter, the stepping class and the
+closed-loop simulator share.
+
 References
 ----------
 .. [1] Lefferts, E. J., Markley, F. L. and Shuster, M. D., "Kalman filtering for spacecraft
@@ -87,6 +100,10 @@ References
    CRC, 2012, §7.2 (gyro model and its discrete simulation).
 .. [4] Farrenkopf, R. L., "Analytic steady-state accuracy solutions for two common spacecraft
    attitude estimators", JGC 1(4), 1978 (gyro noise model).
+.. [5] Lear, W. M., "Multi-phase navigation program for the space shuttle orbiter", NASA
+   JSC internal note 73-FM-132, 1973, and Zanetti, R., DeMars, K. J. and Bishop, R. H.,
+   "Underweighting nonlinear measurements", JGCD 33(5), 2010, 1670-1675 (measurement
+   underweighting).
 """
 
 from __future__ import annotations
