@@ -138,7 +138,7 @@ def test_kernel_steps_match_numpy_reference():
         assert nis_k == pytest.approx(nis_r, rel=1e-10)
         qm = quat_multiply(_rotvec_quat(rng.normal(size=3) * 0.05), qk)
         qr, br, Pr, nis_r = ref_update_quaternion(qr, br, Pr, qm, 0.01)
-        nis_k = mk.mekf_update_quaternion_jit(qk, bk, Pk, qm, 0.01, 0.0, work)
+        nis_k = mk.mekf_update_quaternion_jit(qk, bk, Pk, qm, 0.01, work)
         np.testing.assert_allclose(qk, qr, atol=1e-14)
         np.testing.assert_allclose(bk, br, atol=1e-14)
         assert np.max(np.abs(Pk - Pr)) <= 1e-12 * np.max(np.abs(Pr))
@@ -172,7 +172,7 @@ def test_invalid_measurement_leaves_state_unchanged():
     q, b, P = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3), np.eye(6)
     for vb, sig in (([np.nan, 0, 1], 0.1), ([0.0, 0, 0], 0.1), ([0.0, 0, 1], 0.0)):
         assert np.isnan(mk.mekf_update_vector_jit(q, b, P, np.array(vb), np.ones(3), sig, 0.2, work))
-    assert np.isnan(mk.mekf_update_quaternion_jit(q, b, P, np.zeros(4), 0.1, 0.2, work))
+    assert np.isnan(mk.mekf_update_quaternion_jit(q, b, P, np.zeros(4), 0.1, work))
     assert np.array_equal(P, np.eye(6)) and np.array_equal(q, [0, 0, 0, 1.0])
     assert np.isnan(mk.mekf_nees_jit(q, b, np.zeros((6, 6)), q, b, work))  # singular P
 
@@ -354,26 +354,33 @@ def test_batch_equals_stepping_class_and_single_call():
 
 
 def test_underweighting_closed_form_oracle():
-    # One star-tracker update (H = [I, 0]) of an isotropic, bias-decoupled prior P_att = s² I:
-    # the three scalar rows are independent, so each posterior variance has the closed form
-    # of a scalar Kalman update with the inflated noise var' = σ² + p s² when s² > σ²
-    # (measurement underweighting, Lefferts, Markley & Shuster 1982), and the plain
-    # s² σ² / (s² + σ²) when s² <= σ². Exact up to rounding (1e-12 relative).
+    # One vector update at the identity with v_ref = e_z (H rows [b̂×] = (0, −1, 0), (1, 0, 0),
+    # 0) of an isotropic, bias-decoupled prior P_att = s² I: the two non-zero rows are
+    # orthogonal, so each posterior variance has the closed form of a scalar Kalman update
+    # with the inflated noise var' = σ² + p s² when s² > σ² (measurement underweighting,
+    # Zanetti, DeMars & Bishop 2010) and the plain s² σ²/(s² + σ²) when s² <= σ²; the
+    # rotation about e_z is unobserved. Exact up to rounding (1e-12 relative).
     work = np.empty(mk.WORK_SIZE)
     sig = 1e-3
+    vb = np.array([1e-3, -2e-3, 1.0])
+    y = vb / np.linalg.norm(vb) - np.array([0.0, 0.0, 1.0])
     for s2, p in ((1e-4, 0.2), (1e-4, 1.0), (1e-4, 0.0), (0.5e-6, 0.2)):
         q, b = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3)
         P = np.diag([s2] * 3 + [1e-8] * 3)
-        qm = _rotvec_quat(np.array([1e-3, -2e-3, 0.5e-3]))
-        nis = mk.mekf_update_quaternion_jit(q, b, P, qm, sig, p, work)
+        nis = mk.mekf_update_vector_jit(q, b, P, vb, np.array([0.0, 0.0, 1.0]), sig, p, work)
         var = sig**2 + (p * s2 if s2 > sig**2 else 0.0)
         post = s2 - s2**2 / (s2 + var)
-        np.testing.assert_allclose(np.diag(P)[:3], post, rtol=1e-12)
-        np.testing.assert_allclose(np.diag(P)[3:], 1e-8, rtol=1e-12)  # bias untouched
-        y = _quat_rotvec(qm)
-        assert nis == pytest.approx(float(y @ y) / (s2 + var), rel=1e-9)
-        # the applied correction is the gain s²/(s² + var') times the innovation
-        np.testing.assert_allclose(_quat_rotvec(q), y * s2 / (s2 + var), rtol=1e-9)
+        np.testing.assert_allclose(np.diag(P), [post, post, s2] + [1e-8] * 3, rtol=1e-12)
+        assert nis == pytest.approx((y[0] ** 2 + y[1] ** 2) / (s2 + var) + y[2] ** 2 / sig**2, rel=1e-9)
+        # the applied correction is the gain s²/(s² + var') times the innovation (b ≈ b̂ + [b̂×] dθ)
+        np.testing.assert_allclose(_quat_rotvec(q), np.array([y[1], -y[0], 0.0]) * (s2 / (s2 + var)),
+                                   rtol=1e-9, atol=1e-18)
+    # the star-tracker update is never underweighted: equal to the textbook update
+    q, b, P = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3), np.diag([1e-4] * 3 + [1e-8] * 3)
+    qm = _rotvec_quat(np.array([1e-3, -2e-3, 0.5e-3]))
+    _, _, Pr, _ = ref_update_quaternion(q, b, P, qm, sig)
+    mk.mekf_update_quaternion_jit(q, b, P, qm, sig, work)
+    np.testing.assert_allclose(P, Pr, rtol=1e-12, atol=1e-24)
 
 
 def test_underweighting_restores_consistency_after_a_precise_first_update():
@@ -423,7 +430,7 @@ def test_property_unit_quaternion_symmetric_psd(seed, log_rate, log_dt, log_sig,
         mk.mekf_propagate_jit(q, b, P, om, 10.0**log_dt, 1e-4, 1e-6, work)
         mk.mekf_update_vector_jit(q, b, P, rng.normal(size=3), rng.normal(size=3),
                                   10.0**log_sig, uw, work)
-        mk.mekf_update_quaternion_jit(q, b, P, random_quat(rng=rng), 10.0**log_sig, uw, work)
+        mk.mekf_update_quaternion_jit(q, b, P, random_quat(rng=rng), 10.0**log_sig, work)
         assert abs(np.linalg.norm(q) - 1.0) < 1e-14 and q[3] >= 0
         assert np.array_equal(P, P.T)
         assert np.linalg.eigvalsh(P).min() >= -1e-12 * np.abs(P).max()

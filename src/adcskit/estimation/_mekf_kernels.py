@@ -43,9 +43,12 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     the direction, ~χ²(3) for isotropic 3-vector noise). If either vector is non-finite or
     zero, or ``sigma`` is not > 0, nothing changes and NaN is returned. ``underweight`` is
     the measurement-underweighting factor ``p >= 0`` (below; 0: the plain EKF update).
-``mekf_update_quaternion(q, b, P, q_meas, sigma, underweight, work) -> float``
+``mekf_update_quaternion(q, b, P, q_meas, sigma, work) -> float``
     Star-tracker update: ``q_meas = δq(v) ⊗ q_true``, ``v ~ N(0, σ² I)`` [rad], body frame.
-    Returns the NIS (~χ²(3)); NaN and no change for a non-finite/zero ``q_meas``.
+    Returns the NIS (~χ²(3)); NaN and no change for a non-finite/zero ``q_meas``. Never
+    underweighted: its innovation ``rotvec(q_meas ⊗ q⁻¹) = v + dθ + ½ v × dθ + …`` is linear
+    in ``dθ`` up to a term of relative size ``|dθ|/2``, so a precise first star-tracker
+    update is consistent as it is (and underweighting it only slows the convergence).
 ``mekf_nees(q_est, b_est, P, q_true, b_true, work) -> float``
     Normalised estimation error squared ``eᵀ P⁻¹ e``, ``e = [rotvec(q_true ⊗ q_est⁻¹),
     b_true − b_est]`` (~χ²(6) for a consistent filter), by Cholesky in ``work``; NaN if ``P``
@@ -88,7 +91,7 @@ linearisation error — for a unit vector ``½ |dθ_∥| |dθ_⊥|`` transverse 
 the unobserved rotation about it — is never folded in with a covariance that cannot hold
 it; once ``h P hᵀ <= σ²`` the update is the plain EKF one. Both update kernels go through
 the one helper ``_scalar_update``, which the batch filter, the stepping class and the
-closed-loop simulator share.
+closed-loop simulator share; the star-tracker update passes ``p = 0`` (see above).
 
 References
 ----------
@@ -383,7 +386,7 @@ def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work):
 
 
 @register_jitable
-def mekf_update_quaternion(q, b, P, q_meas, sigma, underweight, work):
+def mekf_update_quaternion(q, b, P, q_meas, sigma, work):
     """Star-tracker quaternion update (see the module docstring); returns the NIS or NaN."""
     if not (sigma > 0.0) or not _error_rotvec(q_meas, q, work, _Y):
         return math.nan
@@ -394,7 +397,7 @@ def mekf_update_quaternion(q, b, P, q_meas, sigma, underweight, work):
     for i in range(3):
         innov = work[_Y + i] - work[_DX + i]
         nis += _scalar_update(P, work, 1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0,
-                              1.0 if i == 2 else 0.0, innov, var, underweight)
+                              1.0 if i == 2 else 0.0, innov, var, 0.0)
     _reset(q, b, work)
     return nis
 
@@ -467,7 +470,7 @@ def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigm
                 nis[k, t, j] = math.nan
         if has_st:
             if math.isfinite(qst[k, t, 0]):
-                nis_st[k, t] = mekf_update_quaternion(q, b, P, qst[k, t], sig_st, uw, work)
+                nis_st[k, t] = mekf_update_quaternion(q, b, P, qst[k, t], sig_st, work)
             else:
                 nis_st[k, t] = math.nan
         for i in range(6):

@@ -10,11 +10,12 @@ follows Farrenkopf's model ``ω̃ = ω + b + η_v``, ``ḃ = η_u`` with angle r
 ``Φ`` and ``Q`` for the rate held over the step; measurement updates are unit-vector
 observations (sun sensor, magnetometer, ...; ``R = σ² I`` per vector, Markley & Crassidis
 eq. 6.72 style) and star-tracker quaternions, each processed as sequential scalar updates
-with the Joseph form. While a measurement row's predicted variance ``h P hᵀ`` exceeds its
-noise variance ``σ²`` the update is *underweighted* (noise ``σ² + p h P hᵀ``, ``p`` =
+with the Joseph form. While a vector-measurement row's predicted variance ``h P hᵀ`` exceeds
+its noise variance ``σ²`` the update is *underweighted* (noise ``σ² + p h P hᵀ``, ``p`` =
 :data:`UNDERWEIGHT` = 0.2 by default, ``underweight=0`` switches it off), so that a precise
 first sun update of a 1° prior does not lock in the EKF's linearisation error (issue 23: the
-closed-loop NEES fell from 8.2 to the χ² band). The equations are in
+closed-loop NEES fell from 8.2 to the χ² band); star-tracker updates, linear in the error,
+are not underweighted. The equations are in
 :mod:`adcskit.estimation._mekf_kernels`.
 
 Two entry points (design.md rule 2):
@@ -62,7 +63,7 @@ from adcskit.estimation import _mekf_kernels as _mk
 __all__ = ["MEKFResult", "MultiplicativeEKF", "mekf_filter", "chi2_band", "UNDERWEIGHT"]
 
 #: Default measurement-underweighting factor ``p`` (module docstring): while a scalar
-#: measurement row's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²``, the
+#: vector-measurement row's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²``, the
 #: update uses ``σ² + p h P hᵀ``. ``0`` switches underweighting off (the plain EKF update).
 UNDERWEIGHT = 0.2
 
@@ -189,10 +190,11 @@ class MultiplicativeEKF:
         Gyro bias random walk (Farrenkopf ``σu``), >= 0.
     underweight : float
         Measurement-underweighting factor ``p`` >= 0 (default :data:`UNDERWEIGHT` = 0.2):
-        while a measurement row's predicted variance ``h P hᵀ`` exceeds its noise variance
-        ``σ²`` the update uses ``σ² + p h P hᵀ`` (Lefferts, Markley & Shuster 1982), so that a
-        precise first measurement of a poorly known attitude does not lock in the EKF's
-        linearisation error. ``0`` gives the plain EKF update.
+        while a vector-measurement row's predicted variance ``h P hᵀ`` exceeds its noise
+        variance ``σ²`` the update uses ``σ² + p h P hᵀ`` (Lefferts, Markley & Shuster 1982;
+        Zanetti, DeMars & Bishop 2010), so that a precise first measurement of a poorly
+        known attitude does not lock in the EKF's linearisation error. ``0`` gives the plain
+        EKF update. Star-tracker updates are never underweighted (linear in the error).
 
     Notes
     -----
@@ -326,8 +328,7 @@ class MultiplicativeEKF:
         """
         qm = _quat("q_meas", q_meas)
         s = _sigma("sigma", sigma)
-        return float(_mk.mekf_update_quaternion_jit(self._q, self._b, self._P, qm, s, self._uw,
-                                                      self._work))
+        return float(_mk.mekf_update_quaternion_jit(self._q, self._b, self._P, qm, s, self._work))
 
     def nees(self, q_true: Any, b_true: Any) -> float:
         """NEES ``eᵀ P⁻¹ e`` of the current estimate against the truth (about χ²(6)).

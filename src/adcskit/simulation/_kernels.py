@@ -736,7 +736,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 SQ[i, 3] = q3
                 _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
                 if est_mode == EST_MEKF:
-                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, uw, wk)
+                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
                 else:
                     for a in range(4):
                         qe[a] = SQ[i, a]

@@ -392,10 +392,11 @@ class EstimatorSpec(_Spec):
         Std of the initial knowledge error per axis (also the MEKF's initial sigma).
     underweight : float
         ``mekf``: measurement-underweighting factor ``p`` >= 0 (default 0.2, on): while a
-        measurement's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²`` the
+        sun-sensor or magnetometer measurement's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²`` the
         update uses ``σ² + p h P hᵀ`` (Lefferts, Markley & Shuster 1982), which keeps the
         filter consistent after a precise first sun update of a 1° prior; ``0`` is the
-        plain EKF update (see :func:`adcskit.estimation.mekf_filter`).
+        plain EKF update (see :func:`adcskit.estimation.mekf_filter`). Star-tracker updates
+        are never underweighted.
 
     Examples
     --------
