@@ -550,6 +550,7 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
         C[_k.W_MAG] = 1.0 / max(s_mag * fil, 1e-12) ** 2
     C[_k.SIG_V] = sc.sensors.gyro_arw
     C[_k.SIG_U] = sc.sensors.gyro_rrw
+    C[_k.UNDERWEIGHT] = sc.estimator.underweight
     C[_k.EST_MODE] = {"truth": _k.EST_TRUTH, "wahba": _k.EST_WAHBA, "minmax": _k.EST_MINMAX,
                       "mekf": _k.EST_MEKF}[sc.estimator.kind]
     C[_k.SEARCH_RANGE] = sc.estimator.search_range
