@@ -21,9 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import to_jsonable
 from adcskit._validation import check_int
 from adcskit.config import config_to_dict, load_config
-from adcskit.studies._base import StudyResult, to_jsonable
+from adcskit.studies._base import StudyResult
 from adcskit.studies._registry import get_study
 
 #: Resolution of every written figure (issue 16: >= 150 dpi, readable when zoomed).
