@@ -767,12 +767,12 @@ def _():
 
 
 case("uncertainty.sample_stats", nonfinite_ok=("x",))(lambda: dict(x=[1.0, 2.0, 3.0, 4.0]))
-case("uncertainty.mean_change_converged", positive=("tol",))(lambda: dict(history=[1.0, 1.1, 1.05, 1.04], tol=1e-3, window=2))
-case("uncertainty.robust_objective", nonfinite_ok=("errors", "overshoot_pct"), positive=("w1", "w2", "overshoot_max_pct", "penalty_weight"))(
+case("control.mean_change_converged", positive=("tol",))(lambda: dict(history=[1.0, 1.1, 1.05, 1.04], tol=1e-3, window=2))
+case("control.robust_objective", nonfinite_ok=("errors", "overshoot_pct"), positive=("w1", "w2", "overshoot_max_pct", "penalty_weight"))(
     lambda: dict(errors=[[0.1, 0.2], [0.3, 0.1]], overshoot_pct=[[1.0, 2.0], [3.0, 20.0]], w1=1.0, w2=1.0,
                  overshoot_max_pct=10.0, penalty_weight=1.0)
 )
-case("uncertainty.weights_from_ratio", positive=("ratio",))(lambda: dict(ratio=2.0))
+case("control.weights_from_ratio", positive=("ratio",))(lambda: dict(ratio=2.0))
 case("uncertainty.make_executor", kinds={"spec": "choice"}, aliases={"spec": ("executor",)})(lambda: dict(spec="serial"))
 case("uncertainty.SerialExecutor")(lambda: dict())
 case("uncertainty.ProcessExecutor")(lambda: dict(n_workers=1))
