@@ -703,6 +703,7 @@ case("thrusters.min_reachable_error", positive=("f_max", "t_min", "t_s", "gain")
 )
 case("thrusters.pulse_width", positive=("force", "f_max", "t_s"))(lambda: dict(force=[1.0, 5.0, 0.0], f_max=10.0, t_s=0.2))
 case("thrusters.realisable_pulses", positive=("t_p", "t_min"))(lambda: dict(t_p=[0.001, 0.01, 0.1], t_min=0.003, mode="drop"))
+case("thrusters.s3_manoeuvre_demands", positive=("correction_deg", "gain"))(lambda: dict(correction_deg=0.5, gain=600.0))
 
 # ============================================================================================
 # control

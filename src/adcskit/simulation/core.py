@@ -35,6 +35,7 @@ from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputTypeError
 from adcskit.simulation import _kernels as _k
 from adcskit.simulation.scenario import Scenario
+from adcskit.thrusters.reference import S3_REFERENCE_A  # re-exported (S3 §6 reference layout)
 
 __all__ = [
     "SimulationResult",
@@ -49,8 +50,6 @@ __all__ = [
 METRIC_NAMES = _k.METRIC_NAMES
 #: Wahba methods usable in the loop -> kernel code.
 WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
-#: S3 §6: reference 6-thruster layout (Servidia & Sanchez Pena 2000), torque matrix as printed.
-S3_REFERENCE_A = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
 
 _DEG = math.pi / 180.0
 _ARCSEC = _DEG / 3600.0
