@@ -55,7 +55,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import as_array, check_finite, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import _mekf_kernels as _mk
@@ -343,9 +343,8 @@ class MultiplicativeEKF:
 # ------------------------------------------------------------------------- batch function
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True)
-class MEKFResult:
+@dataclass(frozen=True, slots=True, repr=False)
+class MEKFResult(Result):
     """Output of :func:`mekf_filter` (leading ``N`` axis only for a batched call).
 
     Attributes
@@ -398,11 +397,6 @@ class MEKFResult:
     mean_nees: np.ndarray
     success: bool
     message: str
-
-    def to_dict(self) -> dict[str, Any]:
-        from adcskit.studies._base import to_jsonable
-
-        return {name: to_jsonable(getattr(self, name)) for name in self.__slots__}
 
 
 def _series(name: str, value: Any, tail: tuple[int, ...], N: int | None, T: int, *,

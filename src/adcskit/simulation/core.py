@@ -38,6 +38,7 @@ from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
 from adcskit.simulation.scenario import Scenario, _triangle_ok
+from adcskit.thrusters.reference import S3_REFERENCE_A  # re-exported (S3 §6 reference layout)
 
 __all__ = [
     "SimulationResult",
@@ -74,8 +75,6 @@ _METRICS: dict[str, tuple[int, float]] = {
 METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
 #: Wahba methods usable in the loop -> kernel code.
 WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
-#: S3 §6: reference 6-thruster layout (Servidia & Sanchez Pena 2000), torque matrix as printed.
-S3_REFERENCE_A = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
 
 _ARCSEC = _DEG / 3600.0
 _MU = 3.986004418e14

@@ -453,7 +453,7 @@ class EstimatorSpec(_Spec):
                 "adcskit.determination.robust_wahba(method='worst-case') epoch by epoch"
             )
         check_choice("kind", self.kind, ("truth", "wahba", "minmax", "mekf"))
-        from adcskit.simulation.core import WAHBA_CODES
+        from adcskit.determination.wahba import METHODS as WAHBA_CODES
 
         check_choice("wahba_method", self.wahba_method, WAHBA_CODES)
         check_positive("search_range", self.search_range)
@@ -689,7 +689,7 @@ class SimSpec(_Spec):
 
 def _default_thrusters() -> ThrusterSpec:
     # S3 §6 reference layout (Servidia & Sanchez Pena 2000), realised geometrically
-    from adcskit.simulation.core import S3_REFERENCE_A
+    from adcskit.thrusters.reference import S3_REFERENCE_A
 
     return ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
 

@@ -1,4 +1,8 @@
-"""Uncertainty: executors for campaigns, sampling, robust objectives and statistics."""
+"""Uncertainty: executors for campaigns, sampling and statistics (generic: no paper's loop).
+
+S4's robust objective (eq. 10), its stopping rule and the gain tuning built on them live in
+:mod:`adcskit.control` (:mod:`adcskit.control.robust`, :mod:`adcskit.control.tuning`).
+"""
 
 from adcskit.uncertainty.campaign import CampaignResult, run_campaign
 from adcskit.uncertainty.executor import (
@@ -9,7 +13,6 @@ from adcskit.uncertainty.executor import (
     SerialExecutor,
     make_executor,
 )
-from adcskit.uncertainty.robust import mean_change_converged, robust_objective, weights_from_ratio
 from adcskit.uncertainty.sampling import (
     Fixed,
     Gaussian,
@@ -32,9 +35,6 @@ __all__ = [
     "TruncatedGaussian",
     "latin_hypercube",
     "make_executor",
-    "mean_change_converged",
-    "robust_objective",
     "run_campaign",
     "sample_stats",
-    "weights_from_ratio",
 ]
