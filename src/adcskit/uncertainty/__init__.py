@@ -1,4 +1,5 @@
-"""Uncertainty: executors for campaigns, sampling, robust objectives and statistics."""
+"""Uncertainty: executors for campaigns, sampling, robust objectives, statistics and requirement
+statistics (percentile bounds, exceedance probabilities, sample sizes, requirement tables)."""
 
 from adcskit.uncertainty.campaign import CampaignResult, run_campaign
 from adcskit.uncertainty.executor import (
@@ -8,6 +9,20 @@ from adcskit.uncertainty.executor import (
     ProcessExecutor,
     SerialExecutor,
     make_executor,
+)
+from adcskit.uncertainty.requirements import (
+    PercentileBound,
+    ProportionInterval,
+    Requirement,
+    RequirementTable,
+    RequirementVerdict,
+    check_requirements,
+    exceedance_probability,
+    parse_requirement,
+    percentile_bound,
+    proportion_interval,
+    read_requirements,
+    samples_needed,
 )
 from adcskit.uncertainty.robust import mean_change_converged, robust_objective, weights_from_ratio
 from adcskit.uncertainty.sampling import (
@@ -20,21 +35,33 @@ from adcskit.uncertainty.sampling import (
 )
 
 __all__ = [
-    "EXECUTOR_SPECS",
     "CampaignResult",
     "DaskExecutor",
+    "EXECUTOR_SPECS",
     "Executor",
     "Fixed",
     "Gaussian",
+    "PercentileBound",
     "ProcessExecutor",
+    "ProportionInterval",
+    "Requirement",
+    "RequirementTable",
+    "RequirementVerdict",
     "SampleStats",
     "SerialExecutor",
     "TruncatedGaussian",
+    "check_requirements",
+    "exceedance_probability",
     "latin_hypercube",
     "make_executor",
     "mean_change_converged",
+    "parse_requirement",
+    "percentile_bound",
+    "proportion_interval",
+    "read_requirements",
     "robust_objective",
     "run_campaign",
     "sample_stats",
+    "samples_needed",
     "weights_from_ratio",
 ]
