@@ -53,6 +53,7 @@ from adcskit._validation import (
     check_finite,
     check_int,
     check_mapping,
+    check_path,
     check_range,
     short_repr,
 )
@@ -125,9 +126,21 @@ def _lower_rank(n: int, q: float, alpha: float) -> int | None:
     return int(ok[-1]) + 1 if ok.size else None
 
 
-def _bound_samples(q: float, alpha: float) -> int:
-    """Fewest samples for which X_(n) bounds the q-quantile from above: q**n <= alpha."""
-    return _first_n(lambda n: n * math.log(q) <= math.log(alpha) + 1e-12, 1)
+def _bound_samples(tail: float, alpha: float) -> int:
+    """Fewest samples n with (1 - tail)**n <= alpha: X_(n) then bounds the (1 - tail)-quantile
+    from above (closed form; ``log1p`` keeps a tiny ``tail`` exact)."""
+    if tail >= 1.0:
+        return 1
+    if tail <= 0.0:
+        raise InputError("percentile must be far enough from 0 and 100 % for a bound in float64 "
+                         f"(tail probability {tail:g}); got a percentile whose tail rounds to 0")
+    step = math.log1p(-tail)
+    n = max(1, math.ceil(math.log(alpha) / step))
+    while n > 1 and (n - 1) * step <= math.log(alpha):
+        n -= 1
+    while n * step > math.log(alpha):
+        n += 1
+    return n
 
 
 def _first_n(pred: Any, lo: int) -> int:
@@ -249,8 +262,8 @@ def percentile_bound(x: Any, percentile: Any, *, confidence: Any = 0.95, side: s
     alpha = (1.0 - conf) / 2.0 if side == "two-sided" else 1.0 - conf
     k_up = _upper_rank(n, q, alpha) if side != "lower" else None
     k_lo = _lower_rank(n, q, alpha) if side != "upper" else None
-    need = max(_bound_samples(q, alpha) if side != "lower" else 1,
-               _bound_samples(1.0 - q, alpha) if side != "upper" else 1)
+    need = max(_bound_samples(1.0 - q, alpha) if side != "lower" else 1,
+               _bound_samples(q, alpha) if side != "upper" else 1)
     ok = (side == "lower" or k_up is not None) and (side == "upper" or k_lo is not None)
     cdf = stats.binom.cdf
     if not ok:
@@ -685,10 +698,14 @@ def read_requirements(source: Any, *, confidence: Any = 0.95) -> tuple[Requireme
     ['ADCS-1: pointing_rms_deg p95 <= 0.05 at 95 % confidence', 'settling_time_s max <= 60 at 95 % confidence']
     """
     conf = check_range("confidence", confidence, 0.5, 1.0, hi_open=True)
-    if isinstance(source, (str, Path)) and not (isinstance(source, str) and "\n" in source):
+    if isinstance(source, (str, Path)):
         from adcskit.config import read_toml
 
-        source = read_toml(source)
+        path = check_path("source", source)
+        if not path.is_file():
+            raise InputError(f"source must be an existing TOML file or a list of requirements; got "
+                             f"{short_repr(str(source))} (not a file; to pass one line of text, wrap it in a list)")
+        source = read_toml(path)
     if isinstance(source, Mapping):
         unknown = set(source) - {"requirement"}
         if unknown or "requirement" not in source:
@@ -699,11 +716,14 @@ def read_requirements(source: Any, *, confidence: Any = 0.95) -> tuple[Requireme
         raise InputTypeError(f"source must be a TOML path, a mapping or an iterable of requirements; got {short_repr(source)}")
     out: list[Requirement] = []
     for i, item in enumerate(source):
-        where = f"requirement[{i}]"
+        where = f"source[{i}]"
         if isinstance(item, Requirement):
             out.append(item)
         elif isinstance(item, str):
-            out.append(parse_requirement(item, confidence=conf))
+            try:
+                out.append(parse_requirement(item, confidence=conf))
+            except InputError as exc:
+                raise InputError(f"{where}: {exc}") from None
         elif isinstance(item, Mapping):
             keys = set(item)
             allowed = {"text", "name"} if "text" in keys else set(_FIELDS)
