@@ -193,9 +193,15 @@ def test_proportion_interval_properties(n, frac, g, method):
     wide = proportion_interval(k, n, confidence=min(g + 0.009, 0.999), method=method)
     assert 0.0 <= ci.lower <= ci.estimate <= ci.upper <= 1.0
     assert wide.lower <= ci.lower + 1e-12 and wide.upper >= ci.upper - 1e-12  # nested in the confidence
-    if method == "clopper-pearson":  # the exact interval contains Wilson's (both equal-tailed, same g)
-        w = proportion_interval(k, n, confidence=g, method="wilson")
-        assert ci.lower <= w.lower + 1e-12 or k == n
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(1, 40), st.floats(0.001, 0.999), st.floats(0.8, 0.99))
+def test_clopper_pearson_exact_coverage(n, p, g):
+    # Clopper & Pearson 1934: the exact interval covers the true p with probability >= g for every
+    # p and n; the coverage is the binomial sum over the k whose interval holds p (no sampling).
+    inside = [(c := proportion_interval(k, n, confidence=g)).lower <= p <= c.upper for k in range(n + 1)]
+    assert stats.binom.pmf(np.arange(n + 1), n, p) @ np.array(inside, float) >= g - 1e-9
 
 
 def test_exceedance_probability_counts():
@@ -224,6 +230,26 @@ def test_requirement_text_round_trip(text):
     r = parse_requirement(text)
     assert parse_requirement(r.text) == r
     assert read_requirements([r.text]) == (r,)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.sampled_from(["percentile", "mean", "max", "min", "probability"]), st.floats(-1e6, 1e6),
+       st.floats(0.001, 99.999), st.floats(0.5, 0.9999), st.one_of(st.none(), st.floats(0, 1e5)),
+       st.sampled_from(["<=", "<"]))
+def test_requirement_text_round_trip_property(stat, value, pct, conf, after, op):
+    # 12 significant digits in the text: the parsed requirement equals the original to 1e-11 rel.
+    kw = dict(metric="pointing_max_deg", statistic=stat, comparison=op if stat != "min" else ">=",
+              threshold=value if stat != "probability" else pct / 100, confidence=conf, after_s=after)
+    if stat == "percentile":
+        kw["percentile"] = pct
+    if stat == "probability":
+        kw.update(event=">", event_threshold=value)
+    r = Requirement(**kw)
+    back = parse_requirement(r.text)
+    for f in ("threshold", "percentile", "event_threshold", "confidence", "after_s"):
+        a, b = getattr(r, f), getattr(back, f)
+        assert (a is None and b is None) or b == pytest.approx(a, rel=1e-11, abs=1e-300)
+    assert (back.metric, back.statistic, back.comparison, back.event) == (r.metric, r.statistic, r.comparison, r.event)
 
 
 def test_parse_requirement_fields():

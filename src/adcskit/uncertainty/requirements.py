@@ -576,16 +576,21 @@ class Requirement:
     def text(self) -> str:
         """The one-line form :func:`parse_requirement` reads back."""
         if self.statistic == "probability":
-            head = f"P({self.metric} {self.event} {self.event_threshold:g}) {self.comparison} {self.threshold:g}"
+            head = f"P({self.metric} {self.event} {_fmt(self.event_threshold)}) {self.comparison} {_fmt(self.threshold)}"
         else:
-            stat = f"p{self.percentile:g}" if self.statistic == "percentile" else self.statistic
-            head = f"{self.metric} {stat} {self.comparison} {self.threshold:g}"
-        tail = f" after {self.after_s:g} s" if self.after_s is not None else ""
+            stat = f"p{_fmt(self.percentile)}" if self.statistic == "percentile" else self.statistic
+            head = f"{self.metric} {stat} {self.comparison} {_fmt(self.threshold)}"
+        tail = f" after {_fmt(self.after_s)} s" if self.after_s is not None else ""
         label = f"{self.name}: " if self.name else ""
-        return f"{label}{head}{tail} at {self.confidence * 100:g} % confidence"
+        return f"{label}{head}{tail} at {_fmt(self.confidence * 100)} % confidence"
 
     def to_dict(self) -> dict[str, Any]:
         return {k: getattr(self, k) for k in self.__slots__} | {"text": self.text}
+
+
+def _fmt(x: float) -> str:
+    """Shortest text of a number that reads back to it (up to 12 significant digits)."""
+    return format(x, ".12g")
 
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
@@ -645,10 +650,10 @@ def parse_requirement(text: str, *, confidence: Any = 0.95) -> Requirement:
             f"'P(METRIC OP VALUE) OP PROB [after T s] [at C %]'; got {short_repr(text)}")
     g = m.groupdict()
     common = dict(metric=g["metric"], comparison=g["cmp"], name=(g["name"] or "").strip(),
-                  confidence=float(g["conf"]) / 100.0 if g["conf"] else conf,
+                  confidence=round(float(g["conf"]) / 100.0, 12) if g["conf"] else conf,
                   after_s=float(g["after"]) if g["after"] else None)
     if "ev" in g:
-        thr = float(g["thr"]) / (100.0 if g["pct"] else 1.0)
+        thr = round(float(g["thr"]) / 100.0, 14) if g["pct"] else float(g["thr"])
         return Requirement(statistic="probability", threshold=thr, event=g["ev"],
                            event_threshold=float(g["evthr"]), **common)
     stat = g["stat"].lower()
@@ -873,7 +878,8 @@ def _rate_n_needed(k: int, n: int, q0: float, bad_is_high: bool, strict: bool, g
         return None
     if (rate < q0) == bad_is_high:  # heading for "met": the far bound must cross q0
         def decided(m: int) -> bool:
-            kk = math.ceil(rate * m - 1e-12)
+            # conservative count: more events when they are bad, fewer when they are good
+            kk = math.ceil(rate * m - 1e-12) if bad_is_high else math.floor(rate * m + 1e-12)
             lo, hi = _proportion_bounds(kk, m, gamma, method)
             return (hi < q0 if strict else hi <= q0) if bad_is_high else (lo > q0 if strict else lo >= q0)
     else:  # heading for "not met"
@@ -917,7 +923,7 @@ def _evaluate(req: Requirement, v: np.ndarray, n_nan: int, method: str) -> Requi
             outcome = "inconclusive"
             # dual: p-th percentile <= T  <=>  P(X > T) <= 1 - p (exact binomial test)
             q0 = 1.0 - p / 100.0 if upper_req else p / 100.0
-            need = _rate_n_needed(violating, n, q0, True, op in ("<", ">"), gamma, "clopper-pearson")
+            need = _rate_n_needed(violating, n, q0, True, False, gamma, "clopper-pearson")
         how = "order statistics (distribution-free)"
         detail = (f"p{p:g} estimate {est:.6g}; {'upper' if upper_req else 'lower'} {gamma * 100:g} % bound "
                   f"{bound:.6g}, {'lower' if upper_req else 'upper'} {opposite:.6g}; {violating} of {n} samples "
