@@ -1089,3 +1089,40 @@ case("simulation.simulate", target=_warmed("simulation.simulate", _simulate_kw),
      nan_ok=("settling_time", "nees", "box_active_fraction"), slow=True)(
     _simulate_kw
 )
+
+
+# ============================================================================================
+# uncertainty: requirement statistics (issue 25 item 4) -- kept as one block for easy merging
+# ============================================================================================
+
+exempt(RESULT, "uncertainty.PercentileBound", "uncertainty.ProportionInterval", "uncertainty.RequirementVerdict",
+       "uncertainty.RequirementTable")
+_REQ_X = [0.01 * i for i in range(1, 60)]  # 59 samples: enough for a 95/95 bound
+case("uncertainty.percentile_bound", nonfinite_ok=("x",), positive=("percentile", "confidence"), shape_stable=False,
+     nan_ok=("lower", "upper", "achieved_confidence"))(
+    lambda: dict(x=list(_REQ_X), percentile=95.0, confidence=0.95, side="upper"))
+case("uncertainty.proportion_interval", positive=("k", "n", "confidence"))(
+    lambda: dict(k=3, n=100, confidence=0.95, method="clopper-pearson", side="two-sided"))
+case("uncertainty.exceedance_probability", nonfinite_ok=("x",), positive=("confidence",))(
+    lambda: dict(x=list(_REQ_X), threshold=0.5, comparison=">", confidence=0.95, method="wilson", side="upper"))
+case("uncertainty.samples_needed", positive=("coverage", "confidence", "failures"))(
+    lambda: dict(coverage=0.95, confidence=0.95, failures=1, side="two-sided"))
+case("uncertainty.Requirement", positive=("percentile", "confidence", "after_s"), kinds={"metric": "skip", "name": "skip"},
+     extra={"bad-metric": ("metric", "pointing error", "type"), "int-name": ("name", 3, "type")})(
+    lambda: dict(metric="pointing_max_deg", statistic="percentile", comparison="<=", threshold=0.1, percentile=99.0,
+                 confidence=0.95, after_s=300.0, name="ADCS-1"))
+case("uncertainty.parse_requirement", kinds={"text": "skip"}, positive=("confidence",),
+     extra={"garbled": ("text", "pointing_max_deg p99 0.1", "type"), "no-text": ("text", None, "type")})(
+    lambda: dict(text="ADCS-1: P(pointing_max_deg > 0.1) <= 1 % after 300 s", confidence=0.9))
+case("uncertainty.read_requirements", kinds={"source": "object"}, positive=("confidence",),
+     extra={"bad-line": ("source", ["x p99 <= 0.1", "x p99 0.1"], "type"),
+            "unknown-key": ("source", [{"metric": "x", "statistic": "max", "comparison": "<=", "threshold": 1.0,
+                                         "unit": "deg"}], "type")})(
+    lambda: dict(source=["x p99 <= 0.1 after 300 s", {"text": "x mean <= 0.05", "name": "R2"}], confidence=0.95))
+case("uncertainty.check_requirements", kinds={"requirements": "object"}, aliases={"requirements": ("source",)},
+     positive=("metrics_from_s",), shape_stable=False, nan_ok=("bound", "opposite_bound"),
+     extra={"nan-metric": ("metrics", {"pointing_max_deg": [0.01, float("nan")]}, "type"),
+            "2d-metric": ("metrics", {"pointing_max_deg": [[0.01, 0.02]]}, "type")})(
+    lambda: dict(requirements=["pointing_max_deg p99 <= 0.1 after 300 s", "P(pointing_max_deg > 0.05) <= 0.5"],
+                 metrics={"pointing_max_deg": list(_REQ_X)}, metrics_from_s=300.0, method="clopper-pearson",
+                 nan_policy="raise"))
