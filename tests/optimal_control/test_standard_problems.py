@@ -139,7 +139,7 @@ def test_orbit_raising_unit_thrust_direction():
     # Bryson & Ho 1975 §2.5, Fig. 2.5.1: r(tf) = 1.525 r0, printed to 4 digits (half a unit
     # of the last digit is 3.3e-4 relative, hence the 4e-4 tolerance); our Radau and Gauss
     # answers at tol 1e-6 agree to 1e-9 on 1.5252777 (docs/benchmarks.md)
-    sol = solve_adaptive(orbit_raising(), tol=1e-4, method="radau")
+    sol = solve_adaptive(orbit_raising(), tol=1e-3, method="radau")
     assert sol.success
     r_f = -sol.objective
     assert abs(r_f - 1.525) / 1.525 < 4e-4
