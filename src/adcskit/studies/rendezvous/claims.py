@@ -394,7 +394,14 @@ def _reading_checks(m: ReadingMeasure, reading: str, cfg: Config) -> list[Check]
 
 def check_list(exp: Experiment, cfg: Config) -> list[Check]:
     """Our consistency checks of one run: per reading (:func:`_reading_checks`), the tf_main
-    tolerance, and the open-loop re-simulation of every row's best converged solution."""
+    tolerance, and the open-loop re-simulation of every row's best converged solution.
+
+    Examples
+    --------
+    >>> from adcskit.studies.rendezvous.experiment import _example_experiment
+    >>> [c.passed for c in check_list(_example_experiment(), Config(readings=("paper",)))]
+    [True, True, True, True]
+    """
     checks = [c for reading in cfg.readings for c in _reading_checks(exp.readings[reading], reading, cfg)]
     mm = exp.readings[cfg.readings[0]].main
     if mm is not None and 0 in exp.rows_present:

@@ -553,6 +553,25 @@ def run_experiment(cfg: Config, rng: np.random.Generator) -> Experiment:
     """Solve every configured row under every reading and reduce the solutions to records.
 
     One seed per row is drawn from ``rng`` (the row's multistart); nothing else is random.
+
+    Parameters
+    ----------
+    cfg : Config
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    Experiment
+
+    Examples
+    --------
+    One row, one start, one reading on a 4×3 mesh (a few seconds of solving):
+
+    >>> cfg = Config(rows_m=((20.0, 0.0, 0.0),), readings=("paper",), paper_mesh=(4, 3), n_starts=1,
+    ...              adaptive_max_iterations=1)
+    >>> exp = run_experiment(cfg, np.random.default_rng(0))  # doctest: +SKIP
+    >>> exp.rows_present, exp.readings["paper"].rows[0].n_starts  # doctest: +SKIP
+    ((0,), 1)
     """
     seeds = [int(s) for s in rng.integers(0, 2**31 - 1, size=len(cfg.rows_m))]
     results = []
@@ -597,3 +616,31 @@ def run_experiment(cfg: Config, rng: np.random.Generator) -> Experiment:
         trajectory=trajectory,
         terminal_misses=tuple(misses),
     )
+
+
+def _example_experiment() -> Experiment:
+    """A one-row, one-branch :class:`Experiment` of plain numbers, no solve (for the examples).
+
+    Its numbers are the main row's first branch of the full run (docs/studies/rendezvous.md):
+    20×3 optimum 25.872706 s, converged 25.870312 s.
+    """
+    step = MeshStep(iteration=1, n_intervals=20, n_nodes=60, max_error=4e-4, tf_s=25.872706, nit=2,
+                    warm_start="primal-dual")
+    branch = BranchRecord(
+        tf_paper_mesh_s=25.872706, tf_converged_s=25.870312, converged=True, on_branch=True, max_error=4e-4,
+        tol=1e-3, tolerance_met=True, n_intervals=20, n_nodes=60, mesh_iterations=1, worst_time_s=1.0,
+        mesh=_mesh_text(20, 60), max_tf_move=9.3e-5, starts_on_paper_mesh=True, self_resolve_change=0.0,
+        self_resolve_nit=2, self_resolve_mode="primal-dual", continuation_change=math.nan, refine_cpu_s=0.0,
+        history=(step,), message="tolerance met",
+    )
+    row = RowRecord(
+        s0_m=(20.0, 0.0, 0.0), reading="paper", n_starts=1, n_success=1, optima_paper_mesh_s=(25.872706,),
+        starts_per_optimum=(1,), best_paper_mesh_s=25.872706, branches=(branch,),
+        converged_optima_s=(25.870312,), branches_per_converged_optimum=(1,), best_converged_s=25.870312,
+        default_guess_status="Solve_Succeeded", default_guess_tf_s=25.872706,
+    )
+    cfg = Config(rows_m=((20.0, 0.0, 0.0),), readings=("paper",), n_starts=1)
+    run = RowRun(s0=(20.0, 0.0, 0.0), paper_index=0, start_tf_s=(25.872706,),
+                 start_status=("Solve_Succeeded",), wall_s=0.0, records={"paper": row})
+    return Experiment(runs=(run,), rows_present=(0,), readings={"paper": _derive({0: row}, "paper", cfg)},
+                      trajectory=None, terminal_misses=(1e-3,))

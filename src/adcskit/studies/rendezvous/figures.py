@@ -131,7 +131,8 @@ def trajectory_figures(sol: Trajectory) -> dict:
     >>> x = np.zeros((5, 12)); u = np.ones((4, 6)); lam = np.zeros((5, 12))
     >>> traj = Trajectory(t=t, t_control=t[:4], x=x, u=u, costate=lam, hamiltonian=-np.ones(4),
     ...                   n_intervals=20, n_nodes=60, tf=25.87)
-    >>> sorted(trajectory_figures(traj))[:2], len(trajectory_figures(traj))
+    >>> figs = trajectory_figures(traj)
+    >>> sorted(figs)[:2], len(figs)
     (['fig03_torques', 'fig04_forces'], 13)
     """
     t = sol.t

@@ -109,7 +109,15 @@ def _branch_entries(run: RowRun, reading: str, r: RowRecord) -> tuple[list[dict]
 
 
 def tables(exp: Experiment, cfg: Config) -> dict[str, list[dict[str, Any]]]:
-    """The CSV tables: Table 4 beside ours, every branch, every refinement solve, every start."""
+    """The CSV tables: Table 4 beside ours, every branch, every refinement solve, every start.
+
+    Examples
+    --------
+    >>> from adcskit.studies.rendezvous.experiment import _example_experiment
+    >>> t = tables(_example_experiment(), Config(readings=("paper",)))
+    >>> list(t), t["branches"][0]["tf_converged_s"]
+    (['table4', 'branches', 'mesh_history', 'multistart'], 25.870312)
+    """
     table4, branches_tab, mesh_hist, ms_tab = [], [], [], []
     for run in exp.runs:
         for reading in cfg.readings:
@@ -124,7 +132,14 @@ def tables(exp: Experiment, cfg: Config) -> dict[str, list[dict[str, Any]]]:
 
 
 def comparison(exp: Experiment, cfg: Config) -> list[Comparison]:
-    """S2 Table 4's GPM and GPOPS columns beside our best 20×3 and converged optima (first reading)."""
+    """S2 Table 4's GPM and GPOPS columns beside our best 20×3 and converged optima (first reading).
+
+    Examples
+    --------
+    >>> from adcskit.studies.rendezvous.experiment import _example_experiment
+    >>> [(c.paper, c.measured) for c in comparison(_example_experiment(), Config(readings=("paper",)))]
+    [(25.8727, 25.872706), (25.87, 25.870312)]
+    """
     first = cfg.readings[0]
     out = []
     for run in exp.runs:
@@ -161,7 +176,14 @@ def comparison(exp: Experiment, cfg: Config) -> list[Comparison]:
 
 
 def summary(exp: Experiment, cfg: Config, claims) -> str:
-    """One paragraph: the protocol, the certificates, every row's optima, the claims' outcomes."""
+    """One paragraph: the protocol, the certificates, every row's optima, the claims' outcomes.
+
+    Examples
+    --------
+    >>> from adcskit.studies.rendezvous.experiment import _example_experiment
+    >>> summary(_example_experiment(), Config(readings=("paper",)), claims=[])[:40]
+    '1 rows of S2 Table 4, 16 starts each on '
+    """
     first = cfg.readings[0]
     rows = exp.readings[first].rows.values()
     n_multi = sum(len(r.converged_optima_s) >= 2 for r in rows)
