@@ -184,7 +184,7 @@ def _fake_branch(tf0, tfs, errors, *, tol=1e-5, met=True, nlp_ok=True):
     from types import SimpleNamespace as NS
 
     from adcskit.optimal_control import Mesh
-    from adcskit.studies.rendezvous import _Branch
+    from adcskit.studies.rendezvous.experiment import _Branch
 
     hist = tuple(
         NS(
@@ -210,7 +210,8 @@ def test_branch_record_flags_jumps_and_reports_the_certificate():
     # jump_factor x adaptive_tol = 1 x 1e-3 = 1e-3 (relative): a refinement of the 25.87 s
     # optimum that ends on the 26.15 s branch (1.1 % away, S2 row 1's second optimum) is a
     # jump; a move of 1e-4 (the 20x3 -> converged change of the main row) is not
-    from adcskit.studies.rendezvous import Config, _branch_record
+    from adcskit.studies.rendezvous.config import Config
+    from adcskit.studies.rendezvous.experiment import _branch_record
 
     cfg = Config()
     assert cfg.same_rtol == pytest.approx(1e-3)
@@ -259,20 +260,23 @@ _FULL_RUN = {
 
 
 def _rows_from(branches_per_row):
+    # the fields of experiment.RowRecord / BranchRecord that the decisions read
+    from types import SimpleNamespace as NS
+
     rows = {}
     for i, pairs in enumerate(branches_per_row):
         br = [
-            {"tf_paper_mesh_s": a, "tf_converged_s": b, "on_branch": True, "converged": True}
+            NS(tf_paper_mesh_s=a, tf_converged_s=b, on_branch=True, converged=True)
             for a, b in pairs
         ]
-        rows[i] = {
-            "branches": br,
-            "optima_paper_mesh_s": [a for a, _ in pairs],
-            "best_paper_mesh_s": min(a for a, _ in pairs),
-            "converged_optima_s": sorted(b for _, b in pairs),
-            "best_converged_s": min(b for _, b in pairs),
-            "n_starts": 16,
-        }
+        rows[i] = NS(
+            branches=br,
+            optima_paper_mesh_s=[a for a, _ in pairs],
+            best_paper_mesh_s=min(a for a, _ in pairs),
+            converged_optima_s=sorted(b for _, b in pairs),
+            best_converged_s=min(b for _, b in pairs),
+            n_starts=16,
+        )
     return rows
 
 
@@ -280,14 +284,18 @@ def test_claim_decisions_from_the_full_run_branches():
     # the decision logic alone (no solves): the full run's branches must give the full run's
     # outcomes, so a change of a tolerance or of the branch identification that flips a
     # verdict fails here
-    from adcskit.studies.rendezvous import Config, _decide, _derive
+    from dataclasses import replace
+    from types import SimpleNamespace as NS
+
+    from adcskit.studies.rendezvous.claims import _decide
+    from adcskit.studies.rendezvous.config import Config
+    from adcskit.studies.rendezvous.experiment import _derive
 
     cfg = Config()
     meas = {}
     for dyn, rows in _FULL_RUN.items():
         m = _derive(_rows_from(rows), dyn, cfg)
-        m["main"] = {"bang_bang_all": True, "h_max_dev_paper_mesh": 0.021}
-        meas[dyn] = m
+        meas[dyn] = replace(m, main=NS(bang_bang_all=True, h_max_dev_paper_mesh=0.021))
     claims, findings = _decide(meas, cfg, list(range(5)))
     got = {c.id: (c.outcome, tuple(r.outcome for r in c.readings)) for c in claims}
     H, N, D = "holds", "does not hold", "depends on reading"
