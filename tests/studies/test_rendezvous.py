@@ -236,25 +236,25 @@ def test_branch_record_flags_jumps_and_reports_the_certificate():
     assert math.isnan(bad["tf_converged_s"]) and not bad["on_branch"]
 
 
-# Full run (docs/studies/rendezvous.md, root seed 0, 16 starts, error-controlled refinement to a
-# relative state error of 1e-3 with solve_adaptive's defaults transfer_duals=True,
-# mesh_reduction=True and the switch snap; full run of 2026-11-27 15:32 UTC at main 12a9225, its
-# branches.csv): per Table 4 row and dynamics reading, each local branch as (20x3 tf, converged
-# tf) in s.
+# Full run (root seed 0, 16 starts, error-controlled refinement to a relative state error of
+# 1e-3 with solve_adaptive's defaults: transfer_duals, mesh_reduction, the switch snap, and the
+# exact-switch-time re-solve and optimality check of issue 22; `adcskit run rendezvous` of
+# 2026-12-01 at main 0b9ca01+, its branches.csv): per Table 4 row and dynamics reading, each
+# local branch as (20x3 tf, converged tf) in s.
 _FULL_RUN = {
     "paper": [
-        [(25.872706, 25.870312), (26.156705, 26.154638)],
-        [(25.789172, 25.788128), (26.036548, 26.034204)],
-        [(25.935949, 25.933626), (26.168251, 26.166057)],
-        [(25.660545, 25.659990), (25.903083, 25.900051)],
-        [(28.279789, 28.279679), (28.569247, 28.566102)],
+        [(25.872706, 25.870004), (26.156705, 26.153977)],
+        [(25.789172, 25.787187), (26.036548, 26.033526)],
+        [(25.935949, 25.932368), (26.168251, 26.165178)],
+        [(25.660545, 25.658952), (25.903083, 25.900051)],
+        [(28.279789, 28.278427), (28.569247, 28.564589)],
     ],
     "full": [
-        [(25.873064, 25.870744), (26.156518, 26.154493)],
-        [(25.789525, 25.788503), (26.036981, 26.034585)],
-        [(25.936541, 25.934265), (26.168945, 26.166785)],
-        [(25.660937, 25.660378), (25.903429, 25.900396)],
-        [(28.280283, 28.280166), (28.569770, 28.566599)],
+        [(25.873064, 25.870405), (26.156518, 26.153848)],
+        [(25.789525, 25.787583), (26.036981, 26.033915)],
+        [(25.936541, 25.933021), (26.168945, 26.165896)],
+        [(25.660937, 25.659335), (25.903429, 25.900396)],
+        [(28.280283, 28.278949), (28.569770, 28.565115)],
     ],
 }
 
