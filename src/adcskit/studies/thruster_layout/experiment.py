@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -37,6 +37,7 @@ __all__ = [
     "FUEL_DEFAULT",
     "FuelRun",
     "Measurements",
+    "MissQuantiles",
     "MissStats",
     "PaperLayoutScore",
     "ReferenceVsOptimal",
@@ -275,13 +276,10 @@ class Measurements:
     sensitivity: tuple[SettingRun, ...]
     total_time_s: float
     total_cpu_s: float
-    _index: dict = field(default_factory=dict, repr=False)
 
     def run(self, n: int, alg: str, seed_index: int) -> DesignRun:
         """The main design of ``(n, alg)`` on seed ``seed_index``."""
-        if not self._index:
-            self._index.update({(r.n, r.alg, r.seed_index): r for r in self.runs})
-        return self._index[(int(n), alg, int(seed_index))]
+        return next(r for r in self.runs if r.n == n and r.alg == alg and r.seed_index == seed_index)
 
     def fuel_by_reading(self) -> dict[str, list[FuelRun]]:
         """The fuel runs per reading, seeds in order."""
