@@ -42,7 +42,14 @@ __all__ = ["Measurements", "SeedRun", "CaseRun", "CaseReading", "GainEval", "GAR
 
 
 def row(rec: Any) -> dict[str, Any]:
-    """A record's fields as a flat ``{name: value}`` row (values as measured, for a CSV)."""
+    """A record's fields as a flat ``{name: value}`` row (values as measured, for a CSV).
+
+    Examples
+    --------
+    >>> row(RateRow(rate_hz=50.0, factor=1.0, det_mean_deg=0.1, det_std_deg=0.02, robust_mean_deg=0.12,
+    ...             robust_std_deg=0.01))["robust_std_deg"]
+    0.01
+    """
     return {f.name: getattr(rec, f.name) for f in fields(rec)}
 
 
@@ -145,7 +152,17 @@ class CaseRun(Result):
     readings: tuple[CaseReading, ...]
 
     def flat(self) -> dict[str, Any]:
-        """The per-seed row of this case (``mean_det``, ``gains_robust``, ...; issue-16 names)."""
+        """The per-seed row of this case (``mean_det``, ``gains_robust``, ...; issue-16 names).
+
+        Examples
+        --------
+        >>> ev = GainEval(mean=0.1, std=0.02, viol=0.0, fuel=20.0, eq10=0.03, eq10_penalty=0.0)
+        >>> ga = GARun(gains=np.array([30.0, 0.02, 45.0]), objective=0.03, core=0.03, penalty=0.0, generations=3,
+        ...            converged=False)
+        >>> flat = CaseRun(ratio=180.0, readings=(CaseReading(key="robust", evals={"robust": ev, "det": ev}, ga=ga),)).flat()
+        >>> list(flat)[:3], flat["std_det"], flat["ga_generations_robust"]
+        (['ratio', 'mean_robust', 'std_robust'], 0.02, 3)
+        """
         out: dict[str, Any] = {"ratio": self.ratio}
         for rd in self.readings:
             for key, ev in rd.evals.items():
