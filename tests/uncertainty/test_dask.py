@@ -181,7 +181,7 @@ def test_onoff_tuning_campaign_path_on_dask_equals_serial(dask_local2, tmp_path)
         Config,
         _reorder,
     )
-    from adcskit.uncertainty.tuning import monte_carlo
+    from adcskit.control.tuning import monte_carlo
 
     config = Config(**{**STUDY.quick, "task_size": 10})
     gains = [_reorder(PAPER_TABLE4["min_error"], "kp_kd_ki"), _reorder(PAPER_TABLE6["all"]["printed"], "kp_kd_ki")]
