@@ -52,6 +52,7 @@ from adcskit.simulation import (
 )
 from adcskit.simulation.profiles import optimal_slew_table
 from adcskit.studies._base import Check, Study, StudyResult, new_figure
+from adcskit.studies._s4 import S4_LOOP
 from adcskit.studies._verdict import FindingSpec
 from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
@@ -193,19 +194,20 @@ def _leo_base(cfg: Config, kind: str, noise: str, weights: str = "inverse-varian
 def _s4_base(cfg: Config, gains: tuple[float, float, float]) -> Scenario:
     kp, ki, kd = gains
     return Scenario(
-        spacecraft=SpacecraftSpec(inertia=(10.0, 10.0, 10.0)),  # S4 Table 3: J = 10 kg m^2
+        spacecraft=SpacecraftSpec(inertia=(S4_LOOP.inertia_kgm2,) * 3),  # S4 Table 3: J = 10 kg m^2
         orbit=OrbitSpec(altitude_km=800.0, inclination_deg=75.0),
-        disturbance=DisturbanceSpec(constant=(0.05, 0.05, 0.05)),  # S4 Table 3
-        thrusters=ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, f_max=1.5, t_min=0.0, tau=0.01, delay=0.02),
+        disturbance=DisturbanceSpec(constant=(S4_LOOP.disturbance_nm,) * 3),  # S4 Table 3
+        thrusters=ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, f_max=1.5, t_min=0.0, tau=S4_LOOP.tau_thruster_s,
+                                                   delay=S4_LOOP.delay_s),
         sensors=SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, gyro_rate_hz=50.0, star_tracker_rate_hz=10.0,
                            star_tracker_noise_arcsec=10.0),
         estimator=EstimatorSpec(kind="mekf", init_error_deg=0.05),
-        controller=ControllerSpec(kind="schmitt", period_s=0.02, kp=(kp,) * 3, ki=(ki,) * 3, kd=(kd,) * 3,
-                                  u_on=0.15, off_ratio=0.5, torque_level=(1.0, 1.0, 1.0)),
+        controller=ControllerSpec(kind="schmitt", period_s=1.0 / S4_LOOP.command_rate_hz, kp=(kp,) * 3, ki=(ki,) * 3, kd=(kd,) * 3,
+                                  u_on=S4_LOOP.u_on, off_ratio=S4_LOOP.off_ratio, torque_level=(S4_LOOP.torque_nm,) * 3),
         # S4 Table 5: J std 2/10, thrust std 0.2/1, disturbance std 0.05/0.05, delay std 0.01 s
         dispersions=DispersionSpec(inertia_rel=0.2, thrust_rel=0.2, disturbance_rel=1.0, delay_std_s=0.01),
-        guidance=GuidanceSpec(kind="step", target_rotvec_deg=(15.0, 0.0, 0.0)),  # S4: 15 deg step
-        sim=SimSpec(dt=cfg.s4_dt_s, t_final=cfg.s4_t_final_s, metrics_from_s=cfg.s4_t_final_s - 10.0,
+        guidance=GuidanceSpec(kind="step", target_rotvec_deg=(S4_LOOP.step_deg, 0.0, 0.0)),  # S4: 15 deg step
+        sim=SimSpec(dt=cfg.s4_dt_s, t_final=cfg.s4_t_final_s, metrics_from_s=cfg.s4_t_final_s - S4_LOOP.t_window_s,
                     settle_band_deg=0.3, record_every=max(1, int(round(0.05 / cfg.s4_dt_s)))),
     )
 

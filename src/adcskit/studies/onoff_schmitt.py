@@ -19,8 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from adcskit._progress import status
-from adcskit.control.onoff import LoopParams, LoopSettings, simulate_batch, simulate_trace
+from adcskit.control.onoff import LoopParams, simulate_batch, simulate_trace
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies._s4 import S4Loop
 from adcskit.studies._verdict import ClaimSpec
 
 __all__ = ["Config", "run", "STUDY"]
@@ -36,7 +37,7 @@ _TABLE2_ROWS = {
 
 
 @dataclass(frozen=True, kw_only=True)
-class Config:
+class Config(S4Loop):
     """Settings of the Schmitt-trigger study (defaults: S4 Table 3).
 
     Gains are in the order (K_p, K_i, K_d); the default is S4 Table 4's minimum-error point
@@ -87,22 +88,10 @@ class Config:
         Grid points of the sweep along ``u_on`` and ``off_ratio``.
     """
 
+    # u_on .. t_window_s: the S4 Table 3 loop keys of S4Loop (first, in its order)
     kp: float = 56.24
     ki: float = 0.02
     kd: float = 49.99
-    u_on: float = 0.15
-    off_ratio: float = 0.5
-    inertia_kgm2: float = 10.0
-    torque_nm: float = 1.0
-    delay_s: float = 0.02
-    tau_thruster_s: float = 0.01
-    tau_deriv_s: float = 0.01
-    disturbance_nm: float = 0.05
-    step_deg: float = 15.0
-    command_rate_hz: float = 50.0
-    dt_s: float = 1e-3
-    t_final_s: float = 30.0
-    t_window_s: float = 10.0
     accuracy_claim_deg: float = 0.25
     sweep_u_on: tuple[float, float] = (0.02, 1.0)
     sweep_ratio: tuple[float, float] = (0.05, 0.95)
@@ -110,14 +99,12 @@ class Config:
     n_ratio: int = 37
 
     def __post_init__(self) -> None:
-        for name in ("kp", "kd", "u_on", "inertia_kgm2", "torque_nm", "dt_s", "t_final_s", "t_window_s",
-                     "tau_thruster_s", "tau_deriv_s", "command_rate_hz", "accuracy_claim_deg"):
+        super().__post_init__()  # the S4 Table 3 loop keys
+        for name in ("kp", "kd", "accuracy_claim_deg"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be > 0; got {getattr(self, name)!r}")
-        if self.ki < 0 or self.delay_s < 0:
-            raise ValueError(f"ki and delay_s must be >= 0; got ki={self.ki!r}, delay_s={self.delay_s!r}")
-        if not 0 <= self.off_ratio <= 1:
-            raise ValueError(f"off_ratio must be in [0, 1]; got {self.off_ratio!r}")
+        if self.ki < 0:
+            raise ValueError(f"ki must be >= 0; got {self.ki!r}")
         lo, hi = self.sweep_u_on
         if not 0 < lo < hi:
             raise ValueError(f"sweep_u_on must be (lo, hi) with 0 < lo < hi; got {self.sweep_u_on!r}")
@@ -126,16 +113,6 @@ class Config:
             raise ValueError(f"sweep_ratio must be (lo, hi) in [0, 1]; got {self.sweep_ratio!r}")
         if self.n_u_on < 2 or self.n_ratio < 2:
             raise ValueError("n_u_on and n_ratio must be >= 2")
-
-    def settings(self) -> LoopSettings:
-        return LoopSettings(
-            dt=self.dt_s,
-            t_final=self.t_final_s,
-            t_window=self.t_window_s,
-            tau_thruster=self.tau_thruster_s,
-            tau_deriv=self.tau_deriv_s,
-            command_rate_hz=self.command_rate_hz,
-        )
 
     def params(self, **changes) -> LoopParams:
         p = LoopParams(

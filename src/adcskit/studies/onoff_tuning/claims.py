@@ -1,0 +1,146 @@
+"""The claims (S4 §5), findings and checks of ``onoff-tuning``, decided from the measurements.
+
+The readings, protocol keys and locations are module data; the specs are built by one kind of
+factory per statement (their wording carries the configured weight ratio and run counts) and
+decided by :meth:`~adcskit.studies._verdict.ClaimSpec.evaluate` over the independent seeds.
+
+References
+----------
+S4, §5, Table 6, Figs. 15-21.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adcskit.studies._base import Check
+from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec
+from adcskit.studies.onoff_tuning.config import Config
+from adcskit.studies.onoff_tuning.experiment import Measurements
+from adcskit.studies.onoff_tuning.paper import CASES, CLAIM_FIGURES
+
+__all__ = ["PROTOCOL_KEYS", "R_T4", "R_PEN", "claims", "findings", "checks"]
+
+#: reading: S4's own Table 4 gains as the deterministic reference
+R_T4 = "deterministic = S4 Table 4 gains"
+#: readings of the overshoot penalty (S4 prints none)
+R_PEN = {"mean": "penalty on E[overshoot]", "sample": "penalty per sample"}
+#: config keys that define S4's protocol for every claim
+PROTOCOL_KEYS = (
+    "ga_pop", "ga_max_gen", "ga_tol_deg", "ga_window", "n_lhs", "n_mc", "penalty_weight_deg_per_pct", "penalty_readings",
+    "overshoot_max_pct", "nsga_pop", "nsga_gen", "paper_scale", "u_on", "off_ratio", "inertia_kgm2", "torque_nm",
+    "delay_s", "disturbance_nm", "tau_thruster_s", "tau_deriv_s", "step_deg", "command_rate_hz", "dt_s", "t_final_s",
+    "t_window_s", "std_inertia_kgm2", "std_torque_nm", "std_disturbance_nm", "std_delay_s")
+#: per case: (quantity, side, the paper's words) of the two robust-vs-deterministic claims
+_ROBUST_CLAIMS = (("std", "below", "a lower standard deviation"), ("mean", "above", "a (slightly) higher mean"))
+
+
+def _r(m):
+    return m["r"]
+
+
+def _default_reading(config: Config) -> str:
+    pen0 = config.penalty_readings[0]
+    return f"deterministic = our min-error Pareto point, penalty {'per sample' if pen0 == 'sample' else 'on E[overshoot]'}"
+
+
+def _robust_claim(config: Config, m: Measurements, case: str, what: str, better: str, word: str) -> Claim:
+    cs = m.case_flats(case)
+    r_def = _default_reading(config)
+    runs = {r_def: [{"r": c[f"{what}_robust"] / c[f"{what}_det"]} for c in cs],
+            R_T4: [{"r": c[f"{what}_robust"] / c[f"{what}_table4"]} for c in cs]}
+    if case == "all":
+        for p in config.penalty_readings[1:]:
+            runs[R_PEN[p]] = [{"r": c[f"{what}_robust_{p}"] / c[f"{what}_det"]} for c in cs]
+    return ClaimSpec(
+        id=f"robust-{what}-{'lower' if what == 'std' else 'higher'}-{case}",
+        statement=f"robust gains give {word} of |error| than the deterministic gains "
+                  f"({'all four uncertainties' if case == 'all' else case + ' uncertainty'}, "
+                  f"w2/w1 = {config.ratio(case):g})",
+        where=f"§5, Table 6, {CLAIM_FIGURES[case]}",
+        quantity=f"per seed, {what} of |error| (mean over the last {config.t_window_s:g} s) of the robust gains / "
+                 f"of the deterministic gains on the same {m.ga['n_mc']} fresh LHS samples; holds "
+                 + ("below 1" if what == "std" else "above 1 ('slightly' is not quantified)"),
+        value=_r, threshold=1.0, better=better, unit="-",
+        readings=tuple(k for k in runs if k != r_def), protocol_keys=PROTOCOL_KEYS,
+        describe=lambda r: "robust/deterministic per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
+    ).evaluate(runs, default=r_def)
+
+
+def claims(config: Config, m: Measurements) -> list[Claim]:
+    """S4's claims: robust gains have a lower std and a higher mean of |error| (per case), and a
+    lower command rate raises both (Figs 20-21)."""
+    out = [_robust_claim(config, m, case, what, better, word) for case in CASES
+           for what, better, word in _ROBUST_CLAIMS]
+    rates = sorted(config.command_rates_hz)
+    if len(rates) > 1:
+        out.append(ClaimSpec(
+            id="command-rate",
+            statement="a lower thruster command frequency raises the mean and the spread of the pointing error",
+            where="§5, Figs. 20-21",
+            quantity=f"per seed, the smallest ratio {rates[0]:g} Hz / {rates[-1]:g} Hz over (mean, std) x "
+                     f"(deterministic, robust gains), all four uncertainties, {config.n_mc_rate} runs; holds above 1",
+            value=_r, threshold=1.0, better="above", unit="-", protocol_keys=PROTOCOL_KEYS + ("command_rates_hz",),
+            describe=lambda r: "smallest ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
+        ).evaluate({"default": [{"r": so.rate.ratio_min} for so in m.seeds]}))
+    return out
+
+
+def _ratio_describe(r) -> str:
+    return "ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values)
+
+
+def findings(config: Config, m: Measurements) -> list[Finding]:
+    """Our questions: the robust gains win the objective the GA optimised (eq. 10 incl. penalty)
+    on fresh samples; S4's own Table 6 gains beat its Table 4 gains on std."""
+    out = []
+    for case in CASES:
+        out.append(FindingSpec(
+            id=f"eq10-lower-{case}",
+            statement=f"the robust gains have the lower value of the objective the GA optimised (eq. 10 with the "
+                      f"overshoot penalty, w2/w1 = {config.ratio(case):g}) on fresh samples ({case})",
+            quantity=f"per seed, eq. 10 incl. penalty of robust / deterministic gains on {m.ga['n_mc']} fresh samples; "
+                     "holds below 1",
+            value=_r, threshold=1.0, better="below", unit="-", describe=_ratio_describe,
+        ).evaluate({"default": [{"r": c["eq10_robust"] / c["eq10_det"]} for c in m.case_flats(case)]}))
+    out.append(FindingSpec(
+        id="paper-table6-vs-table4-all",
+        statement="in our model, S4's own Table 6 'all four' gains have a lower std of |error| than its Table 4 "
+                  "minimum-error gains (all four uncertainties)",
+        quantity=f"per seed, std(Table 6 gains) / std(Table 4 gains) on {m.ga['n_mc']} fresh samples (reading "
+                 f"{m.consistent_order}); holds below 1",
+        value=_r, threshold=1.0, better="below", unit="-", describe=_ratio_describe,
+    ).evaluate({"default": [{"r": c["std_table6"] / c["std_table4"]} for c in m.case_flats("all")]}))
+    return out
+
+
+def checks(config: Config, m: Measurements) -> list[Check]:
+    """Our consistency checks: one gain-order reading is feasible, the front is feasible and
+    trades error against fuel, every seed trained on its own draw."""
+    feasible, order, pareto = m.feasible, m.consistent_order, m.pareto
+    n_entries = len(m.order_rows) // 2
+    alls = m.case_flats("all")
+    return [
+        Check(
+            name="printed gain order: exactly one reading of Tables 4 and 6 meets the 10 % overshoot constraint",
+            passed=feasible[order] == n_entries and min(feasible.values()) < n_entries,
+            detail=f"feasible entries (of {n_entries}): (K_p, K_d, K_i) {feasible['kp_kd_ki']}, "
+            f"(K_p, K_i, K_d) {feasible['kp_ki_kd']}; consistent reading: {order}",
+            kind="check",
+        ),
+        Check(
+            name="Pareto front is feasible (overshoot ≤ 10 %) and trades error against fuel",
+            passed=bool(pareto.success and np.all(pareto.overshoot_pct <= config.overshoot_max_pct + 1e-9)
+                        and pareto.F[0, 1] >= pareto.F[-1, 1]),
+            detail=f"{pareto.x.shape[0]} points; error {pareto.F[0, 0]:.4f}..{pareto.F[-1, 0]:.4f}°, "
+            f"fuel {pareto.F[:, 1].min():.2f}..{pareto.F[:, 1].max():.2f} N m s" if pareto.success else pareto.message,
+            kind="check",
+        ),
+        Check(
+            name="every seed's GA trained on its own LHS draw (independent training samples)",
+            passed=len({tuple(np.round(c["gains_robust"], 9)) for c in alls}) == config.n_seeds,
+            detail="distinct robust 'all four' gains per seed: "
+                   + "; ".join(str(np.round(c["gains_robust"], 3).tolist()) for c in alls),
+            kind="check",
+        ),
+    ]

@@ -1,0 +1,228 @@
+"""Settings of the ``onoff-tuning`` study: the S4 Table 3 loop, Table 5 spreads, GA protocol.
+
+References
+----------
+S4, Tables 3, 5 and 6; §4 (GA settings).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from adcskit.studies._s4 import S4Loop
+from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian
+
+__all__ = ["Config", "CASE_PARAMS"]
+
+CASE_PARAMS = {
+    "inertia": ("inertia",),
+    "thrust": ("torque",),
+    "disturbance": ("disturbance",),
+    "delay": ("delay",),
+    "all": ("inertia", "torque", "disturbance", "delay"),
+}
+# config key holding the Table 5 standard deviation of each uncertain loop input
+_STD_KEYS = {"inertia": "std_inertia_kgm2", "torque": "std_torque_nm", "disturbance": "std_disturbance_nm",
+             "delay": "std_delay_s"}
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config(S4Loop):
+    """Settings of the tuning study (defaults: S4 Tables 3 and 5, printed GA settings).
+
+    Table 5 standard deviations: inertia 2 kg m², thrust level 0.2 N m, disturbance
+    0.05 N m, delay 0.01 s around the Table 3 means. Inertia, thrust level and delay are
+    truncated Gaussians (kept positive); the disturbance is a plain Gaussian.
+
+    ``n_seeds`` independent repetitions of the whole pipeline (NSGA-II, robust GA with its own
+    LHS training draw and seed, fresh evaluation samples) decide every claim.
+    ``penalty_readings``: S4 prints no overshoot penalty; ``"sample"`` penalises each sample's
+    excess, ``"mean"`` the excess of E[overshoot]; the first is the default reading, the
+    others are run for the all-four case. ``paper_scale=True`` runs the claim GAs at S4's
+    protocol (population 70, the S4 stopping rule with the 1000-generation cap, 1000 LHS
+    samples per candidate, 10 000-run evaluations: ``PAPER_SCALE`` of
+    :mod:`adcskit.control.tuning`) after printing a time estimate (issue 14's timed
+    probe, :func:`~adcskit.control.tuning.estimate_tuning_time`); days on two CPU cores,
+    meant for ``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
+
+    Attributes
+    ----------
+    u_on : float
+        Schmitt on threshold on the (dimensionless) PID output (S4 Table 3: 0.15).
+    off_ratio : float
+        ``U_off / U_on`` in [0, 1] (S4 Table 3: 0.5).
+    inertia_kgm2 : float, kg m²
+        Mean moment of inertia ``J`` (S4 Table 3: 10).
+    torque_nm : float, N m
+        Mean torque level ``T`` of the thruster pair (S4 Table 3: 1).
+    delay_s : float, s
+        Mean pure thruster delay ``τ`` (S4 Table 3: 0.02), >= 0.
+    disturbance_nm : float, N m
+        Mean constant disturbance torque ``T_d`` (S4 Table 3: 0.05).
+    tau_thruster_s : float, s
+        Time constant of each of the thruster's two first-order lags (S4: 0.01).
+    tau_deriv_s : float, s
+        Time constant of the PID's derivative filter (S4 nomenclature: 0.01).
+    step_deg : float, deg
+        Commanded attitude step (S4: 15°).
+    command_rate_hz : float, Hz
+        Rate at which the Schmitt trigger is evaluated (sample and hold; S4: 50 Hz).
+    dt_s : float, s
+        Fixed integration step (S4 prints none).
+    t_final_s : float, s
+        Simulated duration (S4: 30 s).
+    t_window_s : float, s
+        The error objective is the mean |error| over the last ``t_window_s`` (S4: 10 s).
+    overshoot_max_pct : float, %
+        Overshoot constraint of both optimisations (S4: 10 %).
+    gain_max : float
+        Upper search bound of every gain, each in its own unit (``K_p`` 1/rad, ``K_i``
+        1/(rad s), ``K_d`` s/rad); the lower bound is 1e-3.
+    std_inertia_kgm2 : float, kg m²
+        Standard deviation of the inertia (S4 Table 5: 2).
+    std_torque_nm : float, N m
+        Standard deviation of the torque level (S4 Table 5: 0.2).
+    std_disturbance_nm : float, N m
+        Standard deviation of the disturbance torque (S4 Table 5: 0.05).
+    std_delay_s : float, s
+        Standard deviation of the delay (S4 Table 5: 0.01).
+    nsga_pop, nsga_gen : int
+        NSGA-II population and generations of the deterministic front (S4 prints neither).
+    ga_pop, ga_max_gen : int
+        Robust GA population (S4: 70) and generation cap (S4: 1000).
+    ga_tol_deg : float, deg
+        S4's stopping rule: change of the best objective below this over ``ga_window``.
+    ga_window : int
+        Generations of the stopping rule (S4: 10).
+    n_lhs : int
+        LHS training samples per candidate of the robust GA (S4 prints none).
+    penalty_weight_deg_per_pct : float, deg/%
+        Weight of the overshoot penalty added to eq. 10 per % of excess over
+        ``overshoot_max_pct`` (S4 prints no penalty).
+    ratio_inertia, ratio_thrust, ratio_disturbance, ratio_delay, ratio_all : float
+        Weight ratio ``w2/w1`` of eq. 10 per uncertainty case (S4 Table 6).
+    sweep_ratios : tuple of float
+        ``w2/w1`` values of the all-four ratio sweep (Figs 10-11).
+    sweep_max_gen : int
+        Generation cap of the GA of that sweep.
+    sweep_cases_max_gen, sweep_cases_n_lhs : int
+        Generation cap and LHS samples of the single-uncertainty ratio sweep (Figs 12-13).
+    sweep_cases_ratios : tuple of float
+        ``w2/w1`` values of the single-uncertainty ratio sweep.
+    n_mc_ratio_cases : int
+        Monte-Carlo runs evaluating each gain set of the single-uncertainty sweep.
+    n_mc : int
+        Monte-Carlo runs (fresh samples) evaluating the deterministic and robust gains.
+    std_factors : tuple of float
+        Multiples of the Table 5 standard deviations of the spread sweep.
+    n_mc_sweep : int
+        Monte-Carlo runs per point of the ratio and spread sweeps.
+    command_rates_hz : tuple of float, Hz
+        Schmitt evaluation rates of the command-rate check.
+    n_mc_rate, n_mc_order : int
+        Monte-Carlo runs of the command-rate and gain-order checks.
+    task_size : int
+        Samples per task handed to the executor.
+    campaign_dir : str
+        Directory for resumable Monte-Carlo campaigns ("" = in memory).
+    n_seeds : int
+        Independent repetitions of the whole pipeline that decide every claim.
+    penalty_readings : tuple of {"sample", "mean"}
+        Readings of the overshoot penalty, the default first.
+    paper_scale : bool
+        Run the claim GAs at S4's protocol (``PAPER_SCALE``).
+    backend : str
+        ``"cpu"``, ``"cuda"`` or ``"auto"`` for the batch simulations.
+    """
+
+    # loop: S4 Table 3, the 13 keys of S4Loop (first, in its order)
+    overshoot_max_pct: float = 10.0
+    gain_max: float = 100.0
+    # uncertainty (S4 Table 5)
+    std_inertia_kgm2: float = 2.0
+    std_torque_nm: float = 0.2
+    std_disturbance_nm: float = 0.05
+    std_delay_s: float = 0.01
+    # deterministic NSGA-II (S4 prints no population/generations)
+    nsga_pop: int = 60
+    nsga_gen: int = 60
+    # robust GA (S4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10)
+    ga_pop: int = 70
+    ga_max_gen: int = 30
+    ga_tol_deg: float = 1e-7
+    ga_window: int = 10
+    n_lhs: int = 40
+    penalty_weight_deg_per_pct: float = 1.0
+    ratio_inertia: float = 25.0
+    ratio_thrust: float = 22.0
+    ratio_disturbance: float = 15.0
+    ratio_delay: float = 10.0
+    ratio_all: float = 180.0
+    sweep_ratios: tuple[float, ...] = (1.0, 10.0, 50.0, 500.0)
+    sweep_max_gen: int = 20
+    # ratio sweep of each single uncertainty (Figs 12-13): a lighter GA
+    sweep_cases_max_gen: int = 20
+    sweep_cases_ratios: tuple[float, ...] = (1.0, 500.0)
+    sweep_cases_n_lhs: int = 20
+    n_mc_ratio_cases: int = 1000
+    # evaluation
+    n_mc: int = 2000
+    std_factors: tuple[float, ...] = (0.25, 0.5, 1.0, 1.5, 2.0)
+    n_mc_sweep: int = 1000
+    command_rates_hz: tuple[float, ...] = (50.0, 200.0, 1000.0)
+    n_mc_rate: int = 1000
+    n_mc_order: int = 1000
+    task_size: int = 1000
+    campaign_dir: str = ""
+    # verdicts: independent repetitions of the whole pipeline, readings, paper-scale setting
+    n_seeds: int = 5
+    penalty_readings: tuple[str, ...] = ("sample", "mean")
+    paper_scale: bool = False
+    backend: str = "cpu"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()  # the S4 Table 3 loop keys
+        pos = ("step_deg", "overshoot_max_pct", "gain_max", "std_inertia_kgm2", "std_torque_nm",
+               "std_disturbance_nm", "std_delay_s", "ga_tol_deg", "ratio_inertia", "ratio_thrust",
+               "ratio_disturbance", "ratio_delay", "ratio_all")
+        for name in pos:
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be > 0; got {getattr(self, name)!r}")
+        ints = {"nsga_pop": 4, "nsga_gen": 1, "ga_pop": 4, "ga_max_gen": 1, "ga_window": 1, "n_lhs": 2,
+                "sweep_max_gen": 1, "sweep_cases_max_gen": 1, "sweep_cases_n_lhs": 2,
+                "n_mc_ratio_cases": 2, "n_mc": 2, "n_mc_sweep": 2, "n_mc_rate": 2, "n_mc_order": 2,
+                "task_size": 1}
+        for name, lo in ints.items():
+            if getattr(self, name) < lo:
+                raise ValueError(f"{name} must be >= {lo}; got {getattr(self, name)!r}")
+        if any(r <= 0 for r in self.sweep_ratios) or any(r <= 0 for r in self.sweep_cases_ratios):
+            raise ValueError(f"sweep ratios must be > 0; got {self.sweep_ratios!r}, {self.sweep_cases_ratios!r}")
+        if not self.std_factors or any(f < 0 for f in self.std_factors):
+            raise ValueError(f"std_factors must be >= 0 and non-empty; got {self.std_factors!r}")
+        if not self.command_rates_hz:
+            raise ValueError("command_rates_hz must not be empty")
+        if self.n_seeds < 1:
+            raise ValueError(f"n_seeds must be >= 1; got {self.n_seeds!r}")
+        if (not self.penalty_readings or len(set(self.penalty_readings)) != len(self.penalty_readings)
+                or any(p not in ("sample", "mean") for p in self.penalty_readings)):
+            raise ValueError(f"penalty_readings must be distinct values of ('sample', 'mean'); got {self.penalty_readings!r}")
+        if self.backend not in ("cpu", "cuda", "auto"):
+            raise ValueError(f"backend must be 'cpu', 'cuda' or 'auto'; got {self.backend!r}")
+        if not isinstance(self.paper_scale, bool):
+            raise ValueError(f"paper_scale must be true or false; got {self.paper_scale!r}")
+
+    def ratio(self, case: str) -> float:
+        return float(getattr(self, f"ratio_{case}"))
+
+    def dists(self, case: str, factor: float = 1.0) -> dict[str, Any]:
+        table5 = {
+            "inertia": TruncatedGaussian(mean=self.inertia_kgm2, std=factor * self.std_inertia_kgm2, low=1e-3 * self.inertia_kgm2),
+            "torque": TruncatedGaussian(mean=self.torque_nm, std=factor * self.std_torque_nm, low=1e-3 * self.torque_nm),
+            "disturbance": Gaussian(mean=self.disturbance_nm, std=factor * self.std_disturbance_nm),
+            "delay": TruncatedGaussian(mean=self.delay_s, std=factor * self.std_delay_s, low=0.0),
+        }
+        return {k: table5[k] for k in CASE_PARAMS[case]}
+
+    def input_std(self, case: str) -> float:
+        return float(getattr(self, _STD_KEYS[CASE_PARAMS[case][0]])) if case != "all" else 1.0
