@@ -322,6 +322,12 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
             outcome[name] = f"failed after {wall:.1f} s"
             _err(f"study {name} failed: {failure['message']}")
 
+    if not args.quiet and "closed-loop" in names:  # its worker's notice goes to its log: say it here
+        from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
+        from adcskit.simulation import _kernels
+
+        if will_compile(_kernels.run_parallel):
+            print(f"closed-loop: {CLOSED_LOOP_NOTICE}", flush=True)
     futures: dict = {}
     try:
         with progress_session(not args.quiet), bar(f"studies ({jobs} at once)", len(order)) as advance:
