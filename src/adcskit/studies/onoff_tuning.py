@@ -497,6 +497,13 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
     return out
 
 
+def _seed_task(task, shared) -> dict[str, Any]:
+    """Executor task: one seed pipeline (``task = (index, SeedSequence, pareto or None)``)."""
+    i, ss, pareto = task
+    config, ga, settings, base, bounds, mc_kw, order = shared
+    return _seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, order, pareto=pareto)
+
+
 def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> StudyResult:
     """Run the study (see the module docstring)."""
     rng = as_rng(rng)
@@ -545,10 +552,18 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
 
     # ---- 3-4. robust GA per case and seed; 10 000-run evaluations on fresh samples -------
     seeds_out = []
-    for i, ss in enumerate(seed_seqs):
-        status(f"onoff-tuning: pipeline seed {i + 1}/{config.n_seeds}")
-        seeds_out.append(_seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, consistent_order,
-                                        pareto=pareto if i == 0 else None))
+    if executor is not None and executor.n_workers > 1 and config.n_seeds > 1:
+        # the seed pipelines are independent (one SeedSequence child each): one task per seed,
+        # its campaigns run in that task (serially); same numbers as the loop below
+        status(f"onoff-tuning: {config.n_seeds} pipeline seeds on {executor.spec}")
+        tasks = [(i, ss, pareto if i == 0 else None) for i, ss in enumerate(seed_seqs)]
+        shared = (config, ga, settings, base, bounds, dict(mc_kw, executor=None), consistent_order)
+        seeds_out = executor.map(_seed_task, tasks, description="pipeline seeds", shared=shared)
+    else:
+        for i, ss in enumerate(seed_seqs):
+            status(f"onoff-tuning: pipeline seed {i + 1}/{config.n_seeds}")
+            seeds_out.append(_seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, consistent_order,
+                                            pareto=pareto if i == 0 else None))
     robust_runs = seeds_out[0]["runs"]
     mc_results = {c: (seeds_out[0]["mc_results"][c]["det"], seeds_out[0]["mc_results"][c]["robust"]) for c in CASES}
     robust = {}
