@@ -239,6 +239,7 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
                 with progress_session(not args.quiet):
                     line, failure = _attempt(name, args, executor)
             finally:
+                _RUNNING = False  # the study is over: a Ctrl-C from now on does not undo it
                 executor.close()
             print(line if failure is None else f"study {name} failed: {failure['traceback']}")
         return name, line, failure, time.perf_counter() - t0

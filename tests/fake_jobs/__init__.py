@@ -2,6 +2,6 @@
 
 ``b``: the fake study (tests/fake_study.py) under another name; ``boom``: raises;
 ``sleepy``: sleeps until interrupted (at most 20 s); ``interrupter``: waits until the fake
-study's result is written under ``$ADCSKIT_TEST_OUT``, then sends SIGINT to the parent
+study's log under ``$ADCSKIT_TEST_OUT`` says it is done, then sends SIGINT to the parent
 process (a Ctrl-C) and sleeps until interrupted.
 """
