@@ -12,7 +12,7 @@ Exit codes: 0 success, 1 a study failed, 2 bad arguments or input, 130 interrupt
 
 ``reproduce --jobs N`` (default: the usable core count) runs up to ``N`` studies at once, each
 in its own ``spawn`` worker process, longest expected study first
-(:data:`adcskit.studies._registry.EXPECTED_WALL_S`). Every study's result depends only on its
+(:data:`adcskit.studies.EXPECTED_WALL_S`). Every study's result depends only on its
 name, config and seed, so the result files equal a serial run's (``--jobs 1``) but for the
 timing fields. How ``--jobs`` combines with ``--executor`` (no oversubscription):
 
@@ -223,11 +223,11 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
         if _CANCEL is not None and _CANCEL.is_set():
             return name, None, None, 0.0
         from adcskit._progress import progress_session
-        from adcskit.studies import _registry
+        from adcskit.studies import STUDIES
         from adcskit.uncertainty.executor import make_executor
 
-        if info is not None and name not in _registry.STUDIES:
-            _registry.STUDIES[name] = info
+        if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
+            STUDIES[name] = info
         t0 = time.perf_counter()
         with (
             open(log_path, "w", encoding="utf-8") as log,
@@ -265,7 +265,7 @@ def _worker_executor_spec(text: str, executor, jobs: int) -> str:
 
 def _longest_first(names: list[str]) -> list[str]:
     """``names`` by expected wall time, longest first (registry order among equals)."""
-    from adcskit.studies._registry import EXPECTED_WALL_S
+    from adcskit.studies import EXPECTED_WALL_S
 
     return sorted(names, key=lambda n: -EXPECTED_WALL_S.get(n, 0.0))
 
@@ -283,7 +283,7 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
     import multiprocessing
 
     from adcskit._progress import bar, progress_session, status
-    from adcskit.studies._registry import STUDIES
+    from adcskit.studies import STUDIES
 
     spec = _worker_executor_spec(args.executor, executor, jobs)
     order = _longest_first(names)
