@@ -20,9 +20,21 @@ Usage::
 
     python benchmarks/bench_optimal_control.py [--quick] [--tol 1e-6] [--no-dymos]
         [--rigid-body] [--json PATH] [--figures DIR]
+    python benchmarks/bench_optimal_control.py --suite [--tol 1e-6] [--json PATH]
 
 ``--quick`` uses ``tol = 1e-4`` and skips dymos; ``--rigid-body`` adds the Bilimoria & Wie
 reorientation (several minutes on a loaded machine); ``--only NAME`` runs one problem.
+
+``--suite`` (issue 22, item 4) instead solves the standard bang-bang / constrained suite —
+the free-flying robot (GPOPS-II J* = 7.9101471), the four-switch minimum-time oscillator
+(reference: the shooting oracle), Bryson & Ho's orbit raising (thrust direction as a unit
+vector; r(tf) = 1.525 printed) and the COPS robot arm (tf* = 9.1409118) — each from the
+default naive guess with Radau and Gauss at ``--tol`` (default 1e-6), and prints a Markdown
+table: published value, our J, relative error, success / ``optimality_met``, collocation
+points, IPOPT iterations, CPU s (the process's CPU time of the ``solve_adaptive`` call, NLP
+builds included; the compiled-NLP cache is cleared first) and the split of wall time into
+CasADi NLP builds and IPOPT (issue 22, item 5). dymos is run beside only where it is
+importable (it is not installed by default).
 
 ``--ablation`` instead runs ``solve_adaptive`` on each selected problem in four settings side
 by side — refined meshes warm-started with primal values only or with the interpolated
@@ -83,6 +95,74 @@ def problems(rigid_body: bool):
     if rigid_body:
         out.append(("rigid-body-reorientation", S.rigid_body_reorientation(180.0), None, None))
     return out
+
+
+SUITE = ("free-flying-robot", "oscillator-min-time", "orbit-raising", "robot-arm")
+
+
+def suite_problems():
+    """(name, problem factory) of the issue-22 suite."""
+    from adcskit.optimal_control.problems import standard as S
+
+    return (
+        ("free-flying-robot", S.free_flying_robot),
+        ("oscillator-min-time", S.oscillator_min_time),
+        ("orbit-raising", S.orbit_raising),
+        ("robot-arm", S.robot_arm),
+    )
+
+
+def run_suite(tol, only=None, methods=("radau", "gauss")):
+    """Solve every suite problem with every method; one row per (problem, method)."""
+    from adcskit.optimal_control import clear_cache, solve_adaptive
+    from adcskit.optimal_control.problems import reference_objective
+
+    rows = []
+    for name, make in suite_problems():
+        if only and name not in only:
+            continue
+        ref, src = reference_objective(name)
+        for method in methods:
+            prob = make()
+            clear_cache()
+            c0, w0 = time.process_time(), time.perf_counter()
+            sol = solve_adaptive(prob, tol=tol, method=method)
+            cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+            h = sol.mesh_history
+            row = {
+                "problem": name, "method": method, "tol": tol, "reference": ref, "reference_source": src,
+                "objective": sol.objective, "rel_error": abs(sol.objective - ref) / abs(ref),
+                "success": bool(sol.success), "error_met": bool(sol.certificate.error_met),
+                "optimality_met": bool(sol.certificate.optimality_met),
+                "n_collocation": int(sol.certificate.n_collocation), "mesh_iterations": len(h),
+                "ipopt_iterations": int(sum(m.nit for m in h)), "cpu_s": cpu, "wall_s": wall,
+                "build_s": float(sum(m.build_s for m in h)), "ipopt_s": float(sum(m.ipopt_s for m in h)),
+                "message": sol.message,
+            }
+            rows.append(row)
+            print(f"{name:22s} {method:5s} J={sol.objective:.10g} rel={row['rel_error']:.2e} ok={sol.success} "
+                  f"opt={row['optimality_met']} N={row['n_collocation']} it={row['ipopt_iterations']} "
+                  f"cpu={cpu:.2f}s build={row['build_s']:.2f}s ipopt={row['ipopt_s']:.2f}s", file=sys.stderr, flush=True)
+    return rows
+
+
+def suite_table(rows) -> str:
+    """The suite's rows as a Markdown table."""
+    try:
+        import dymos  # noqa: F401
+
+        dymos_note = "dymos: installed but not wired for these problems"
+    except ImportError:
+        dymos_note = "dymos: not installed"
+    out = ["| problem | method | published | our J | rel. error | success / optimality_met | nodes | "
+           "IPOPT it. | CPU s | build s / IPOPT s (wall) |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {r['problem']} | {r['method']} | {r['reference']:.10g} | {r['objective']:.10g} | "
+                   f"{r['rel_error']:.1e} | {r['success']} / {r['optimality_met']} | {r['n_collocation']} | "
+                   f"{r['ipopt_iterations']} | {r['cpu_s']:.2f} | {r['build_s']:.2f} / {r['ipopt_s']:.2f} |")
+    out.append("")
+    out.append(f"({dymos_note}.)")
+    return "\n".join(out)
 
 
 def run_hp(prob, guess, tol, mesh=None):
@@ -345,6 +425,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", metavar="PATH")
     ap.add_argument("--figures", metavar="DIR")
     ap.add_argument("--ablation", action="store_true", help="duals x mesh reduction, side by side")
+    ap.add_argument("--suite", action="store_true", help="issue-22 suite: both methods, Markdown table")
     args = ap.parse_args(argv)
     from adcskit.optimal_control.problems import reference_objective
 
@@ -352,6 +433,10 @@ def main(argv=None) -> int:
     use_dymos = not (args.quick or args.no_dymos)
     with_rigid_body = args.rigid_body or bool(args.only and "rigid-body-reorientation" in args.only)
     results, sols = [], {}
+    if args.suite:
+        rows = run_suite(tol, args.only)
+        print(suite_table(rows), file=sys.stderr, flush=True)
+        return _emit({"tol": tol, "suite": rows}, args.json)
     if args.ablation:
         for name, prob, guess, mesh in problems(with_rigid_body):
             if not args.only or name in args.only:

@@ -184,7 +184,7 @@ def _fake_branch(tf0, tfs, errors, *, tol=1e-5, met=True, nlp_ok=True):
     from types import SimpleNamespace as NS
 
     from adcskit.optimal_control import Mesh
-    from adcskit.studies.rendezvous import _Branch
+    from adcskit.studies.rendezvous.experiment import _Branch
 
     hist = tuple(
         NS(
@@ -210,7 +210,8 @@ def test_branch_record_flags_jumps_and_reports_the_certificate():
     # jump_factor x adaptive_tol = 1 x 1e-3 = 1e-3 (relative): a refinement of the 25.87 s
     # optimum that ends on the 26.15 s branch (1.1 % away, S2 row 1's second optimum) is a
     # jump; a move of 1e-4 (the 20x3 -> converged change of the main row) is not
-    from adcskit.studies.rendezvous import Config, _branch_record
+    from adcskit.studies.rendezvous.config import Config
+    from adcskit.studies.rendezvous.experiment import _branch_record
 
     cfg = Config()
     assert cfg.same_rtol == pytest.approx(1e-3)
@@ -235,44 +236,47 @@ def test_branch_record_flags_jumps_and_reports_the_certificate():
     assert math.isnan(bad["tf_converged_s"]) and not bad["on_branch"]
 
 
-# Full run (docs/studies/rendezvous.md, root seed 0, 16 starts, error-controlled refinement to a
-# relative state error of 1e-3 with solve_adaptive's defaults transfer_duals=True,
-# mesh_reduction=True and the switch snap; full run of 2026-11-27 15:32 UTC at main 12a9225, its
-# branches.csv): per Table 4 row and dynamics reading, each local branch as (20x3 tf, converged
-# tf) in s.
+# Full run (root seed 0, 16 starts, error-controlled refinement to a relative state error of
+# 1e-3 with solve_adaptive's defaults: transfer_duals, mesh_reduction, the switch snap, and the
+# exact-switch-time re-solve and optimality check of issue 22; `adcskit run rendezvous` of
+# 2026-12-01 at main 0b9ca01+, its branches.csv): per Table 4 row and dynamics reading, each
+# local branch as (20x3 tf, converged tf) in s.
 _FULL_RUN = {
     "paper": [
-        [(25.872706, 25.870312), (26.156705, 26.154638)],
-        [(25.789172, 25.788128), (26.036548, 26.034204)],
-        [(25.935949, 25.933626), (26.168251, 26.166057)],
-        [(25.660545, 25.659990), (25.903083, 25.900051)],
-        [(28.279789, 28.279679), (28.569247, 28.566102)],
+        [(25.872706, 25.870004), (26.156705, 26.153977)],
+        [(25.789172, 25.787187), (26.036548, 26.033526)],
+        [(25.935949, 25.932368), (26.168251, 26.165178)],
+        [(25.660545, 25.658952), (25.903083, 25.900051)],
+        [(28.279789, 28.278427), (28.569247, 28.564589)],
     ],
     "full": [
-        [(25.873064, 25.870744), (26.156518, 26.154493)],
-        [(25.789525, 25.788503), (26.036981, 26.034585)],
-        [(25.936541, 25.934265), (26.168945, 26.166785)],
-        [(25.660937, 25.660378), (25.903429, 25.900396)],
-        [(28.280283, 28.280166), (28.569770, 28.566599)],
+        [(25.873064, 25.870405), (26.156518, 26.153848)],
+        [(25.789525, 25.787583), (26.036981, 26.033915)],
+        [(25.936541, 25.933021), (26.168945, 26.165896)],
+        [(25.660937, 25.659335), (25.903429, 25.900396)],
+        [(28.280283, 28.278949), (28.569770, 28.565115)],
     ],
 }
 
 
 def _rows_from(branches_per_row):
+    # the fields of experiment.RowRecord / BranchRecord that the decisions read
+    from types import SimpleNamespace as NS
+
     rows = {}
     for i, pairs in enumerate(branches_per_row):
         br = [
-            {"tf_paper_mesh_s": a, "tf_converged_s": b, "on_branch": True, "converged": True}
+            NS(tf_paper_mesh_s=a, tf_converged_s=b, on_branch=True, converged=True)
             for a, b in pairs
         ]
-        rows[i] = {
-            "branches": br,
-            "optima_paper_mesh_s": [a for a, _ in pairs],
-            "best_paper_mesh_s": min(a for a, _ in pairs),
-            "converged_optima_s": sorted(b for _, b in pairs),
-            "best_converged_s": min(b for _, b in pairs),
-            "n_starts": 16,
-        }
+        rows[i] = NS(
+            branches=br,
+            optima_paper_mesh_s=[a for a, _ in pairs],
+            best_paper_mesh_s=min(a for a, _ in pairs),
+            converged_optima_s=sorted(b for _, b in pairs),
+            best_converged_s=min(b for _, b in pairs),
+            n_starts=16,
+        )
     return rows
 
 
@@ -280,14 +284,18 @@ def test_claim_decisions_from_the_full_run_branches():
     # the decision logic alone (no solves): the full run's branches must give the full run's
     # outcomes, so a change of a tolerance or of the branch identification that flips a
     # verdict fails here
-    from adcskit.studies.rendezvous import Config, _decide, _derive
+    from dataclasses import replace
+    from types import SimpleNamespace as NS
+
+    from adcskit.studies.rendezvous.claims import _decide
+    from adcskit.studies.rendezvous.config import Config
+    from adcskit.studies.rendezvous.experiment import _derive
 
     cfg = Config()
     meas = {}
     for dyn, rows in _FULL_RUN.items():
         m = _derive(_rows_from(rows), dyn, cfg)
-        m["main"] = {"bang_bang_all": True, "h_max_dev_paper_mesh": 0.021}
-        meas[dyn] = m
+        meas[dyn] = replace(m, main=NS(bang_bang_all=True, h_max_dev_paper_mesh=0.021))
     claims, findings = _decide(meas, cfg, list(range(5)))
     got = {c.id: (c.outcome, tuple(r.outcome for r in c.readings)) for c in claims}
     H, N, D = "holds", "does not hold", "depends on reading"

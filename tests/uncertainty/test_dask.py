@@ -173,6 +173,8 @@ def test_onoff_tuning_campaign_path_on_dask_equals_serial(dask_local2, tmp_path)
     # min-error and Table 6 all-four gains (in (K_p, K_d, K_i) order, the reading the study found
     # consistent) and in-memory / resumable campaigns, 20 runs of 30 s in tasks of 10. The
     # full quick run is the slow test below.
+    from adcskit.uncertainty.tuning import monte_carlo
+
     from adcskit.studies.onoff_tuning import (
         CASES,
         PAPER_TABLE4,
@@ -181,7 +183,6 @@ def test_onoff_tuning_campaign_path_on_dask_equals_serial(dask_local2, tmp_path)
         Config,
         _reorder,
     )
-    from adcskit.uncertainty.tuning import monte_carlo
 
     config = Config(**{**STUDY.quick, "task_size": 10})
     gains = [_reorder(PAPER_TABLE4["min_error"], "kp_kd_ki"), _reorder(PAPER_TABLE6["all"]["printed"], "kp_kd_ki")]

@@ -600,6 +600,13 @@ class MeshIteration:
         How the solve started: ``"cold"``, ``"primal"`` (previous solution interpolated onto
         the new mesh), ``"primal-dual-interpolated"`` (and its multipliers interpolated) or
         ``"primal-dual"`` (same mesh; see :func:`solve`).
+    build_s : float
+        Wall time of the CasADi NLP build(s) of this step (s); near 0 when the compiled NLP
+        of the same mesh structure came from the cache (issue 22, item 5).
+    ipopt_s : float
+        Wall time inside IPOPT (s). ``solve_s − build_s − ipopt_s`` is the guess
+        interpolation, costates and error estimate. For the ``"switch-times"`` step both are
+        sums over its own multi-phase refinement.
 
     Examples
     --------
@@ -610,6 +617,8 @@ class MeshIteration:
     >>> it = sol.mesh_history[0]
     >>> it.n_collocation > 0, it.warm_start
     (True, 'cold')
+    >>> it.build_s >= 0.0 and 0.0 < it.ipopt_s <= it.solve_s
+    True
     """
 
     meshes: tuple[Mesh, ...]
@@ -620,6 +629,8 @@ class MeshIteration:
     nit: int
     solve_s: float
     warm_start: str = "cold"
+    build_s: float = 0.0
+    ipopt_s: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -632,6 +643,8 @@ class MeshIteration:
             "nit": self.nit,
             "solve_s": self.solve_s,
             "warm_start": self.warm_start,
+            "build_s": self.build_s,
+            "ipopt_s": self.ipopt_s,
         }
 
 
@@ -977,6 +990,8 @@ def solve_adaptive(
                 nit=int(out.nit),
                 solve_s=wall,
                 warm_start=str(out.warm_start),
+                build_s=float(out.build_s),
+                ipopt_s=float(out.solve_s),
             )
         )
         return out, ps, e
@@ -1024,7 +1039,7 @@ def solve_adaptive(
                                               n_max=n_max, min_width=min_width, ipopt_options=ipopt_options)
                 n_solves += 1
                 if polished is not None and polished[0].success:
-                    sol, nit_p = polished
+                    sol, nit_p, build_p, ipopt_p = polished
                     phase_sols = [sol]
                     errs = _phase_errors(phase_sols, extra)
                     emax = float(np.max(errs[0]))
@@ -1032,7 +1047,8 @@ def solve_adaptive(
                     history.append(MeshIteration(
                         meshes=(sol.mesh,), n_collocation=int(sum(sol.mesh.nodes)), max_error=emax,
                         objective=float(sol.objective), success=True, nit=int(nit_p),
-                        solve_s=time.perf_counter() - t_start, warm_start="switch-times"))
+                        solve_s=time.perf_counter() - t_start, warm_start="switch-times",
+                        build_s=build_p, ipopt_s=ipopt_p))
             last_sig = sig
         if sol.success:
             infeasible_meshes = 0
@@ -1240,7 +1256,7 @@ def _switch_time_solve(problem, sol, structure, *, tol, method, n_min, n_max, mi
     between phases (:func:`solve_multiphase`, refined by :func:`solve_adaptive`); the optimal
     switch times then become mesh points of a single-phase mesh (each phase's final mesh
     scaled into its arc) on which the original problem is solved warm from the multi-phase
-    trajectory. Returns ``(solution, nit)`` or None when a step fails.
+    trajectory. Returns ``(solution, nit, build_s, ipopt_s)`` (sums over its meshes) or None when a step fails.
     """
     from adcskit.optimal_control.multiphase import MultiPhaseGuess, MultiPhaseProblem, Phase
 
@@ -1293,9 +1309,11 @@ def _switch_time_solve(problem, sol, structure, *, tol, method, n_min, n_max, mi
     except (ValueError, RuntimeError):
         return None
     nit = sum(m.nit for m in msol.mesh_history)
+    build_s = sum(m.build_s for m in msol.mesh_history)
+    ipopt_s = sum(m.ipopt_s for m in msol.mesh_history)
     if not msol.success:
         return None
-    return _join_phases(pr, msol, min_width), nit
+    return _join_phases(pr, msol, min_width), nit, build_s, ipopt_s
 
 
 def _join_phases(pr, msol, min_width: float) -> OptimalControlSolution:

@@ -13,10 +13,12 @@ from adcskit.optimal_control.problems.standard import (
     free_flying_robot,
     goddard_rocket,
     hypersensitive,
+    orbit_raising,
     oscillator_min_time,
     oscillator_min_time_reference,
     reference_objective,
     rigid_body_reorientation,
+    robot_arm,
 )
 
 __all__ = [
@@ -33,7 +35,9 @@ __all__ = [
     "launch_ascent_guess",
     "oscillator_min_time",
     "oscillator_min_time_reference",
+    "orbit_raising",
     "reference_objective",
     "rendezvous_problem",
     "rigid_body_reorientation",
+    "robot_arm",
 ]

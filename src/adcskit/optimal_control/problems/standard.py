@@ -21,6 +21,11 @@ Each function returns the problem; the reference optimum is returned by
 * :func:`oscillator_min_time` — minimum time to bring a controlled harmonic oscillator
   ``ẍ = −x + u``, ``|u| <= 1`` to rest at the origin (Pontryagin et al. 1962, §I.5):
   bang-bang with a switch every π s; the default start needs four switches.
+* :func:`orbit_raising` — Bryson & Ho (1975, §2.5): maximum final radius of a low-thrust
+  transfer in fixed time, the thrust direction a unit vector ``(w1, w2)``,
+  ``w1² + w2² = 1`` (a path constraint); ``r(tf) = 1.525 r0``.
+* :func:`robot_arm` — COPS 3.0 problem "robot" (Dolan, Moré & Munson 2004): minimum time to
+  swing a robot arm (three coupled rotations/extension, ``|u_i| <= 1``); ``tf* = 9.1409118``.
 
 References
 ----------
@@ -29,7 +34,8 @@ Bilimoria & Wie, J. Guid. Control Dyn. 16(3), 1993. Bryson, Dynamic Optimization
 §9.3. Patterson & Rao, ACM TOMS 41(1), 2014 (GPOPS-II). Sakawa, Optim. Control Appl. Meth.
 20(5), 1999. Betts, Practical Methods for Optimal Control, 2nd ed., SIAM 2010, ex. 6.13.
 Pontryagin, Boltyanskii, Gamkrelidze & Mishchenko, The Mathematical Theory of Optimal
-Processes, 1962, §I.5.
+Processes, 1962, §I.5. Dolan, Moré & Munson, Benchmarking optimization software with COPS
+3.0, Argonne tech. rep. ANL/MCS-TM-273, 2004, §8 (robot arm).
 """
 
 from __future__ import annotations
@@ -52,8 +58,10 @@ __all__ = [
     "hypersensitive",
     "oscillator_min_time",
     "oscillator_min_time_reference",
+    "orbit_raising",
     "reference_objective",
     "rigid_body_reorientation",
+    "robot_arm",
 ]
 
 
@@ -542,6 +550,153 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
     return best
 
 
+# ------------------------------------------------------------------------- orbit raising
+# Bryson & Ho (1975) §2.5, normalised units: μ = 1, r0 = 1, m0 = 1, thrust T = 0.1405,
+# propellant rate |ṁ| = 0.0749, tf = 3.32 (about half an initial orbit period).
+_OR = {"mu": 1.0, "T": 0.1405, "mdot": 0.0749, "tf": 3.32}
+
+
+def _or_f(x, u, t, p):
+    r, vr, vt = x[0], x[2], x[3]
+    a = _OR["T"] / (1.0 - _OR["mdot"] * t)  # m(t) = m0 − |ṁ| t, m0 = 1
+    return [
+        vr,
+        vt / r,
+        vt * vt / r - _OR["mu"] / (r * r) + a * u[0],
+        -vr * vt / r + a * u[1],
+    ]
+
+
+def _or_path(x, u, t, p):
+    return [u[0] * u[0] + u[1] * u[1]]
+
+
+def _or_objective(ends, p):
+    return -ends[0].xf[0]
+
+
+def _or_events(ends, p):
+    # circular final orbit: v_t(tf)² r(tf) = μ (v_r(tf) = 0 is a fixed final state)
+    xf = ends[0].xf
+    return [xf[3] * xf[3] * xf[0] - _OR["mu"]]
+
+
+def orbit_raising() -> MultiPhaseProblem:
+    """Bryson & Ho's orbit raising: the largest circular orbit reachable in fixed time.
+
+    One phase with states ``(r, θ, v_r, v_t)`` (radius, polar angle (rad), radial and
+    tangential velocity) in normalised units (``μ = 1``, ``r0 = 1``, ``m0 = 1``); controls the
+    thrust direction ``(w1, w2)`` (radial, tangential components) as a unit vector,
+    ``w1² + w2² = 1`` enforced as a path constraint (the form issue 22 asks for, rather than
+    a thrust angle). Constant thrust ``T = 0.1405``, mass ``m(t) = 1 − 0.0749 t``,
+    ``tf = 3.32``; start on the circular orbit ``(1, 0, 0, 1)``; end on a circular orbit:
+    ``v_r(tf) = 0`` (a final state) and ``v_t(tf)² r(tf) = μ`` (an event, as it is not a
+    box bound). Maximising ``r(tf)`` is ``min −r(tf)``; Bryson & Ho print
+    ``r(tf) = 1.525 r0`` (:func:`reference_objective`).
+
+    A :class:`~adcskit.optimal_control.MultiPhaseProblem` (one phase) because the terminal
+    circularity condition is nonlinear; solve it with
+    :func:`~adcskit.optimal_control.solve_adaptive` or
+    :func:`~adcskit.optimal_control.solve_multiphase`.
+
+    References
+    ----------
+    Bryson & Ho, Applied Optimal Control, 1975, §2.5, Fig. 2.5.1.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import orbit_raising
+    >>> p = orbit_raising()
+    >>> ph = p.phases[0]
+    >>> ph.n_states, ph.n_controls, ph.n_path, ph.tf_bounds, p.n_events
+    (4, 2, 1, (3.32, 3.32), 1)
+    """
+    tf = _OR["tf"]
+    phase = Phase(
+        name="orbit-raising",
+        dynamics=_or_f,
+        n_states=4,
+        n_controls=2,
+        state_names=("r", "theta", "vr", "vt"),
+        control_names=("w1", "w2"),
+        state_lower=[0.5, 0.0, -1.0, 0.1],
+        state_upper=[5.0, 4.0 * np.pi, 1.0, 2.0],
+        control_lower=[-1.0, -1.0],
+        control_upper=[1.0, 1.0],
+        initial_state=[1.0, 0.0, 0.0, 1.0],
+        final_state=[np.nan, np.nan, 0.0, np.nan],
+        t0_bounds=(0.0, 0.0),
+        tf_bounds=(tf, tf),
+        path=_or_path,
+        path_lower=[1.0],
+        path_upper=[1.0],
+        state_scale=[1.0, 1.0, 1.0, 1.0],
+        control_scale=[1.0, 1.0],
+    )
+    return MultiPhaseProblem(
+        name="orbit-raising",
+        phases=[phase],
+        objective=_or_objective,
+        events=_or_events,
+        event_lower=[0.0],
+        event_upper=[0.0],
+    )
+
+
+# ------------------------------------------------------------------------- COPS robot arm
+_ARM_L = 5.0  # arm length (COPS 3.0 §8)
+
+
+def _arm_f(x, u, t):
+    rho, phi = x[0], x[2]
+    inertia_phi = ((_ARM_L - rho) ** 3 + rho**3) / 3.0
+    inertia_theta = inertia_phi * ca.sin(phi) ** 2
+    return [x[3], x[4], x[5], u[0] / _ARM_L, u[1] / inertia_theta, u[2] / inertia_phi]
+
+
+def robot_arm() -> OptimalControlProblem:
+    """COPS robot arm: minimum time to swing an arm of length ``L = 5`` between two rests.
+
+    States ``(ρ, θ, φ, ρ̇, θ̇, φ̇)``: the arm's extension ρ (``0 <= ρ <= L``), azimuth θ
+    (``|θ| <= π``) and elevation φ (``0 <= φ <= π``) with their rates; controls
+    ``|u_i| <= 1``. Dynamics ``L ρ̈ = u_ρ``, ``I_θ θ̈ = u_θ``, ``I_φ φ̈ = u_φ`` with
+    ``I_φ = ((L − ρ)³ + ρ³) / 3`` and ``I_θ = I_φ sin² φ``. From ``(4.5, 0, π/4)`` at rest to
+    ``(4.5, 2π/3, π/4)`` at rest; minimise ``tf`` (COPS: ``tf* = 9.1409118``, bang-bang in
+    every channel).
+
+    References
+    ----------
+    Dolan, Moré & Munson, Benchmarking optimization software with COPS 3.0, ANL/MCS-TM-273,
+    2004, §8 (robot arm; the model from Monta 1994).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import robot_arm
+    >>> p = robot_arm()
+    >>> p.n_states, p.n_controls, p.free_final_time
+    (6, 3, True)
+    """
+    return OptimalControlProblem(
+        name="robot-arm",
+        dynamics=_arm_f,
+        n_states=6,
+        n_controls=3,
+        state_names=("rho", "theta", "phi", "rho_dot", "theta_dot", "phi_dot"),
+        control_names=("u_rho", "u_theta", "u_phi"),
+        state_lower=[0.0, -np.pi, 0.0, -np.inf, -np.inf, -np.inf],
+        state_upper=[_ARM_L, np.pi, np.pi, np.inf, np.inf, np.inf],
+        control_lower=[-1.0] * 3,
+        control_upper=[1.0] * 3,
+        initial_state=[4.5, 0.0, np.pi / 4, 0.0, 0.0, 0.0],
+        final_state=[4.5, 2.0 * np.pi / 3, np.pi / 4, 0.0, 0.0, 0.0],
+        tf_bounds=(1.0, 30.0),
+        tf_guess=10.0,
+        mayer=_br_mayer,
+        state_scale=[_ARM_L, 1.0, 1.0, 1.0, 1.0, 1.0],
+        control_scale=[1.0] * 3,
+    )
+
+
 # ------------------------------------------------------------------------- references
 def reference_objective(name: str) -> tuple[float, str]:
     """Published / closed-form optimum of a standard problem at its default settings.
@@ -566,6 +721,8 @@ def reference_objective(name: str) -> tuple[float, str]:
         "goddard-rocket": (-18550.872, "GPOPS-II example / Bryson 1999 §9.3: h(tf) = 18550.872 ft"),
         "free-flying-robot": (7.9101471, "Patterson & Rao 2014 (GPOPS-II) §7.4 / Betts 2010 ex. 6.13: J* = 7.9101471"),
         "oscillator-min-time": (None, "minimum principle by shooting (oscillator_min_time_reference), start (7, 0.5)"),
+        "orbit-raising": (-1.525, "Bryson & Ho 1975 §2.5, Fig. 2.5.1: r(tf) = 1.525 r0 (4 digits printed); objective −r(tf)"),
+        "robot-arm": (9.1409118, "COPS 3.0 (Dolan, Moré & Munson 2004) §8 robot arm: tf* = 9.1409118"),
         "launch-ascent": (-7529.712680, "Patterson & Rao 2014 (GPOPS-II) §7.5: final mass 7529.712680 kg"),
     }
     if name not in refs:

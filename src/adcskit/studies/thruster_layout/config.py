@@ -1,0 +1,165 @@
+"""Settings of the ``thruster-layout`` study (S3): :class:`Config`, defaults from S3 Tables 5-7.
+
+Examples
+--------
+>>> from adcskit.studies.thruster_layout.config import Config, parse_de
+>>> Config().n_thrusters, parse_de("rand/1/bin:0.5:0.9")
+((4, 6, 8, 12), ('rand/1/bin', 0.5, 0.9))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Config", "parse_de"]
+
+_FACE_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
+_EMIN_READINGS = ("single thruster", "paired couple")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    """Settings of the ``thruster-layout`` study; defaults are S3's where S3 gives them.
+
+    Attributes
+    ----------
+    n_thrusters : tuple of int
+        Layout sizes (S3: 4, 6, 8, 12).
+    algorithms : tuple of {"ga", "de"}
+    n_seeds : int
+        Independent runs per (n, algorithm) for the verdicts (>= 5 by the issue).
+    n_gen : int
+        Generations (S3 Table 6: 400).
+    pop_size : int
+        Population, equal for GA and DE (S3: equal, size not printed).
+    box_half_size_m : (float, float, float), m
+        Half sizes of the mounting box, CoM at the centre (S3: 2 x 2 x 2 m box; eq. 20:
+        -1 <= r <= 1 m).
+    inertia_kgm2 : (float, float, float), kg m²
+        Principal moments of inertia (S3 eq. 19; reported for the natural frequencies
+        ``sqrt(K/J)``; not used by eq. 18).
+    f_max_n : float, N
+        Largest thrust of each thruster (S3 Table 5 and §6: 10 N).
+    t_min_s : float, s
+        Minimum on-time of a thruster (S3 Table 5 and §6: 3 ms).
+    mdot_kg_s : float, kg/s
+        Propellant mass flow of a firing thruster (S3 Table 5 and §6: 3.5 g/s).
+    t_s_s : float, s
+        Sample time (S3 Table 6: 0.2 s).
+    gain_nm_per_rad : float, N m/rad
+        Attitude gain ``K`` (S3 Table 6: 600).
+    weights : (float, float, float)
+        ``K1, K2, K3`` of eq. 18 (S3 Table 7: 100, -99, 12, signs as printed).
+    correction_deg : float, deg
+        Size of each attitude correction of the manoeuvre set (ours; S3 gives none).
+    faces : tuple of str
+        Mounting faces allowed (S3: all six, "solar arrays impose no limit").
+    max_cant_deg : float, deg
+        Largest angle between thrust and inward face normal (S3 Tables 1-4: 90).
+    de_strategy : str
+        ``"current-to-best/1/bin"`` (Storn & Price DE2, S3's "second strategy") or
+        ``"rand/1/bin"``.
+    de_F, de_CR : float
+        DE weight and crossover rate.
+    n_random_layouts : int
+        Random 8-thruster layouts for the pseudo-inverse miss measurement.
+    de_sensitivity : tuple of str
+        Extra DE settings ``"strategy:F:CR"`` run for 6 thrusters with the same seeds, so
+        that the GA-vs-DE verdict does not hinge on one DE setting (empty: skip).
+    n_fuel_demands : int
+        Random demand directions per seed (magnitude of the manoeuvre's demands) on which
+        the fuel of the optimal and the reference layout is compared out of sample.
+    e_min_readings : tuple of {"single thruster", "paired couple"}
+        Readings of S3's impulse bit for Table 8; the first is the default. "paired couple"
+        (S3 §4-1: thrusters on parallel faces act as a pair) re-runs the DE designs with one
+        gene per couple, whose impulse bit is ``2 Delta F_max t_min``.
+    e_min_tolerance : float
+        Relative distance from S3 Table 8 within which an ``e_min`` counts as reproduced
+        (Table 8 prints two significant digits; 0.1 is generous).
+    """
+
+    n_thrusters: tuple[int, ...] = (4, 6, 8, 12)
+    algorithms: tuple[str, ...] = ("ga", "de")
+    n_seeds: int = 5
+    n_gen: int = 400
+    pop_size: int = 50
+    box_half_size_m: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    inertia_kgm2: tuple[float, float, float] = (1218.6, 442.2, 1429.4)
+    f_max_n: float = 10.0
+    t_min_s: float = 3e-3
+    mdot_kg_s: float = 3.5e-3
+    t_s_s: float = 0.2
+    gain_nm_per_rad: float = 600.0
+    weights: tuple[float, float, float] = (100.0, -99.0, 12.0)
+    correction_deg: float = 0.5
+    faces: tuple[str, ...] = _FACE_NAMES
+    max_cant_deg: float = 90.0
+    de_strategy: str = "current-to-best/1/bin"
+    de_F: float = 0.8
+    de_CR: float = 0.9
+    n_random_layouts: int = 200
+    de_sensitivity: tuple[str, ...] = ("rand/1/bin:0.5:0.9", "current-to-best/1/bin:0.5:0.2")
+    n_fuel_demands: int = 200
+    e_min_readings: tuple[str, ...] = ("single thruster", "paired couple")
+    e_min_tolerance: float = 0.1
+
+    def __post_init__(self) -> None:
+        from adcskit.errors import ConfigError
+
+        if not self.n_thrusters or any(int(n) < 4 for n in self.n_thrusters):
+            raise ConfigError(f"n_thrusters must be a non-empty tuple of ints >= 4; got {self.n_thrusters}")
+        if not self.algorithms or any(a not in ("ga", "de") for a in self.algorithms):
+            raise ConfigError(f"algorithms must be a non-empty subset of ('ga', 'de'); got {self.algorithms}")
+        for name, lo in (("n_seeds", 1), ("n_gen", 1), ("pop_size", 4), ("n_random_layouts", 1),
+                         ("n_fuel_demands", 1)):
+            if int(getattr(self, name)) < lo:
+                raise ConfigError(f"{name} must be >= {lo}; got {getattr(self, name)}")
+        for name in ("f_max_n", "mdot_kg_s", "t_s_s", "gain_nm_per_rad", "correction_deg", "de_F"):
+            if not getattr(self, name) > 0:
+                raise ConfigError(f"{name} must be > 0; got {getattr(self, name)}")
+        if self.t_min_s < 0:
+            raise ConfigError(f"t_min_s must be >= 0 s; got {self.t_min_s}")
+        if any(h <= 0 for h in self.box_half_size_m) or any(j <= 0 for j in self.inertia_kgm2):
+            raise ConfigError("box_half_size_m and inertia_kgm2 must be > 0 per axis")
+        if not self.faces or any(f not in _FACE_NAMES for f in self.faces) or len(set(self.faces)) != len(self.faces):
+            raise ConfigError(f"faces must be distinct names from {_FACE_NAMES}; got {self.faces}")
+        if not 0 <= self.max_cant_deg <= 90:
+            raise ConfigError(f"max_cant_deg must be in [0, 90] deg; got {self.max_cant_deg}")
+        if self.de_strategy not in ("current-to-best/1/bin", "rand/1/bin"):
+            raise ConfigError(
+                f"de_strategy must be 'current-to-best/1/bin' or 'rand/1/bin'; got {self.de_strategy!r}"
+            )
+        if not 0 <= self.de_CR <= 1:
+            raise ConfigError(f"de_CR must be in [0, 1]; got {self.de_CR}")
+        for spec in self.de_sensitivity:
+            parse_de(spec)
+        if (not self.e_min_readings or len(set(self.e_min_readings)) != len(self.e_min_readings)
+                or any(r not in _EMIN_READINGS for r in self.e_min_readings)):
+            raise ConfigError(f"e_min_readings must be distinct names from {_EMIN_READINGS}; got {self.e_min_readings}")
+        if "paired couple" in self.e_min_readings and any(int(n) % 2 for n in self.n_thrusters):
+            raise ConfigError("the 'paired couple' reading needs even n_thrusters")
+        opposite = {"+X": "-X", "-X": "+X", "+Y": "-Y", "-Y": "+Y", "+Z": "-Z", "-Z": "+Z"}
+        if "paired couple" in self.e_min_readings and any(opposite[f] not in self.faces for f in self.faces):
+            raise ConfigError(f"the 'paired couple' reading needs the parallel face of every face; got {self.faces}")
+        if not 0 < self.e_min_tolerance < 1:
+            raise ConfigError(f"e_min_tolerance must be in (0, 1); got {self.e_min_tolerance}")
+
+
+def parse_de(spec: str) -> tuple[str, float, float]:
+    """Split a ``de_sensitivity`` entry ``"strategy:F:CR"`` into its strategy, F and CR.
+
+    Raises :class:`adcskit.errors.ConfigError` naming the entry when it is malformed.
+    """
+    from adcskit.errors import ConfigError
+
+    parts = str(spec).split(":")
+    try:
+        strat, F, CR = parts[0], float(parts[1]), float(parts[2])
+    except (IndexError, ValueError):
+        raise ConfigError(f"de_sensitivity entries must be 'strategy:F:CR'; got {spec!r}") from None
+    if strat not in ("current-to-best/1/bin", "rand/1/bin") or len(parts) != 3 or F <= 0 or not 0 <= CR <= 1:
+        raise ConfigError(
+            f"de_sensitivity entry {spec!r} must be 'strategy:F:CR' with strategy "
+            "'current-to-best/1/bin' or 'rand/1/bin', F > 0, CR in [0, 1]"
+        )
+    return strat, F, CR
