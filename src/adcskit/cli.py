@@ -4,17 +4,33 @@
 
     adcskit list                                  # studies with one-line descriptions
     adcskit run STUDY [--config FILE.toml] [--quick] [--seed N] [--out DIR] [--executor SPEC]
-    adcskit reproduce [--quick] [--out DIR] [--only A,B] [--seed N] [--executor SPEC]
+    adcskit reproduce [--quick] [--out DIR] [--only A,B] [--seed N] [--executor SPEC] [--jobs N]
     adcskit report DIR                            # rebuild the HTML report from results
     adcskit config STUDY [--quick]                # print the resolved default config as TOML
 
 Exit codes: 0 success, 1 a study failed, 2 bad arguments or input, 130 interrupted.
+
+``reproduce --jobs N`` (default: the usable core count) runs up to ``N`` studies at once, each
+in its own ``spawn`` worker process, longest expected study first
+(:data:`adcskit.studies.EXPECTED_WALL_S`). Every study's result depends only on its
+name, config and seed, so the result files equal a serial run's (``--jobs 1``) but for the
+timing fields. How ``--jobs`` combines with ``--executor`` (no oversubscription):
+
+* ``serial`` (default): studies run side by side, each study's campaigns serially; the numba
+  ``prange`` kernels keep their threads, so the last study running still uses every core.
+* ``processes`` without a count: each study gets ``max(1, cores // N)`` campaign workers;
+  an explicit ``processes:M`` is kept (a warning says when ``N * M`` exceeds the cores).
+* ``dask-local[:M]``: one local cluster, started here and shared by every study (they
+  connect to its scheduler); ``dask://HOST:PORT``: every study connects to that scheduler.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
+import signal
 import sys
 import time
 import traceback
@@ -37,6 +53,24 @@ def _seed(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"seed must be a non-negative integer; got {value}")
     return value
+
+
+def _jobs(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"jobs must be a positive integer; got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"jobs must be a positive integer; got {value}")
+    return value
+
+
+def _usable_cores() -> int:
+    """CPU cores this process may run on: the affinity mask where the OS has one, else ``os.cpu_count()``."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -68,6 +102,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     p_rep = sub.add_parser("reproduce", help="run every study and write DIR/index.html")
     p_rep.add_argument("--only", help="comma-separated subset of studies")
+    p_rep.add_argument(
+        "--jobs",
+        type=_jobs,
+        default=None,
+        help="studies run at once, each in its own process (default: the usable core count; 1 = one after another)",
+    )
     common(p_rep)
 
     p_report = sub.add_parser("report", help="rebuild DIR/index.html from DIR/*/result.json")
@@ -132,6 +172,203 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
     return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, paper's claims: {verdicts} -> {Path(args.out) / name}"
 
 
+def _attempt(name: str, args: argparse.Namespace, executor, config=None) -> tuple[str, dict | None]:
+    """Run one study: ``(line, None)`` on success, ``("", failure)`` when it raised.
+
+    ``failure`` is what ``errors.json`` records: ``{"message", "traceback"}``. The serial loop
+    and the ``--jobs`` workers both call this, so a failure is recorded alike in both. With
+    ``adcskit run`` an input error propagates (exit 2).
+    """
+    try:
+        return _run_one(name, args, executor, config)[1], None
+    except KeyboardInterrupt:
+        raise
+    except AdcskitError:
+        if args.command == "run":
+            raise
+        return "", {"message": traceback.format_exc(limit=0).strip(), "traceback": traceback.format_exc()}
+    except Exception as exc:  # noqa: BLE001 - one failed study must not lose the others
+        if args.command == "run":
+            traceback.print_exc()
+        return "", {"message": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc()}
+
+
+# --- reproduce --jobs N: studies in spawn worker processes --------------------------------
+_CANCEL = None  # multiprocessing Event shared with the parent; set on Ctrl-C
+_RUNNING = False  # a study is running in this worker (SIGINT interrupts it; idle workers ignore it)
+
+
+def _on_sigint(signum, frame) -> None:
+    if _RUNNING:
+        raise KeyboardInterrupt
+
+
+def _job_init(cancel) -> None:
+    """Initializer of a ``--jobs`` worker process."""
+    global _CANCEL
+    _CANCEL = cancel
+    signal.signal(signal.SIGINT, _on_sigint)
+
+
+def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: str):
+    """Worker: run study ``name`` with its console output in ``log_path``.
+
+    Returns ``(name, line, failure, wall_s)``; ``line`` None means cancelled before the start.
+    ``info`` is the parent's registry entry, so a study registered at run time (a test's fake
+    study) is found in the fresh worker too.
+    """
+    global _RUNNING
+    _RUNNING = True  # first, then the flag: a Ctrl-C between the two still stops this study
+    try:
+        if _CANCEL is not None and _CANCEL.is_set():
+            return name, None, None, 0.0
+        from adcskit._progress import progress_session
+        from adcskit.studies import STUDIES
+        from adcskit.uncertainty.executor import make_executor
+
+        if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
+            STUDIES[name] = info
+        t0 = time.perf_counter()
+        with (
+            open(log_path, "w", encoding="utf-8") as log,
+            contextlib.redirect_stdout(log),
+            contextlib.redirect_stderr(log),
+        ):
+            executor = make_executor(spec)
+            try:
+                with progress_session(not args.quiet):
+                    line, failure = _attempt(name, args, executor)
+            finally:
+                _RUNNING = False  # the study is over: a Ctrl-C from now on does not undo it
+                executor.close()
+            print(line if failure is None else f"study {name} failed: {failure['traceback']}")
+        return name, line, failure, time.perf_counter() - t0
+    finally:
+        _RUNNING = False
+
+
+def _worker_executor_spec(text: str, executor, jobs: int) -> str:
+    """The ``--executor`` each of ``jobs`` concurrent studies gets (see the module docstring)."""
+    from adcskit.uncertainty.executor import DaskExecutor, ProcessExecutor
+
+    if isinstance(executor, DaskExecutor):  # one cluster for all studies: connect to its scheduler
+        return "dask://" + executor.client.scheduler_info()["address"].removeprefix("tcp://")
+    if isinstance(executor, ProcessExecutor):
+        cores = _usable_cores()
+        if ":" not in text:
+            return f"processes:{max(1, cores // jobs)}"
+        if jobs * executor.n_workers > cores:
+            _err(f"warning: --jobs {jobs} studies x --executor {text.strip()} = {jobs * executor.n_workers} "
+                 f"campaign processes on {cores} cores")
+    return executor.spec
+
+
+def _longest_first(names: list[str]) -> list[str]:
+    """``names`` by expected wall time, longest first (registry order among equals)."""
+    from adcskit.studies import EXPECTED_WALL_S
+
+    return sorted(names, key=lambda n: -EXPECTED_WALL_S.get(n, 0.0))
+
+
+def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: int,
+                  failures: dict[str, dict], done: list[str]) -> bool:
+    """Run ``names`` on ``jobs`` worker processes, longest expected first; True if interrupted.
+
+    One line per study as it finishes, then a summary in ``names`` order; each study's
+    console output is in ``OUT/logs/STUDY.log``. Ctrl-C cancels the studies not started,
+    interrupts the running ones (their previous results stay, see :func:`write_result`) and
+    keeps every study already written.
+    """
+    import concurrent.futures as cf
+    import multiprocessing
+
+    from adcskit._progress import bar, progress_session, status
+    from adcskit.studies import STUDIES
+
+    spec = _worker_executor_spec(args.executor, executor, jobs)
+    order = _longest_first(names)
+    logs = Path(args.out) / "logs"
+    logs.mkdir(exist_ok=True)
+    ctx = multiprocessing.get_context("spawn")
+    cancel = ctx.Event()
+    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_job_init, initargs=(cancel,))
+    outcome: dict[str, str] = {}
+    t0 = time.perf_counter()
+    interrupted = False
+
+    def collect(fut, name: str) -> None:
+        if fut.cancelled():
+            outcome[name] = "cancelled"
+            return
+        exc = fut.exception()
+        if isinstance(exc, KeyboardInterrupt):
+            outcome[name] = "interrupted"
+            return
+        if exc is not None:  # the worker itself failed (e.g. it was killed): record like a failed study
+            tb = "".join(traceback.format_exception(exc))
+            failures[name] = {"message": f"{type(exc).__name__}: {exc}", "traceback": tb}
+            outcome[name] = "failed"
+            _err(f"study {name} failed: {failures[name]['message']}")
+            return
+        _, line, failure, wall = fut.result()
+        if line is None:
+            outcome[name] = "cancelled"
+        elif failure is None:
+            done.append(name)
+            outcome[name] = f"done in {wall:.1f} s"
+            if not args.quiet:
+                status(line)
+        else:
+            failures[name] = failure
+            outcome[name] = f"failed after {wall:.1f} s"
+            _err(f"study {name} failed: {failure['message']}")
+
+    if not args.quiet and "closed-loop" in names:  # its worker's notice goes to its log: say it here
+        from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
+        from adcskit.simulation import _kernels
+
+        if will_compile(_kernels.run_parallel):
+            print(f"closed-loop: {CLOSED_LOOP_NOTICE}", flush=True)
+    futures: dict = {}
+    try:
+        with progress_session(not args.quiet), bar(f"studies ({jobs} at once)", len(order)) as advance:
+            for n in order:
+                log = str(logs / f"{n}.log")
+                futures[pool.submit(_study_job, n, STUDIES.get(n), args, spec, log)] = n
+            for fut in cf.as_completed(futures):
+                collect(fut, futures[fut])
+                advance(1)
+    except KeyboardInterrupt:
+        interrupted = True
+        _cancel_jobs(pool, futures, cancel)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+    for fut, name in futures.items():  # finished while shutting down after an interrupt
+        if name not in outcome:
+            collect(fut, name)
+    if not args.quiet:
+        width = max(len(n) for n in names)
+        print(f"summary ({jobs} studies at once, {time.perf_counter() - t0:.1f} s wall; logs in {logs}):")
+        for n in names:
+            print(f"  {n:<{width}}  {outcome.get(n, 'not run')}")
+    return interrupted
+
+
+def _cancel_jobs(pool, futures, cancel) -> None:
+    """Ctrl-C: no study starts any more, the running ones are interrupted.
+
+    Sets the shared ``cancel`` event (a worker checks it before it starts a study: the pool
+    may already have handed it one), cancels the futures not yet handed out, and sends
+    SIGINT to the workers (idle ones ignore it; a Ctrl-C at a terminal reached them already).
+    """
+    cancel.set()
+    for fut in futures:
+        fut.cancel()
+    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+        with contextlib.suppress(OSError, AttributeError):
+            os.kill(proc.pid, signal.SIGINT)
+
+
 def _record_errors(out: Path, errors: dict, clear: list[str]) -> None:
     from adcskit.report.html import ERRORS_FILE
     from adcskit.studies import write_json_atomic
@@ -187,30 +424,26 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     failures: dict[str, dict] = {}
     done: list[str] = []
     interrupted = False
+    jobs = getattr(args, "jobs", None) or _usable_cores()
     try:
-        with progress_session(not args.quiet):
-            for name in track(names, "studies", total=len(names)) if len(names) > 1 else names:
-                try:
-                    _, line = _run_one(name, args, executor, getattr(args, "config", None))
-                    done.append(name)
-                    if not args.quiet:
-                        status(line)
-                except KeyboardInterrupt:
-                    raise
-                except AdcskitError:
-                    if args.command == "run":
-                        raise
-                    failures[name] = {"message": traceback.format_exc(limit=0).strip(), "traceback": traceback.format_exc()}
-                    _err(f"study {name} failed: {failures[name]['message']}")
-                except Exception as exc:  # noqa: BLE001 - one failed study must not lose the others
-                    failures[name] = {"message": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc()}
-                    _err(f"study {name} failed: {type(exc).__name__}: {exc}")
-                    if args.command == "run":
-                        traceback.print_exc()
+        if jobs > 1 and len(names) > 1:
+            interrupted = _run_parallel(names, args, executor, min(jobs, len(names)), failures, done)
+        else:
+            with progress_session(not args.quiet):
+                for name in track(names, "studies", total=len(names)) if len(names) > 1 else names:
+                    line, failure = _attempt(name, args, executor, getattr(args, "config", None))
+                    if failure is None:
+                        done.append(name)
+                        if not args.quiet:
+                            status(line)
+                    else:
+                        failures[name] = failure
+                        _err(f"study {name} failed: {failure['message']}")
     except KeyboardInterrupt:
         interrupted = True
-        _err("interrupted; studies already written are intact")
     finally:
+        if interrupted:
+            _err("interrupted; studies already written are intact")
         executor.close()
         _record_errors(out, failures, done)
         index = build_report(out)

@@ -8,6 +8,7 @@ import pytest
 
 from adcskit.studies._runner import run_study
 from adcskit.studies._verdict import OUTCOMES
+from adcskit.uncertainty.executor import NO_SHARED, SerialExecutor
 
 CASES = ("inertia", "thrust", "disturbance", "delay", "all")
 ROBUST_KEYS = {"gains", "ratio", "mean_abs_err_deg", "std_abs_err_deg", "det_mean_abs_err_deg",
@@ -121,3 +122,66 @@ def test_quick_summary_matches_front_vs_paper(quick):
     assert set(vs) == {"min_error", "min_fuel"}
     dominated = any(v["front_points_dominated"] for v in vs.values())
     assert d["summary"].startswith("Quick run: our NSGA-II Pareto front is dominated") == dominated
+
+
+# --- seed pipelines as executor tasks (issue 24): the same numbers as the serial loop --------
+#: A tiny but complete configuration (3000 steps, populations of 4, 4-run campaigns).
+TINY = dict(t_final_s=3.0, t_window_s=1.0, n_seeds=2, nsga_pop=4, nsga_gen=1, ga_pop=4, ga_max_gen=1, ga_window=1,
+            n_lhs=2, sweep_ratios=(10.0,), sweep_max_gen=1, sweep_cases_max_gen=1, sweep_cases_ratios=(10.0,),
+            sweep_cases_n_lhs=2, n_mc_ratio_cases=4, n_mc=4, std_factors=(1.0,), n_mc_sweep=4,
+            command_rates_hz=(50.0, 1000.0), n_mc_rate=4, n_mc_order=4, task_size=4)
+
+
+class _PicklingExecutor(SerialExecutor):
+    """Two 'workers' in this process: every task, the shared data and every result cross a
+    pickle round trip, as they do to and from a process pool or a Dask worker."""
+
+    spec = "pickling:2"
+
+    @property
+    def n_workers(self) -> int:
+        return 2
+
+    def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
+        import pickle
+
+        def rt(x):
+            return pickle.loads(pickle.dumps(x))
+
+        args = () if shared is NO_SHARED else (rt(shared),)
+        return [rt(fn(rt(t), *args)) for t in tasks]
+
+
+def test_seed_task_equals_the_serial_pipeline():
+    import pickle
+
+    import numpy as np
+
+    from adcskit.studies import onoff_tuning as ot
+    from adcskit.studies._base import to_jsonable
+
+    cfg = ot.Config(**TINY)
+    def ss():  # a fresh one per call: spawn() advances a SeedSequence's child counter
+        return np.random.SeedSequence(5).spawn(2)[1]
+
+    ga = ot._ga_settings(cfg)
+    mc_kw = dict(base=cfg.base(), executor=None, task_size=cfg.task_size, backend=cfg.backend)
+    args = (cfg, ga, cfg.settings(), cfg.base(), (1e-3, cfg.gain_max))
+    direct = ot._seed_pipeline(cfg, 1, ss(), *args[1:], mc_kw, "kp_kd_ki")
+    shared = pickle.loads(pickle.dumps((*args, mc_kw, "kp_kd_ki")))
+    task = pickle.loads(pickle.dumps(ot._seed_task(pickle.loads(pickle.dumps((1, ss(), None))), shared)))
+    for key in ("cases", "rate", "det_gains"):  # every number bit for bit (repr of the floats)
+        assert json.dumps(to_jsonable(getattr(task, key))) == json.dumps(to_jsonable(getattr(direct, key))), key
+    assert np.array_equal(task.pareto.x, direct.pareto.x)
+
+
+@pytest.mark.slow
+def test_seed_pipelines_on_an_executor_give_the_serial_result():
+    import numpy as np
+
+    from adcskit.studies import onoff_tuning as ot
+
+    cfg = ot.Config(**TINY)
+    a = ot.run(cfg, quick=True, rng=np.random.default_rng(3), executor=SerialExecutor()).to_dict()
+    b = ot.run(cfg, quick=True, rng=np.random.default_rng(3), executor=_PicklingExecutor()).to_dict()
+    assert a == b

@@ -40,6 +40,7 @@ and Technology 10(4), 2017 — Fig. 1 (loop), Table 3 (nominal parameters).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
@@ -436,6 +437,15 @@ def fuel_to_propellant(
 
 
 def _coefficients(settings: LoopSettings) -> np.ndarray:
+    """The kernel's coefficient vector for ``settings`` (a fresh, writable copy)."""
+    return _coefficients_of(settings).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _coefficients_of(settings: LoopSettings) -> np.ndarray:
+    # cached: a GA calls simulate_batch once per generation with the same settings, and the
+    # 5x5 expm cost ~1-30 ms a call (profile of onoff-tuning --quick, issue 24), more than a
+    # small batch's simulation. Same inputs, same numbers: results are unchanged.
     tau = settings.tau_thruster
     dt = settings.dt
     # states [x1, x2, v, p, u]: x1' = (u - x1)/tau, x2' = (x1 - x2)/tau, v' = x2, p' = v, u' = 0

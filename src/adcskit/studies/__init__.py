@@ -4,7 +4,7 @@ This package is the framework's public face; the CLI, the report and user code i
 here, never from the private modules behind it:
 
 * registry — :data:`STUDIES`, :data:`PAPERS`, :func:`get_study`, :func:`is_available`,
-  :func:`study_names` (``_registry``);
+  :func:`study_names`, :data:`EXPECTED_WALL_S` (``_registry``);
 * runner — :func:`resolve_config`, :func:`run_study`, :func:`write_result`,
   :func:`write_json_atomic` (``_runner``);
 * verdict — :class:`ClaimSpec`, :class:`FindingSpec`, :class:`Claim`, :class:`Finding`,
@@ -14,7 +14,14 @@ here, never from the private modules behind it:
 """
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
-from adcskit.studies._registry import PAPERS, STUDIES, get_study, is_available, study_names
+from adcskit.studies._registry import (
+    EXPECTED_WALL_S,
+    PAPERS,
+    STUDIES,
+    get_study,
+    is_available,
+    study_names,
+)
 from adcskit.studies._runner import resolve_config, run_study, write_json_atomic, write_result
 from adcskit.studies._verdict import (
     OUTCOMES,
@@ -28,6 +35,7 @@ from adcskit.studies._verdict import (
 )
 
 __all__ = [
+    "EXPECTED_WALL_S",
     "PAPERS",
     "STUDIES",
     "Check",

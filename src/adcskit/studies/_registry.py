@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from adcskit._validation import check_choice
 from adcskit.studies._base import Study
 
-__all__ = ["PAPERS", "Paper", "StudyInfo", "STUDIES", "get_study", "is_available", "study_names"]
+__all__ = ["EXPECTED_WALL_S", "PAPERS", "Paper", "StudyInfo", "STUDIES", "get_study", "is_available", "study_names"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -172,6 +172,23 @@ STUDIES: dict[str, StudyInfo] = {
             "Closed-loop 3-axis ADCS Monte-Carlo: layouts, MEKF vs q-method, robust gains, optimal slews",
         ),
     )
+}
+
+
+#: Expected wall time (s) of each study at full settings, the scheduling hint of
+#: ``adcskit reproduce --jobs N`` (longest first, so that the workers finish together; a study
+#: without an entry counts as 0 s). From docs/benchmarks.md, "Full reproduction": the
+#: per-study table of 2026-11-27 (main ``a979121``), rendezvous and closed-loop re-timed alone
+#: since. Only the order matters; the hint never changes a result.
+EXPECTED_WALL_S: dict[str, float] = {
+    "wahba-table1": 136.0,
+    "wahba-orbit": 171.0,
+    "model-estimation": 224.0,
+    "rendezvous": 128.0,
+    "thruster-layout": 199.0,
+    "onoff-schmitt": 7.0,
+    "onoff-tuning": 1354.0,
+    "closed-loop": 244.0,
 }
 
 

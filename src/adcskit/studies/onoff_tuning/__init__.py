@@ -28,7 +28,12 @@ from adcskit.studies.onoff_tuning import claims as _claims
 from adcskit.studies.onoff_tuning import figures as _figures
 from adcskit.studies.onoff_tuning import report as _report
 from adcskit.studies.onoff_tuning.config import Config
-from adcskit.studies.onoff_tuning.experiment import _ga_settings, measure  # noqa: F401 (tests)
+from adcskit.studies.onoff_tuning.experiment import (  # noqa: F401 (tests)
+    _ga_settings,
+    _seed_pipeline,
+    _seed_task,
+    measure,
+)
 from adcskit.studies.onoff_tuning.paper import CASES, PAPER, PAPER_TABLE4, PAPER_TABLE6, _reorder  # noqa: F401
 from adcskit.studies.onoff_tuning.report import _front_note, _front_vs_paper  # noqa: F401 (tests)
 

@@ -565,6 +565,13 @@ def _rate_sweep(config: Config, rng, mc_kw, det_gains, robust_all) -> list[RateR
     return rows
 
 
+def _seed_task(task, shared) -> SeedRun:
+    """Executor task: one seed pipeline (``task = (index, SeedSequence, pareto or None)``)."""
+    i, ss, pareto = task
+    config, ga, settings, base, bounds, mc_kw, order = shared
+    return _seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, order, pareto=pareto)
+
+
 def measure(config: Config, rng: np.random.Generator, executor=None) -> Measurements:
     """Run every measurement of the study, in the fixed order of the random stream."""
     settings = config.settings()
@@ -588,10 +595,18 @@ def measure(config: Config, rng: np.random.Generator, executor=None) -> Measurem
     status("onoff-tuning: printed gain order")  # 2. both readings of Tables 4 and 6
     order_rows, feasible, consistent_order = _gain_order(config, base, settings)
     seeds = []  # 3-4. robust GA per case and seed; evaluations on fresh samples
-    for i, ss in enumerate(seed_seqs):
-        status(f"onoff-tuning: pipeline seed {i + 1}/{config.n_seeds}")
-        seeds.append(_seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, consistent_order,
-                                    pareto=pareto if i == 0 else None))
+    if executor is not None and executor.n_workers > 1 and config.n_seeds > 1:
+        # the seed pipelines are independent (one SeedSequence child each): one task per seed,
+        # its campaigns run in that task (serially); same numbers as the loop below
+        status(f"onoff-tuning: {config.n_seeds} pipeline seeds on {executor.spec}")
+        tasks = [(i, ss, pareto if i == 0 else None) for i, ss in enumerate(seed_seqs)]
+        shared = (config, ga, settings, base, bounds, dict(mc_kw, executor=None), consistent_order)
+        seeds = list(executor.map(_seed_task, tasks, description="pipeline seeds", shared=shared))
+    else:
+        for i, ss in enumerate(seed_seqs):
+            status(f"onoff-tuning: pipeline seed {i + 1}/{config.n_seeds}")
+            seeds.append(_seed_pipeline(config, i, ss, ga, settings, base, bounds, mc_kw, consistent_order,
+                                        pareto=pareto if i == 0 else None))
     robust_runs = seeds[0].runs
     sweep_rows = _ratio_sweep(config, rng, base, settings, bounds, mc_kw, robust_runs["all"])  # 5. Figs 12-14
     std_rows = _std_sweep(config, rng, settings, mc_kw, det_gains, robust_runs)  # 6. Figs 15-19
