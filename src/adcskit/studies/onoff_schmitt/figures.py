@@ -94,16 +94,6 @@ def _limit_cycle(config: Config, m: Measurements):
 
 
 def figures(config: Config, m: Measurements) -> dict[str, Any]:
-    """S4 Figs. 2-7 from the records, keyed by file stem, in the study's order.
-
-    Examples
-    --------
-    >>> from adcskit.studies.onoff_schmitt import Config
-    >>> from adcskit.studies.onoff_schmitt.experiment import measure
-    >>> cfg = Config(n_u_on=3, n_ratio=2, t_final_s=4.0, t_window_s=2.0)
-    >>> sorted(figures(cfg, measure(cfg)))  # doctest: +NORMALIZE_WHITESPACE
-    ['fig2_fuel', 'fig3_firings', 'fig4_error', 'fig5_step_response', 'fig6_thruster_history',
-     'fig7_limit_cycle']
-    """
+    """S4 Figs. 2-7 from the records, keyed by file stem, in the study's order."""
     return {**_sweep_figures(m), "fig5_step_response": _step_response(config, m),
             "fig6_thruster_history": _thruster_history(m), "fig7_limit_cycle": _limit_cycle(config, m)}
