@@ -1,0 +1,70 @@
+"""The ``wahba-table1`` study's settings: S0 §4-1 defaults and our repetitions and noise sweep.
+
+Examples
+--------
+>>> from adcskit.studies.wahba_table1.config import Config
+>>> Config().n_trials, Config().noise_bound
+(100, 0.2)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Config"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    """Settings of S0 §4-1 (defaults) and of our repetitions and noise sweep.
+
+    Attributes
+    ----------
+    n_seeds : int
+        Independent replicas of the whole experiment (noise draws and optimiser seeds); each
+        claim is decided over them (>= 5 at full settings).
+    n_trials : int
+        Perturbed trials per replica (S0: 100).
+    n_iterative : int
+        Trials per replica on which the iterative rows (SLSQP min-max, NSGA-II) also run.
+    noise_bound : float
+        Uniform noise bound as a fraction of each component (S0: 0.2).
+    search_range : float
+        Min-max / NSGA-II search box around TRIAD, fraction of each component (S0: 0.1).
+    pop_size, n_gen : int
+        NSGA-II population and generations (not printed in S0; ours).
+    sweep_bounds : tuple of float
+        Noise bounds of the sensitivity sweep (slope reading).
+    sweep_trials : int
+        Trials per sweep point and replica.
+    """
+
+    n_seeds: int = 5
+    n_trials: int = 100
+    n_iterative: int = 20
+    noise_bound: float = 0.2
+    search_range: float = 0.1
+    pop_size: int = 100
+    n_gen: int = 100
+    sweep_bounds: tuple[float, ...] = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3)
+    sweep_trials: int = 30
+
+    def __post_init__(self) -> None:
+        from adcskit.errors import ConfigError
+
+        for name, lo in (("n_seeds", 1), ("n_trials", 2), ("sweep_trials", 2), ("n_iterative", 2)):
+            v = getattr(self, name)
+            if not (isinstance(v, int) and v >= lo):
+                raise ConfigError(f"{name} must be an integer >= {lo}; got {v!r}")
+        if self.n_iterative > self.n_trials:
+            raise ConfigError(f"n_iterative must be <= n_trials ({self.n_trials}); got {self.n_iterative}")
+        for name in ("pop_size", "n_gen"):
+            v = getattr(self, name)
+            if not (isinstance(v, int) and v >= 4):
+                raise ConfigError(f"{name} must be an integer >= 4; got {v!r}")
+        if not 0 < self.noise_bound < 1:
+            raise ConfigError(f"noise_bound must be in (0, 1); got {self.noise_bound}")
+        if not 0 < self.search_range <= 1:
+            raise ConfigError(f"search_range must be in (0, 1]; got {self.search_range}")
+        if not self.sweep_bounds or len(self.sweep_bounds) < 2 or any(not 0 < b < 1 for b in self.sweep_bounds):
+            raise ConfigError(f"sweep_bounds must hold >= 2 bounds, each in (0, 1); got {self.sweep_bounds}")

@@ -1,0 +1,381 @@
+"""The measurements of ``wahba-table1``: S0 Table 1 replicas and the noise-bound sweep.
+
+The printed single-epoch vectors (S0 eq. 9, from Ahmed & Kerrigan 2011) are perturbed by
+uniform bounded noise of ±``noise_bound`` of each component's value, on both the reference
+and the body vectors, then renormalised. Each trial is solved by the q-method (S0's
+baseline), the paper's min-max goal attainment — exactly (``minmax``, closed form + KKT on the
+box) and iteratively as the paper does (``minmax-slsqp``: SLSQP on the full epigraph problem
+from TRIAD, the kind of solver MATLAB's ``fminimax`` is) — NSGA-II with a truth-free knee pick
+and with the paper's pick by the true attitude (not deployable), the worst-case robust solver
+(Ahmed & Kerrigan), and QUEST/SVD as sanity rows. A noise-bound sweep gives the slope reading
+of the "200× less dependence on input accuracy" claim.
+
+Interval given to the robust solvers: midpoint = the measured (noisy, normalised) vector,
+radius = ``noise_bound`` × |measured component| (S0 §4-1: "bounds ±b^r, ±r^r ... 20 % of
+the input value").
+
+:func:`measure` runs every trial of every replica and of the sweep in one executor map, in one
+fixed order of the random stream, and returns frozen records (:class:`Measurements` and the
+records it holds). Claims, figures and report read these records only; nothing after
+:func:`measure` draws a random number or solves.
+
+References
+----------
+S0, eq. 9, §4-1, Table 1.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from adcskit._results import Result
+from adcskit.determination import robust_wahba, solve_wahba
+from adcskit.studies.wahba_table1.config import Config
+from adcskit.studies.wahba_table1.paper import B_EXACT, PAPER_TABLE1, R_EXACT, q_exact
+
+__all__ = ["CHEAP_ROWS", "ITER_ROWS", "ROWS", "SWEEP_ROWS", "ExactVectors", "Measurements", "Replica", "RowStats",
+           "Solve", "Trial", "angle_deg", "measure", "perturb", "perturb_raw", "qmethod_in_box", "trial"]
+
+#: Rows run on every trial (cheap). The two "box-at" rows are diagnostics, NOT deployable:
+#: the min-max search box centred on the noise-free answer.
+CHEAP_ROWS = (
+    "q-method", "minmax", "worst-case", "quest", "svd",
+    "minmax-box-at-exact-triad", "minmax-box-at-truth",
+)
+#: Iterative rows, run on the first ``n_iterative`` trials of each replica.
+ITER_ROWS = ("minmax-slsqp", "nsga2-knee", "nsga2-truth-pick")
+ROWS = CHEAP_ROWS[:3] + ITER_ROWS + CHEAP_ROWS[3:]
+#: Rows of the noise-bound sweep.
+SWEEP_ROWS = ("q-method", "minmax", "worst-case", "minmax-box-at-exact-triad", "minmax-box-at-truth")
+
+_TINY = 1e-12
+
+
+def angle_deg(q1: np.ndarray, q2: np.ndarray) -> float:
+    """δθ between two attitudes [deg] (S0's error metric, chord form for accuracy).
+
+    Examples
+    --------
+    >>> angle_deg(np.array([0.0, 0.0, 0.0, 1.0]), np.array([0.0, 0.0, -0.0, -1.0]))
+    0.0
+    """
+    d = min(np.linalg.norm(q1 - q2), np.linalg.norm(q1 + q2))
+    return float(np.degrees(4.0 * np.arcsin(min(d / 2.0, 1.0))))
+
+
+def perturb_raw(rng: np.random.Generator, bound: float) -> tuple[np.ndarray, np.ndarray]:
+    """Noisy body and reference vectors *before* renormalisation (±bound of each component).
+
+    Examples
+    --------
+    >>> b, r = perturb_raw(np.random.default_rng(0), 0.2)
+    >>> bool(np.all(np.abs(b / B_EXACT - 1.0) <= 0.2))
+    True
+    """
+    b = B_EXACT * (1.0 + bound * rng.uniform(-1, 1, B_EXACT.shape))
+    r = R_EXACT * (1.0 + bound * rng.uniform(-1, 1, R_EXACT.shape))
+    return b, r
+
+
+def perturb(rng: np.random.Generator, bound: float) -> tuple[np.ndarray, np.ndarray]:
+    """Noisy, renormalised body and reference vectors (±bound of each component).
+
+    Examples
+    --------
+    >>> b, r = perturb(np.random.default_rng(0), 0.2)
+    >>> np.linalg.norm(b, axis=1).round(12)
+    array([1., 1.])
+    """
+    b, r = perturb_raw(rng, bound)
+    return b / np.linalg.norm(b, axis=1, keepdims=True), r / np.linalg.norm(r, axis=1, keepdims=True)
+
+
+def qmethod_in_box(b: np.ndarray, r: np.ndarray, search_range: float) -> bool:
+    """Whether the unconstrained q-method attitude lies in the ±search_range TRIAD box (S0 §4-1).
+
+    Examples
+    --------
+    S0 eq. 9's noise-free vectors are inconsistent (~4 deg residual): TRIAD and the q-method
+    differ by more than a ±10 % box.
+
+    >>> qmethod_in_box(*perturb(np.random.default_rng(0), 0.0), 0.1)
+    False
+    """
+    qt = solve_wahba(b, r, method="triad").q
+    qo = solve_wahba(b, r, method="q-method").q
+    if qo @ qt < 0:
+        qo = -qo
+    return bool(np.all(np.abs(qo - qt) <= search_range * np.abs(qt) + 1e-15))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class Solve(Result):
+    """One row's solve of one trial: attitude error vs ``q_exact`` [deg] and run time [s]."""
+
+    error_deg: float
+    runtime_s: float
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class Trial(Result):
+    """One perturbed epoch solved by every requested row.
+
+    ``in_box``: the q-method attitude lies in the search box; ``cf_vs_slsqp_deg``: angle
+    between the closed-form and the SLSQP min-max attitudes (None unless both ran).
+    """
+
+    solves: Mapping[str, Solve]
+    in_box: bool
+    cf_vs_slsqp_deg: float | None = None
+
+    def __contains__(self, row: str) -> bool:
+        return row in self.solves
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class RowStats(Result):
+    """Statistics of one row over a set of trials (a Table 1 row)."""
+
+    mean_deg: float
+    var_deg2: float
+    max_deg: float
+    runtime_s: float
+    n_trials: int
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class Replica(Result):
+    """The deciding quantities of one replica (one seed of the whole pipeline)."""
+
+    stats: Mapping[str, RowStats]
+    stats_iterative: Mapping[str, RowStats]
+    sweep_mean_deg: Mapping[str, list[float]]
+    slopes: Mapping[str, float]
+    err_ratio: float
+    err_ratio_slsqp: float
+    nsga_truth_ratio: float
+    nsga_knee_ratio: float
+    worst_case_ratio: float
+    var_ratio: float
+    slope_ratio: float
+    speed_ratio: float
+    speed_ratio_closed_form: float
+    frac_in_box: float
+    cf_vs_slsqp_max_deg: float
+    box_truth_mean_deg: float
+    box_truth_closer: bool
+    box_truth_var_deg2: float
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class ExactVectors(Result):
+    """S0 eq. 9's noise-free vectors: q-method vs the printed ``q_exact``, and the vector angles [deg]."""
+
+    qmethod_vs_qexact_deg: float
+    angle_r1_r2_deg: float
+    angle_b1_b2_deg: float
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, repr=False)
+class Measurements(Result):
+    """Everything the study reports: per-replica trials and sweep, replicas, pooled statistics."""
+
+    bounds: np.ndarray
+    table: tuple[tuple[Trial, ...], ...]
+    sweep: tuple[tuple[tuple[Trial, ...], ...], ...]
+    replicas: tuple[Replica, ...]
+    stats: Mapping[str, RowStats]
+    sweep_mean_deg: Mapping[str, list[float]]
+    slopes: Mapping[str, float]
+    frac_in_box: float
+    cf_vs_slsqp_max_deg: float
+    exact: ExactVectors
+
+    @property
+    def pooled(self) -> list[Trial]:
+        """Every replica's Table 1 trials, replica by replica."""
+        return [res for rep in self.table for res in rep]
+
+
+def _timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - t0
+
+
+def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, ...]]) -> Trial:
+    """One perturbed epoch solved by every requested row.
+
+    ``task`` is ``(seed, noise bound, {"search_range", "pop_size", "n_gen"}, rows)``.
+
+    Examples
+    --------
+    >>> t = trial((np.random.SeedSequence(0), 0.2, {"search_range": 0.1, "pop_size": 8, "n_gen": 4},
+    ...            ("q-method", "quest")))
+    >>> sorted(t.solves), abs(t.solves["quest"].error_deg - t.solves["q-method"].error_deg) < 1e-6
+    (['q-method', 'quest'], True)
+    """
+    seed, bound, cfg, rows = task
+    rng = np.random.default_rng(seed)
+    b, r = perturb(rng, bound)
+    seed_ns = int(rng.integers(2**31 - 1))
+    qt = q_exact()
+    br, rr = bound * np.abs(b), bound * np.abs(r)
+    sr = cfg["search_range"]
+    in_box = qmethod_in_box(b, r, sr)
+    out: dict[str, Solve] = {}
+
+    def put(row: str, q: np.ndarray, dt: float) -> None:
+        out[row] = Solve(error_deg=angle_deg(q, qt), runtime_s=dt)
+
+    for m in ("q-method", "quest", "svd"):
+        if m in rows:
+            res, dt = _timed(lambda m=m: solve_wahba(b, r, method=m))
+            put(m, res.q, dt)
+    qs = {}
+    for row, solver in (("minmax", "closed-form"), ("minmax-slsqp", "slsqp")):
+        if row in rows:
+            res, dt = _timed(lambda s=solver: robust_wahba(b, br, r, rr, method="minmax", search_range=sr, solver=s))
+            put(row, res.q, dt)
+            qs[row] = res.q
+    cf_vs_slsqp = angle_deg(qs["minmax"], qs["minmax-slsqp"]) if len(qs) == 2 else None
+    # diagnostics: S0's search box centred on TRIAD of the *noise-free* vectors / on q_exact
+    for row, centre in (("minmax-box-at-exact-triad", "triad"), ("minmax-box-at-truth", "truth")):
+        if row in rows:
+            q0 = qt if centre == "truth" else solve_wahba(B_EXACT, R_EXACT, method="triad").q
+            res, dt = _timed(lambda q0=q0: robust_wahba(b, br, r, rr, method="minmax", search_range=sr, q0=q0))
+            put(row, res.q, dt)
+    if "worst-case" in rows:
+        res, dt = _timed(lambda: robust_wahba(b, br, r, rr, method="worst-case"))
+        put("worst-case", res.q, dt)
+    if "nsga2-knee" in rows or "nsga2-truth-pick" in rows:
+        res, dt = _timed(
+            lambda: robust_wahba(b, br, r, rr, method="nsga2", search_range=sr,
+                                 pop_size=cfg["pop_size"], n_gen=cfg["n_gen"], rng=seed_ns)
+        )
+        put("nsga2-knee", res.q, dt)
+        # the paper's selection: the Pareto point closest to the TRUE attitude (needs truth)
+        out["nsga2-truth-pick"] = Solve(error_deg=float(min(angle_deg(q, qt) for q in res.pareto_q)), runtime_s=dt)
+    return Trial(solves=out, in_box=in_box, cf_vs_slsqp_deg=cf_vs_slsqp)
+
+
+def _stats(results: list[Trial], rows) -> dict[str, RowStats]:
+    stats = {}
+    for m in rows:
+        e = np.array([res.solves[m].error_deg for res in results if m in res])
+        t = np.array([res.solves[m].runtime_s for res in results if m in res])
+        stats[m] = RowStats(
+            mean_deg=float(e.mean()),
+            var_deg2=float(e.var(ddof=1)) if e.size > 1 else float("nan"),
+            max_deg=float(e.max()),
+            runtime_s=float(np.median(t)),
+            n_trials=int(e.size),
+        )
+    return stats
+
+
+def _sweep_mean(points: list[list[Trial]], m: str) -> float:
+    return float(np.mean([res.solves[m].error_deg for pt in points for res in pt]))
+
+
+def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray, n_iter: int) -> Replica:
+    """The deciding quantities of one replica (one seed of the whole pipeline)."""
+    st = _stats(results, CHEAP_ROWS)
+    sub = results[:n_iter]
+    si = _stats(sub, ("q-method", "minmax", *ITER_ROWS))
+    sw = {m: [_sweep_mean([pt], m) for pt in sweep] for m in SWEEP_ROWS}
+    slopes = {m: float(np.polyfit(bounds, np.array(sw[m]), 1)[0]) for m in SWEEP_ROWS}
+    q, mm, paper_mm = st["q-method"], st["minmax"], PAPER_TABLE1["minmax"]["mean_deg"]
+    return Replica(
+        stats=st,
+        stats_iterative=si,
+        sweep_mean_deg=sw,
+        slopes=slopes,
+        err_ratio=q.mean_deg / max(mm.mean_deg, _TINY),
+        err_ratio_slsqp=si["q-method"].mean_deg / max(si["minmax-slsqp"].mean_deg, _TINY),
+        nsga_truth_ratio=si["q-method"].mean_deg / max(si["nsga2-truth-pick"].mean_deg, _TINY),
+        nsga_knee_ratio=si["q-method"].mean_deg / max(si["nsga2-knee"].mean_deg, _TINY),
+        worst_case_ratio=q.mean_deg / max(st["worst-case"].mean_deg, _TINY),
+        var_ratio=q.var_deg2 / max(mm.var_deg2, _TINY),
+        slope_ratio=slopes["q-method"] / max(slopes["minmax"], _TINY),
+        speed_ratio=si["nsga2-knee"].runtime_s / max(si["minmax-slsqp"].runtime_s, _TINY),
+        speed_ratio_closed_form=si["nsga2-knee"].runtime_s / max(si["minmax"].runtime_s, _TINY),
+        frac_in_box=float(np.mean([res.in_box for res in results])),
+        cf_vs_slsqp_max_deg=float(max(res.cf_vs_slsqp_deg for res in sub)),
+        box_truth_mean_deg=st["minmax-box-at-truth"].mean_deg,
+        box_truth_closer=abs(st["minmax-box-at-truth"].mean_deg - paper_mm) < abs(mm.mean_deg - paper_mm),
+        box_truth_var_deg2=st["minmax-box-at-truth"].var_deg2,
+    )
+
+
+def _exact_vectors() -> ExactVectors:
+    """The q-method on S0 eq. 9's noise-free vectors, and the angles between them."""
+    ex_err = angle_deg(solve_wahba(B_EXACT, R_EXACT).q, q_exact())
+    ang_r = np.degrees(np.arccos(np.dot(R_EXACT[0], R_EXACT[1]) / np.prod(np.linalg.norm(R_EXACT, axis=1))))
+    ang_b = np.degrees(np.arccos(np.dot(B_EXACT[0], B_EXACT[1]) / np.prod(np.linalg.norm(B_EXACT, axis=1))))
+    return ExactVectors(qmethod_vs_qexact_deg=ex_err, angle_r1_r2_deg=float(ang_r), angle_b1_b2_deg=float(ang_b))
+
+
+def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measurements:
+    """Run every replica's Table 1 trials and noise sweep (all tasks in one executor map).
+
+    Every claim is decided over ``n_seeds`` independent replicas of the whole Table 1
+    (``n_trials`` noise draws each, own NSGA-II seeds); the iterative rows (``minmax-slsqp``
+    and NSGA-II) run on the first ``n_iterative`` trials of each replica, where the cheap rows
+    are compared on the same trials.
+
+    Examples
+    --------
+    >>> cfg = Config(n_seeds=1, n_trials=2, n_iterative=2, pop_size=4, n_gen=4, sweep_bounds=(0.1, 0.2),
+    ...              sweep_trials=2)
+    >>> m = measure(cfg, rng=0)
+    >>> len(m.replicas), m.stats["nsga2-knee"].n_trials
+    (1, 2)
+    """
+    from adcskit.uncertainty.executor import make_executor
+
+    rng = np.random.default_rng(0) if rng is None else np.random.default_rng(rng)
+    ex = executor if executor is not None else make_executor("serial")
+    cfg = {"search_range": config.search_range, "pop_size": config.pop_size, "n_gen": config.n_gen}
+    root = np.random.SeedSequence(int(rng.integers(2**63 - 1)))
+    bounds = np.array(config.sweep_bounds, float)
+    nb, n_iter = len(bounds), config.n_iterative
+    tasks, where = [], []
+    for j, rep in enumerate(root.spawn(config.n_seeds)):
+        main_ss, sweep_ss = rep.spawn(2)
+        for i, s in enumerate(main_ss.spawn(config.n_trials)):
+            rows = CHEAP_ROWS + ITER_ROWS if i < n_iter else CHEAP_ROWS
+            tasks.append((s, config.noise_bound, cfg, rows))
+            where.append((j, "table", 0))
+        for k, ss in enumerate(sweep_ss.spawn(nb)):
+            for s in ss.spawn(config.sweep_trials):
+                tasks.append((s, float(bounds[k]), cfg, SWEEP_ROWS))
+                where.append((j, "sweep", k))
+    out = ex.map(trial, tasks, description="Table 1 replicas and sweep")
+    table: list[list[Trial]] = [[] for _ in range(config.n_seeds)]
+    sweep: list[list[list[Trial]]] = [[[] for _ in range(nb)] for _ in range(config.n_seeds)]
+    for (j, kind, k), res in zip(where, out):
+        (table[j] if kind == "table" else sweep[j][k]).append(res)
+    reps = tuple(_replica(table[j], sweep[j], bounds, n_iter) for j in range(config.n_seeds))
+    # pooled statistics (all replicas' trials)
+    stats = _stats([res for rep in table for res in rep], CHEAP_ROWS)
+    stats.update(_stats([r for rep in table for r in rep[:n_iter]], ITER_ROWS))
+    sweep_mean = {m: [_sweep_mean([sweep[j][k] for j in range(config.n_seeds)], m) for k in range(nb)]
+                  for m in SWEEP_ROWS}
+    return Measurements(
+        bounds=bounds,
+        table=tuple(tuple(rep) for rep in table),
+        sweep=tuple(tuple(tuple(pt) for pt in rep) for rep in sweep),
+        replicas=reps,
+        stats=stats,
+        sweep_mean_deg=sweep_mean,
+        slopes={m: float(np.polyfit(bounds, np.array(sweep_mean[m]), 1)[0]) for m in SWEEP_ROWS},
+        frac_in_box=float(np.mean([res.in_box for rep in table for res in rep])),
+        cf_vs_slsqp_max_deg=max(m.cf_vs_slsqp_max_deg for m in reps),
+        exact=_exact_vectors(),
+    )
