@@ -78,7 +78,7 @@ def differences(cfg: Config, m: Measurements) -> list[str]:
     return [
         "Initial Euler angles read as 3-2-1 (yaw-pitch-roll) of body w.r.t. ECI, with zero "
         "inertial body rate; the paper does not name the frame.",
-        "Sample interval 1 s, epoch 2024-03-20 12:00 UTC: not printed. Weights: equal (default; S0 "
+        f"Sample interval {cfg.dt_s:g} s, epoch 2024-03-20 12:00 UTC: not printed. Weights: equal (default; S0 "
         "prints only Σa = 1) and inverse-variance (1/bound²), both run as readings of the claim.",
         "Sensor errors: uniform in a spherical cap of the printed half-angle (adcskit.sensors); "
         "the intervals given to the robust solvers are the exact boxes enclosing the true body "
