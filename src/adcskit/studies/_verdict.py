@@ -497,6 +497,43 @@ class FindingSpec(ClaimSpec):
     _cls = Finding
 
 
+@dataclass(frozen=True, slots=True)
+class Declared:
+    """A claim or finding spec with its per-seed measurements keyed by reading: what a study's
+    claim factory in ``claims.py`` returns, decided by :func:`decide_declared`."""
+
+    spec: ClaimSpec
+    runs: Mapping[str, Sequence[Any]]
+    default: str = "default"
+
+
+def decide_declared(factories: Sequence[Callable[[Any, Any], Any]], config: Any, measurements: Any) -> list:
+    """Build each declared statement of a study and decide it.
+
+    Each factory takes ``(config, measurements)`` and returns ``None`` (the configuration leaves
+    the statement out), a :class:`Declared` (a claim or finding, decided by
+    :meth:`ClaimSpec.evaluate` over its readings), an already computed check, or a list of
+    these. The order of the result is the order of the factories.
+
+    Examples
+    --------
+    >>> spec = FindingSpec(id="f", statement="s", quantity="q", value=lambda r: r, threshold=1.0,
+    ...                    better="below")
+    >>> [f.outcome for f in decide_declared([lambda c, m: Declared(spec, {"default": m}),
+    ...                                      lambda c, m: None], None, [0.5] * 5)]
+    ['holds']
+    """
+    out = []
+    for make in factories:
+        made = make(config, measurements)
+        for d in made if isinstance(made, list | tuple) else (made,):
+            if isinstance(d, Declared):
+                out.append(d.spec.evaluate(d.runs, default=d.default))
+            elif d is not None:
+                out.append(d)
+    return out
+
+
 def tally(outcomes: Iterable[str]) -> dict[str, int]:
     """Count outcomes in :data:`OUTCOMES` order (plus ``"not comparable"`` when present).
 

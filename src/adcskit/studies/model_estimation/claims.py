@@ -15,12 +15,8 @@ rather than constants because the quantities name the configured methods and cas
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
-from typing import Any
-
 from adcskit.studies._base import Check
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.model_estimation.config import FINDING_KEYS, PRIOR_BASELINES, Config
 from adcskit.studies.model_estimation.experiment import Measurements
 from adcskit.studies.model_estimation.paper import PAPER_METHODS, STANDARD, TABLE_CASES
@@ -31,14 +27,6 @@ __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
 _CLAIM_KEYS = ("n_steps", "dt_s", "cases", "noise_std", "inertia_kgm2", "inertia_error", "model_3dof",
                "gyroscopic", "step_level_nm")
 _ON = "adaptive-gmres-online"
-
-
-@dataclass(frozen=True, slots=True)
-class Declared:
-    """A claim or finding spec with its per-seed measurements keyed by reading."""
-
-    spec: ClaimSpec
-    runs: Mapping[str, Sequence[Any]]
 
 
 def _readings(m: Measurements) -> tuple[str, ...]:
@@ -195,20 +183,5 @@ FINDINGS = (_online_improves_on_prior, _prior_baselines_match_online, _ekf_beats
 CHECKS = (_converged_same_ls, _standard_same_row_as_qr)
 
 
-def evaluate(factories: Sequence[Callable[[Config, Measurements], Any]], cfg: Config, m: Measurements) -> list:
-    """Build each declared statement and decide it: claims and findings by the framework's
-    :meth:`ClaimSpec.evaluate` over their readings, checks as computed.
-
-    Examples
-    --------
-    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
-    (3, 4, 2)
-    """
-    out = []
-    for make in factories:
-        d = make(cfg, m)
-        if isinstance(d, Declared):
-            out.append(d.spec.evaluate(d.runs))
-        elif d is not None:
-            out.append(d)
-    return out
+#: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).
+evaluate = decide_declared

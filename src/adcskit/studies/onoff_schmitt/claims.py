@@ -19,27 +19,18 @@ S4, §3, Table 2, Figs. 3-7.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from adcskit.studies._base import Check
-from adcskit.studies._verdict import ClaimSpec
+from adcskit.studies._verdict import ClaimSpec, Declared, decide_declared
 from adcskit.studies.onoff_schmitt.config import Config
 from adcskit.studies.onoff_schmitt.experiment import Measurements
 
 __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
-
-
-@dataclass(frozen=True, slots=True)
-class Declared:
-    """A claim spec with its runs keyed by reading."""
-
-    spec: ClaimSpec
-    runs: Mapping[str, Sequence[Any]]
-    default: str = "default"
 
 
 @dataclass(frozen=True, slots=True)
@@ -145,21 +136,5 @@ FINDINGS: tuple[Callable[[Config, Measurements], Any], ...] = ()
 CHECKS = (_reference_path_agrees, _fuel_covers_disturbance, _grid_covers_boxes)
 
 
-def evaluate(factories: Sequence[Callable[[Config, Measurements], Any]], cfg: Config, m: Measurements) -> list:
-    """Build each declared statement and decide it: claims by the framework's
-    :meth:`ClaimSpec.evaluate` over their readings, checks as computed.
-
-    Examples
-    --------
-    >>> from adcskit.studies.onoff_schmitt.claims import CHECKS, CLAIMS, FINDINGS
-    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
-    (3, 0, 3)
-    """
-    out = []
-    for make in factories:
-        d = make(cfg, m)
-        if isinstance(d, Declared):
-            out.append(d.spec.evaluate(d.runs, default=d.default))
-        elif d is not None:
-            out.append(d)
-    return out
+#: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).
+evaluate = decide_declared

@@ -16,14 +16,14 @@ and S3's statements quote the configured protocol (generations, demands, toleran
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from adcskit.studies._base import Check
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.thruster_layout.config import Config
 from adcskit.studies.thruster_layout.experiment import FUEL_DEFAULT, Measurements
 from adcskit.studies.thruster_layout.paper import PAPER
@@ -32,15 +32,6 @@ __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
 
 #: Config keys S3's design protocol fixes (the fuel, accuracy and Table 8 claims add theirs).
 _DESIGN_KEYS = ("n_thrusters", "algorithms", "n_gen", "pop_size", "weights")
-
-
-@dataclass(frozen=True, slots=True)
-class Declared:
-    """A claim or finding spec with its per-seed measurements keyed by reading."""
-
-    spec: ClaimSpec
-    runs: Mapping[str, Sequence[Any]]
-    default: str = "default"
 
 
 @dataclass(frozen=True, slots=True)
@@ -305,21 +296,5 @@ CHECKS = (_faces_respected, _paired_couples, _exact_allocators, _best_layouts_co
           _reference_meets_demands, _de_settings_same_seeds)
 
 
-def evaluate(factories: Sequence[Callable[[Config, Measurements], Any]], cfg: Config, m: Measurements) -> list:
-    """Build each declared statement and decide it: claims and findings by the framework's
-    :meth:`ClaimSpec.evaluate` over their readings, checks as computed.
-
-    Examples
-    --------
-    >>> from adcskit.studies.thruster_layout.claims import CHECKS, CLAIMS, FINDINGS
-    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
-    (5, 3, 6)
-    """
-    out = []
-    for make in factories:
-        d = make(cfg, m)
-        if isinstance(d, Declared):
-            out.append(d.spec.evaluate(d.runs, default=d.default))
-        elif d is not None:
-            out.append(d)
-    return out
+#: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).
+evaluate = decide_declared

@@ -17,12 +17,10 @@ weightings. Protocol keys are hand-listed tuples (:data:`CLAIM_KEYS`, :data:`FIN
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any
 
 from adcskit.studies._base import Check
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.wahba_orbit.config import Config
 from adcskit.studies.wahba_orbit.experiment import Measurements
 
@@ -38,15 +36,6 @@ FINDING_KEYS = ("altitude_km", "inclination_deg", "raan_deg", "duration_s", "dt_
                 "gravity_gradient", "sun_bound_deg", "mag_bound_deg", "weighting", "epoch")
 #: Keys that also fix the NSGA-II findings.
 NSGA2_KEYS = ("nsga2_every", "pop_size", "n_gen")
-
-
-@dataclass(frozen=True, slots=True)
-class Declared:
-    """A claim or finding spec with its per-seed measurements keyed by reading."""
-
-    spec: ClaimSpec
-    runs: Mapping[str, Sequence[Any]]
-    default: str = "default"
 
 
 @dataclass(frozen=True, slots=True)
@@ -130,18 +119,5 @@ FINDINGS = (_solver_variants, _dipole_reference_model_error)
 CHECKS = (_q_method_bounded,)
 
 
-def evaluate(factories: Sequence[Callable[[Config, Measurements], list]], cfg: Config, m: Measurements) -> list:
-    """Build each declared statement and decide it: claims and findings by the framework's
-    :meth:`ClaimSpec.evaluate` over their readings, checks as computed.
-
-    Examples
-    --------
-    >>> from adcskit.studies.wahba_orbit.claims import CHECKS, CLAIMS, FINDINGS
-    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
-    (1, 2, 1)
-    """
-    out = []
-    for make in factories:
-        for d in make(cfg, m):
-            out.append(d.spec.evaluate(d.runs, default=d.default) if isinstance(d, Declared) else d)
-    return out
+#: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).
+evaluate = decide_declared
