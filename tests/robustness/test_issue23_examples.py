@@ -1,0 +1,103 @@
+"""The concrete unclear failures of issue 23 (item 5), one test each.
+
+Each was found by a held-out fuzz of the public API: a foreign exception, a silently accepted
+ill-typed or unknown value, invalid output, or an error that blames the wrong argument. The
+optimal-control examples of the same list are tested in ``tests/optimal_control``.
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+
+from adcskit import determination, environment, estimation, thrusters
+from adcskit.config import dump_toml
+from adcskit.errors import InputError, InputTypeError
+
+
+def _gain_model(p):
+    """A model with a pole at p = 0 (1/p scales the input gain), as an inertia ratio would have."""
+    return np.array([[1.0, 0.1], [0.0, 1.0]]), (1.0 / p[0]) * np.array([[0.005], [0.1]])
+
+
+def test_augmented_ekf_evaluates_the_model_only_above_the_p_min_floor():
+    # issue 23: model(p0) was called on the raw p0 = 0 (ZeroDivisionError) before the floor
+    calls = []
+
+    def model(p):
+        calls.append(np.array(p, copy=True))
+        return _gain_model(p)
+
+    u = np.sin(0.3 * np.arange(20))[:, None]
+    res = estimation.augmented_ekf(np.zeros((20, 2)), u, model, [0.0], P_p0=1.0, C=np.eye(2), R=1e-4,
+                                   p_min=0.05)
+    assert res.success
+    assert min(float(c.min()) for c in calls) >= 0.05  # the documented floor, first call included
+
+
+@pytest.mark.parametrize("flag", ["no", 1, 0, None, "False"])
+def test_non_bool_flags_are_rejected(flag):
+    # issue 23: solve_wahba(covariance='no') was accepted (a single problem skipped the check)
+    body = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    with pytest.raises(InputTypeError, match="covariance must be True or False"):
+        determination.solve_wahba(body, body, covariance=flag)
+    with pytest.raises(InputTypeError, match="covariance must be True or False"):
+        determination.solve_wahba(np.stack([body, body]), body, covariance=flag)
+
+
+def test_numpy_bool_flags_are_accepted():
+    body = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    assert determination.solve_wahba(body, body, covariance=np.bool_(True)).success
+
+
+def test_box_faces_rejects_a_cant_limit_for_an_unknown_face():
+    # issue 23: box_faces(max_cant={'+W': 0.5}) silently ignored the unknown face
+    with pytest.raises(InputError, match=r"max_cant names faces .*\['\+W'\]"):
+        thrusters.box_faces(max_cant={"+W": 0.5})
+    # a limit for a face left out of ``names`` would be ignored just as silently
+    with pytest.raises(InputError, match="max_cant"):
+        thrusters.box_faces(names=("+X", "-X"), max_cant={"+Z": 0.5})
+    faces = thrusters.box_faces(names=("+X", "-X"), max_cant={"-X": 0.5})
+    assert [f.max_cant for f in faces] == [pytest.approx(np.pi / 2), 0.5]
+
+
+def test_box_faces_rejects_a_string_for_names():
+    with pytest.raises(InputTypeError, match="names must be a sequence"):
+        thrusters.box_faces(names="+X")
+
+
+@pytest.mark.parametrize(
+    "data",
+    [
+        {"a b": 1},
+        {"x": {"c.d": {"e": [1.5, 2.0]}}, "s": 'line\nbreak "quoted"', "n": np.int64(3)},
+        {"": True, "ü": "ä"},
+    ],
+)
+def test_dump_toml_writes_valid_toml_that_reads_back(data):
+    # issue 23: dump_toml({'a b': 1}) wrote 'a b = 1', which no TOML reader accepts
+    back = tomllib.loads(dump_toml(data))
+
+    def plain(d):
+        return {k: plain(v) if isinstance(v, dict) else (v.item() if isinstance(v, np.generic) else v)
+                for k, v in d.items()}
+
+    assert back == plain(data)
+
+
+@pytest.mark.parametrize(("data", "match"), [({1: 2}, "keys must be strings"),
+                                              ({"a": {"b": [None]}}, r"a\.b = None cannot be written")])
+def test_dump_toml_rejects_what_toml_cannot_hold(data, match):
+    with pytest.raises(InputTypeError, match=match):
+        dump_toml(data)
+
+
+@pytest.mark.parametrize("r_bad", [[7e6, 0.0], [[7e6, 0.0, 0.0, 1.0]]])
+def test_ecef_to_eci_state_blames_r_ecef_for_its_own_shape(r_bad):
+    # issue 23: a bad r_ecef was reported as "v_ecef must have shape ..."
+    with pytest.raises(InputError, match="r_ecef must have shape"):
+        environment.ecef_to_eci_state(r_bad, [0.0, 7.5e3, 0.0], "2024-01-01")
+    with pytest.raises(InputError, match="v_ecef must have shape"):
+        environment.ecef_to_eci_state([7e6, 0.0, 0.0], [0.0, 7.5e3], "2024-01-01")
