@@ -425,6 +425,30 @@ def check_flag(name: str, value: Any) -> bool:
     return bool(value)
 
 
+def check_flag_fields(obj: Any) -> None:
+    """Check (and store as ``bool``) every field of a frozen dataclass annotated ``bool``.
+
+    For a ``__post_init__``: a configuration's flags get :func:`check_flag`'s rule (``"no"``,
+    ``1`` or ``None`` for a flag are errors) without one call per field.
+
+    >>> import dataclasses
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Spec:
+    ...     verbose: bool = False
+    ...     def __post_init__(self):
+    ...         check_flag_fields(self)
+    >>> Spec(verbose="no")
+    Traceback (most recent call last):
+    ...
+    adcskit.errors.InputTypeError: verbose must be True or False; got 'no'
+    """
+    import dataclasses
+
+    for f in dataclasses.fields(obj):
+        if f.type in (bool, "bool"):
+            object.__setattr__(obj, f.name, check_flag(f.name, getattr(obj, f.name)))
+
+
 def check_callable(name: str, value: Any, *, allow_none: bool = False) -> Any:
     """Return ``value`` if it is callable (or ``None`` with ``allow_none``)."""
     if value is None and allow_none:

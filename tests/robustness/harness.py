@@ -93,6 +93,12 @@ class Case:
     exit_ok : bool
         A command-line entry point: ``SystemExit(2)`` (argparse's one-line usage error) is a
         clean rejection.
+    open_keys : tuple of str
+        Mapping arguments whose keys are open (passed on, e.g. solver options): an unknown key
+        may be accepted.
+    signature_flags : bool
+        Also mutate the ``bool``-default parameters of the callable's signature that the valid
+        call leaves out (non-bool stand-ins must be rejected).
     """
 
     name: str
@@ -109,6 +115,8 @@ class Case:
     extra: dict[str, tuple[str, Any, str]] = field(default_factory=dict)
     exit_ok: bool = False
     shape_stable: bool = True
+    open_keys: tuple[str, ...] = ()
+    signature_flags: bool = True
 
     def resolve(self) -> Callable[..., Any]:
         if self.target is not None:
@@ -145,7 +153,11 @@ class Mutation:
     * ``"nonfinite"``: NaN/inf inside; clean error (or a result, if the argument is in
       ``nonfinite_ok``);
     * ``"type"``: a wrong type (None, string, complex, ...); clean error, or a finite result;
-    * ``"negative"``: negative physical quantity; rejected if the argument is ``positive``.
+    * ``"negative"``: negative physical quantity; rejected if the argument is ``positive``;
+    * ``"strict"``: a value that must be rejected outright, since accepting it would silently do
+      something else than the caller wrote: a non-bool flag (``"no"`` is truthy), an unknown
+      choice, an unknown key of a mapping with a closed set of keys (a case lists the mappings
+      that pass unknown keys on in ``open_keys``).
     """
 
     label: str
@@ -257,16 +269,16 @@ def mutate_int(v: int) -> list[Mutation]:
 def mutate_flag(v: bool) -> list[Mutation]:
     return [
         Mutation("np-bool", np.bool_(v), "same"),
-        Mutation("string-no", "no", "type"),
-        Mutation("int-1", 1, "type"),
-        Mutation("int-0", 0, "type"),
+        Mutation("string-no", "no", "strict"),
+        Mutation("int-1", 1, "strict"),
+        Mutation("int-0", 0, "strict"),
         Mutation("none", None, "type"),
     ]
 
 
 def mutate_choice(v: str) -> list[Mutation]:
     return [
-        Mutation("unknown", v + "-no-such-choice", "type"),
+        Mutation("unknown", v + "-no-such-choice", "strict"),
         Mutation("empty", "", "type"),
         Mutation("upper", v.upper() if v.upper() != v else v + "X", "type"),
         Mutation("none", None, "type"),
@@ -291,7 +303,7 @@ def mutate_mapping(v: Any) -> list[Mutation]:
         Mutation("none", None, "type"),
         Mutation("int", 1, "type"),
         Mutation("string", "abc", "type"),
-        Mutation("unknown-key", {**dict(v), "no_such_key_xyz": 1}, "type"),
+        Mutation("unknown-key", {**dict(v), "no_such_key_xyz": 1}, "strict"),
     ]
 
 
@@ -545,6 +557,9 @@ def check_outcome(
             return Outcome(False, "accepted", f"{label}: degenerate input answered without success=False")
         return Outcome(True, "accepted")
     cat = mutation.category
+    if cat == "strict" and not (mutation.label == "unknown-key" and arg in case.open_keys):
+        return Outcome(False, "accepted", f"{label}: accepted; it must be rejected (it silently means "
+                       "something else than written)")
     if cat == "negative" and arg in case.positive:
         return Outcome(False, "accepted", f"{label}: negative physical quantity accepted")
     finite_input = cat in ("same", "finite", "reshape", "negative")
@@ -568,6 +583,33 @@ def check_outcome(
     return Outcome(True, "accepted")
 
 
+#: Failure classes of an outcome (issue 23): a foreign exception, a silently accepted bad
+#: input, a rejection that is unclear (does not name the argument, a raw message), a hang.
+FAILURE_CLASS = {"foreign": "FOREIGN", "accepted": "SILENT", "rejected": "VAGUE", "hang": "HANG"}
+
+
+def record(outcome: Outcome) -> Outcome:
+    """Count a failed outcome under its class in ``STATS`` and return it."""
+    if not outcome.ok:
+        STATS[FAILURE_CLASS[outcome.kind]] += 1
+    return outcome
+
+
+def signature_flags(case: Case, valid: dict[str, Any]) -> list[str]:
+    """Parameters of the case's callable with a ``bool`` default that the valid call leaves out."""
+    import inspect
+
+    if not case.signature_flags:
+        return []
+    try:
+        sig = inspect.signature(case.resolve())
+    except (TypeError, ValueError):
+        return []
+    return [n for n, p in sig.parameters.items()
+            if n not in valid and not n.startswith("_") and isinstance(p.default, bool)
+            and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+
+
 def plan(case: Case) -> list[tuple[str, Mutation]]:
     """Every (argument, mutation) pair of a case, in a fixed order."""
     valid = case.valid()
@@ -575,6 +617,8 @@ def plan(case: Case) -> list[tuple[str, Mutation]]:
     for arg, value in valid.items():
         for m in mutations_for(case, arg, value):
             out.append((arg, m))
+    for arg in signature_flags(case, valid):
+        out += [(arg, m) for m in mutate_flag(True) if m.category == "strict"]
     for label, (arg, value, category) in case.extra.items():
         out.append((arg, Mutation(label, value, category)))
     return out
@@ -598,7 +642,7 @@ def run_case(case: Case, *, limit: int | None = None) -> list[str]:
         ref_box["r"] = call_with_timeout(fn, kwargs)
         return ref_box["r"]
 
-    out = check_outcome(case, None, None, valid_run)
+    out = record(check_outcome(case, None, None, valid_run))
     if not out.ok:
         return [out.detail]
     reference = ref_box.get("r")
@@ -606,15 +650,15 @@ def run_case(case: Case, *, limit: int | None = None) -> list[str]:
         kw = case.valid()
         kw.update(overrides)
         deg = Mutation(label, None, "degenerate")
-        o = check_outcome(case, next(iter(overrides)), deg, lambda kw=kw: call_with_timeout(fn, kw),
-                          reference, degenerate=True)
+        o = record(check_outcome(case, next(iter(overrides)), deg, lambda kw=kw: call_with_timeout(fn, kw),
+                                 reference, degenerate=True))
         if not o.ok:
             failures.append(o.detail)
     pairs = plan(case)
     if limit is not None:
         pairs = pairs[:: max(1, len(pairs) // limit)][:limit]
     for arg, m in pairs:
-        o = run_mutation(case, fn, arg, m, reference)
+        o = record(run_mutation(case, fn, arg, m, reference))
         if not o.ok:
             failures.append(o.detail)
     return failures

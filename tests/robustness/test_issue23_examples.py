@@ -101,3 +101,37 @@ def test_ecef_to_eci_state_blames_r_ecef_for_its_own_shape(r_bad):
         environment.ecef_to_eci_state(r_bad, [0.0, 7.5e3, 0.0], "2024-01-01")
     with pytest.raises(InputError, match="v_ecef must have shape"):
         environment.ecef_to_eci_state([7e6, 0.0, 0.0], [0.0, 7.5e3], "2024-01-01")
+
+
+# --- found by the extended registry (issue 23: every public name, strict flags/choices/keys) ---
+
+
+@pytest.mark.parametrize("flag", ["no", 1, None])
+def test_config_dataclass_flags_are_checked_by_the_validation_layer(flag):
+    from adcskit.simulation import OrbitSpec, ThrusterSpec
+
+    with pytest.raises(InputTypeError, match="gravity_gradient must be True or False"):
+        OrbitSpec(gravity_gradient=flag)
+    with pytest.raises(InputTypeError, match="failure_known must be True or False"):
+        ThrusterSpec.from_torque_matrix(np.eye(3), failure_known=flag)
+
+
+def test_thruster_constructors_name_their_argument():
+    from adcskit.simulation import ThrusterSpec
+
+    with pytest.raises(InputTypeError, match="ts must be an adcskit.thrusters.ThrusterSet"):
+        ThrusterSpec.from_thruster_set(None)
+    with pytest.raises(InputError, match="A must be finite"):
+        ThrusterSpec.from_torque_matrix([[np.nan, 0.0], [0.0, 1.0], [1.0, 0.0]])
+    with pytest.raises(InputTypeError, match="thrusters must be a sequence of Thruster"):
+        thrusters.ThrusterSet.from_thrusters("abc")
+
+
+def test_sgp4_orbit_rejects_a_line_longer_than_a_tle_line():
+    # sgp4 reads fixed columns and ignored anything after column 69; TLE of satellite 00005, the
+    # first case of the SGP4 verification set (Vallado et al. 2006, AIAA 2006-6753)
+    line1 = "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753"
+    line2 = "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667"
+    environment.sgp4_orbit(line1, line2, "2000-06-28")
+    with pytest.raises(InputError, match="tle_line2 must be a TLE line of 69 characters"):
+        environment.sgp4_orbit(line1, line2 + "-extra", "2000-06-28")
