@@ -50,7 +50,7 @@ import scipy.linalg
 
 from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
-from adcskit._validation import as_array, check_choice, check_positive, check_range
+from adcskit._validation import as_array, check_choice, check_flag, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
 from adcskit.errors import InputError
 
@@ -632,6 +632,7 @@ def simulate_batch(
     True
     """
     params, settings = _checked_inputs(params, settings, backend)
+    parallel = check_flag("parallel", parallel)
     P = _param_matrix(params)
     C = _coefficients(settings)
     L = _buffer_length(P, settings.dt)

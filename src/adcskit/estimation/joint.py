@@ -48,6 +48,7 @@ from adcskit._validation import (
     as_rng,
     check_callable,
     check_choice,
+    check_flag,
     check_int,
     check_positive,
     short_repr,
@@ -204,6 +205,7 @@ def joint_estimate(
     opts = _resolve_options(method, options)
     _check_opts(method, opts)
     check_choice("form", form, KALMAN_FORMS)
+    estimate_B = check_flag("estimate_B", estimate_B)
     A_prior = as_array("A_prior", A_prior, ndim=2)
     n = A_prior.shape[0]
     if C is None:

@@ -143,8 +143,9 @@ def chi2_band(dof: int, n_runs: int, alpha: float = 0.05) -> tuple[float, float]
     dof = check_int("dof", dof, minimum=1, maximum=10**9)
     n_runs = check_int("n_runs", n_runs, minimum=1, maximum=10**9)
     a = check_finite("alpha", alpha)
-    if not 0.0 < a < 1.0:
-        raise InputError(f"alpha must be in (0, 1); got {a:g}")
+    # below 1e-300, alpha / 2 is subnormal or zero and the upper end of the band is inf
+    if not 1e-300 <= a < 1.0:
+        raise InputError(f"alpha must be in [1e-300, 1) (a probability; smaller has no finite band); got {a:g}")
     k = dof * n_runs
     # isf for the upper end: ppf(1 - a/2) rounds to ppf(1) = inf for a tiny alpha
     return float(stats.chi2.ppf(a / 2, k) / n_runs), float(stats.chi2.isf(a / 2, k) / n_runs)
