@@ -135,3 +135,31 @@ def test_sgp4_orbit_rejects_a_line_longer_than_a_tle_line():
     environment.sgp4_orbit(line1, line2, "2000-06-28")
     with pytest.raises(InputError, match="tle_line2 must be a TLE line of 69 characters"):
         environment.sgp4_orbit(line1, line2 + "-extra", "2000-06-28")
+
+
+@pytest.mark.parametrize("flag", ["no", 1])
+def test_estimation_and_study_flags_are_checked(flag):
+    x = np.random.default_rng(0).standard_normal((6, 2))
+    with pytest.raises(InputTypeError, match="estimate_B must be True or False"):
+        estimation.regression_data(x[:-1], x[1:], np.zeros((5, 1)), B=np.zeros((2, 1)), estimate_B=flag)
+    from adcskit.studies import resolve_config
+
+    with pytest.raises(InputTypeError, match="quick must be True or False"):
+        resolve_config("wahba-table1", None, quick=flag)
+
+
+def test_claim_rejects_runs_under_a_reading_it_does_not_declare():
+    from adcskit.studies import ClaimSpec
+
+    spec = ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m["r"], threshold=1.0,
+                     better="below", stochastic=False)
+    assert spec.evaluate({"default": [{"r": 0.5}]}).outcome == "holds"
+    with pytest.raises(InputError, match=r"runs has readings \['other'\] that claim 'c' does not declare"):
+        spec.evaluate({"default": [{"r": 0.5}], "other": [{"r": 2.0}]})
+
+
+def test_chi2_band_is_finite_down_to_the_smallest_allowed_alpha():
+    lo, hi = estimation.chi2_band(3, 10, alpha=1e-300)
+    assert 0.0 <= lo < hi < np.inf
+    with pytest.raises(InputError, match=r"alpha must be in \[1e-300, 1\)"):
+        estimation.chi2_band(3, 10, alpha=5e-324)  # alpha / 2 rounds to 0: upper end inf
