@@ -1172,3 +1172,49 @@ case("uncertainty.ProcessExecutor.map", target=_process_map, kinds={"description
      nan_ok=("*",), nonfinite_ok=("fn",), slow=True)(lambda: dict(fn=_square, tasks=[1.0, 2.0]))
 case("uncertainty.ProcessExecutor.close", target=method("", lambda: __import__(
     "adcskit.uncertainty", fromlist=["x"]).ProcessExecutor(n_workers=1), "close"))(lambda: dict())
+
+# --- methods of result dataclasses that take input (the results themselves are exempt) ------
+
+exempt(
+    "accessor without arguments of a result built by adcskit (nothing to validate)",
+    "studies.StudyResult.all_claims",
+)
+exempt(
+    "dataclasses.replace of the adaptive-refinement fields, called by solve_adaptive on its own "
+    "result (keyword names are checked by dataclasses.replace)",
+    "optimal_control.MultiPhaseSolution.with_adaptive",
+)
+
+
+def _onoff_metrics() -> Any:
+    from adcskit.control import simulate_batch
+
+    return simulate_batch(_params(), _settings(), backend="numba", parallel=False)
+
+
+def _wahba_result() -> Any:
+    from adcskit.determination import solve_wahba
+
+    return solve_wahba(np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]))
+
+
+def _mp_solution() -> Any:
+    if "mp" not in _SOL:
+        from adcskit.optimal_control import solve_multiphase
+
+        _SOL["mp"] = solve_multiphase(_mp(), method="radau", meshes=[(1, 3), (1, 3)])
+    return _SOL["mp"]
+
+
+OC_OPEN = ("issue 23 item 5: OptimalControlSolution.state_at/control_at/costate_at (2-D t, extrapolation "
+           "outside the horizon) belong to the optimal-control helper; reported, not fixed here")
+case("control.OnOffMetrics.as_array", target=method("", _onoff_metrics, "as_array"), nan_ok=("*",))(lambda: dict())
+case("determination.WahbaResult.messages", target=method("", _wahba_result, "messages"))(lambda: dict())
+case("optimal_control.OptimalControlSolution.as_guess", target=method("", _solution, "as_guess"))(lambda: dict())
+case("optimal_control.MultiPhaseSolution.as_guess", target=method("", _mp_solution, "as_guess"), slow=True)(
+    lambda: dict())
+for _meth in ("state_at", "costate_at"):
+    case(f"optimal_control.OptimalControlSolution.{_meth}", target=method("", _solution, _meth), known_open=OC_OPEN)(
+        lambda: dict(t=[0.1, 0.5, 0.9]))
+case("optimal_control.OptimalControlSolution.control_at", target=method("", _solution, "control_at"),
+     known_open=OC_OPEN)(lambda: dict(t=[0.1, 0.5, 0.9], kind="lagrange"))

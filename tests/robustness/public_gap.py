@@ -75,7 +75,7 @@ def public_methods(name: str, cls: type, owners: dict[type, str]) -> list[str]:
 
 def uncovered() -> list[str]:
     """Public names (callables and public methods of public classes) with neither a case nor an exemption."""
-    from cases import CASES, EXEMPT
+    from cases import CASES, EXEMPT, RESULT
 
     names = public_callables()
     owners = {obj: n for n, obj in names.items() if inspect.isclass(obj)}
@@ -83,9 +83,11 @@ def uncovered() -> list[str]:
     for name, obj in names.items():
         if name not in CASES and name not in EXEMPT:
             missing.add(name)
-        if inspect.isclass(obj) and name not in EXEMPT:
-            missing |= {m for m in public_methods(name, obj, owners)
-                        if m not in CASES and m not in EXEMPT and m.rsplit(".", 1)[0] not in EXEMPT}
+        # a result dataclass is exempt as an entry point, but its methods that take input
+        # (``state_at(t)``) are public names of their own; other exempt classes take theirs along
+        if inspect.isclass(obj) and (name not in EXEMPT or EXEMPT[name] == RESULT):
+            missing |= {m for m in public_methods(name, obj, owners) if m not in CASES and m not in EXEMPT
+                        and (m.rsplit(".", 1)[0] not in EXEMPT or EXEMPT[m.rsplit(".", 1)[0]] == RESULT)}
     return sorted(missing)
 
 

@@ -96,24 +96,27 @@ FAST = sorted(n for n, c in CASES.items() if not c.slow)
 SLOW = sorted(n for n, c in CASES.items() if c.slow)
 
 
+def _judge(name, failures):
+    if failures and CASES[name].known_open:
+        pytest.xfail(f"{CASES[name].known_open}:\n" + "\n".join(failures))
+    assert not failures, "\n".join(failures)
+
+
 @pytest.mark.parametrize("name", FAST)
 def test_mutations(name):
-    failures = run_case(CASES[name])
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name]))
 
 
 @pytest.mark.parametrize("name", SLOW)
 def test_mutations_expensive_entries_sampled(name):
     """Valid call, degenerate calls and a spread sample of the mutations of a slow entry."""
-    failures = run_case(CASES[name], limit=12)
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name], limit=12))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", SLOW)
 def test_mutations_expensive_entries_exhaustive(name):
-    failures = run_case(CASES[name])
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name]))
 
 
 # --- hypothesis: random extreme values at random positions of random numeric arguments -------
@@ -141,7 +144,8 @@ def _numeric_args(case):
     return out
 
 
-HYP_CASES = sorted(n for n in FAST if _numeric_args(CASES[n]))
+# a known open failure (``known_open``) is shown by test_mutations as an expected failure
+HYP_CASES = sorted(n for n in FAST if _numeric_args(CASES[n]) and not CASES[n].known_open)
 
 
 _REFERENCE: dict[str, object] = {}
