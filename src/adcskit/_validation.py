@@ -120,6 +120,9 @@ def as_array(
         raise InputTypeError(
             f"{name} must be real (complex values are not accepted); got {short_repr(value)}"
         )
+    if probe.dtype.kind == "b" and np.dtype(dtype).kind != "b":
+        # True/False for a number would silently mean 1/0 (a flag passed in the wrong place)
+        raise InputTypeError(f"{name} must be an array of numbers, not True/False; got {short_repr(value)}")
     if probe.dtype.kind in "USV" or (
         probe.dtype == object and any(v is None or isinstance(v, (str, bytes)) for v in probe.ravel().tolist())
     ):

@@ -255,7 +255,7 @@ def mutate_float(v: float) -> list[Mutation]:
         Mutation("complex", complex(v, 1.0), "type"),
         Mutation("string", "abc", "type"),
         Mutation("none", None, "type"),
-        Mutation("bool", True, "type"),
+        Mutation("bool", True, "strict"),
         Mutation("vector", [v, v], "reshape"),
     ]
     return out
@@ -268,12 +268,12 @@ def mutate_int(v: int) -> list[Mutation]:
         Mutation("zero", 0, "finite"),
         Mutation("negative", -abs(v) - 1, "negative"),
         Mutation("huge", 2**62, "finite"),
-        Mutation("float", float(v) + 0.5, "type"),
-        Mutation("big-float", 1e300, "type"),
-        Mutation("nan", math.nan, "type"),
-        Mutation("string", "3", "type"),
+        Mutation("float", float(v) + 0.5, "strict"),
+        Mutation("big-float", 1e300, "strict"),
+        Mutation("nan", math.nan, "strict"),
+        Mutation("string", "3", "strict"),
         Mutation("none", None, "type"),
-        Mutation("bool", True, "type"),
+        Mutation("bool", True, "strict"),
     ]
 
 
@@ -290,10 +290,10 @@ def mutate_flag(v: bool) -> list[Mutation]:
 def mutate_choice(v: str) -> list[Mutation]:
     return [
         Mutation("unknown", v + "-no-such-choice", "strict"),
-        Mutation("empty", "", "type"),
+        Mutation("empty", "", "strict"),
         Mutation("upper", v.upper() if v.upper() != v else v + "X", "type"),
         Mutation("none", None, "type"),
-        Mutation("int", 1, "type"),
+        Mutation("int", 1, "strict"),
     ]
 
 
@@ -627,6 +627,28 @@ def signature_flags(case: Case, valid: dict[str, Any]) -> list[str]:
             and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
 
 
+def signature_defaults(case: Case, valid: dict[str, Any]) -> dict[str, Any]:
+    """Float, int and str defaults of the case's callable that the valid call leaves out.
+
+    Opt-in audit (``ADCSKIT_ROBUSTNESS_DEFAULTS=1``): free-text parameters (labels, units,
+    descriptions) are left out, since any string is valid for them.
+    """
+    import inspect
+
+    try:
+        sig = inspect.signature(case.resolve())
+    except (TypeError, ValueError):
+        return {}
+    return {n: p.default for n, p in sig.parameters.items()
+            if n not in valid and not n.startswith("_") and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+            and isinstance(p.default, (int, float, str)) and not isinstance(p.default, bool)
+            and n not in FREE_TEXT}
+
+
+#: Parameter names whose values are free text (never a choice among names).
+FREE_TEXT = frozenset({"name", "unit", "title", "description", "label", "detail", "where", "statement"})
+
+
 def plan(case: Case) -> list[tuple[str, Mutation]]:
     """Every (argument, mutation) pair of a case, in a fixed order."""
     valid = case.valid()
@@ -636,6 +658,9 @@ def plan(case: Case) -> list[tuple[str, Mutation]]:
             out.append((arg, m))
     for arg in signature_flags(case, valid):
         out += [(arg, m) for m in mutate_flag(True) if m.category == "strict"]
+    if os.environ.get("ADCSKIT_ROBUSTNESS_DEFAULTS"):
+        for arg, default in signature_defaults(case, valid).items():
+            out += [(arg, m) for m in mutations_for(case, arg, default) if m.category != "same"]
     for label, (arg, value, category) in case.extra.items():
         out.append((arg, Mutation(label, value, category)))
     return out

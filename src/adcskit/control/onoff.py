@@ -371,7 +371,7 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
     arr = as_array("u", u, ndim=1)
     on = check_positive("u_on", u_on, allow_zero=True)
     off = check_range("u_off", u_off, 0.0, on, hi_name="u_on")
-    if state not in (-1, 0, 1, -1.0, 0.0, 1.0):
+    if isinstance(state, (bool, np.bool_)) or state not in (-1, 0, 1, -1.0, 0.0, 1.0):
         raise InputError(f"state must be -1, 0 or 1; got {state!r}")
     out = np.empty_like(arr)
     s = float(state)
