@@ -163,3 +163,25 @@ def test_chi2_band_is_finite_down_to_the_smallest_allowed_alpha():
     assert 0.0 <= lo < hi < np.inf
     with pytest.raises(InputError, match=r"alpha must be in \[1e-300, 1\)"):
         estimation.chi2_band(3, 10, alpha=5e-324)  # alpha / 2 rounds to 0: upper end inf
+
+
+def test_numbers_refuse_true_false_and_flags_accept_numpy_bools():
+    # a flag passed where a number goes was read as 1/0 (as_array converted bools silently)
+    with pytest.raises(InputTypeError, match="f_max must be an array of numbers, not True/False"):
+        thrusters.min_impulse_bit(0.5, f_max=True, t_min=0.003)
+    from adcskit.control import schmitt_trigger
+
+    with pytest.raises(InputError, match="state must be -1, 0 or 1"):
+        schmitt_trigger([0.0, 0.2], u_on=0.15, u_off=0.07, state=True)
+    with pytest.raises(InputTypeError, match="rng must be None"):
+        determination.robust_wahba([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 0.01, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                                   0.0, rng="3")  # minmax never draws from rng, and accepted anything
+
+
+def test_simulate_accepts_a_numpy_bool_for_record():
+    from adcskit.simulation import Scenario, SimSpec, simulate
+
+    sc = Scenario(sim=SimSpec(dt=0.02, t_final=0.2, metrics_from_s=0.1))
+    with pytest.raises(InputTypeError, match="record must be True or False"):
+        simulate(sc, 1, rng=0, record="no")
+    assert simulate(sc, 1, rng=0, record=np.bool_(False)).success
