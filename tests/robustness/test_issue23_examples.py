@@ -185,3 +185,38 @@ def test_simulate_accepts_a_numpy_bool_for_record():
     with pytest.raises(InputTypeError, match="record must be True or False"):
         simulate(sc, 1, rng=0, record="no")
     assert simulate(sc, 1, rng=0, record=np.bool_(False)).success
+
+
+# --- found by the exhaustive hypothesis variant (-m slow) -------------------------------------
+
+
+def test_loop_settings_reject_a_command_rate_whose_period_overflows():
+    from adcskit.control import LoopSettings
+
+    # 5e-324 Hz * dt underflowed to 0 and raised ZeroDivisionError
+    for rate in (5e-324, 1e-300):
+        with pytest.raises(InputError, match="command_rate_hz must give a command period"):
+            LoopSettings(command_rate_hz=rate)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # numpy's overflow on the way to the failure
+def test_propagate_attitude_reports_an_early_step_size_failure():
+    from adcskit.dynamics import propagate_attitude
+
+    # a needle-like inertia (it breaks the triangle inequality) makes the step size vanish before
+    # the first output time; solve_ivp then left a plain list where an array was expected
+    res = propagate_attitude([0.1, -0.2, 0.3, 0.9273618495495703], [0.01, -0.02, 0.03],
+                             [[10.0, 0.1, 0.0], [0.1, 8.0, 0.0], [0.0, 0.0, 2.4e-289]],
+                             [0.0, 1.0, 2.0], torque=lambda t, q, w: np.array([1e-3, 0.0, 0.0]))
+    assert not res.success and res.q.shape[1] == 4 and np.all(np.isfinite(res.q))
+
+
+def test_mekf_propagate_refuses_a_step_that_overflows_the_covariance():
+    f = estimation.MultiplicativeEKF(q0=[0.0, 0.0, 0.0, 1.0], b0=np.zeros(3), P0=np.diag([1e-2] * 3 + [1e-8] * 3),
+                                     sigma_v=1e-5, sigma_u=1e-8)
+    P = f.P.copy()
+    with pytest.raises(InputError, match="dt = 6.2e\\+64 s is too long a step"):
+        f.propagate([0.01, -0.02, 0.005], 6.2e64)  # the value hypothesis found
+    np.testing.assert_array_equal(f.P, P)  # left unchanged
+    f.propagate([0.01, -0.02, 0.005], 0.5)
+    assert np.all(np.isfinite(f.P))

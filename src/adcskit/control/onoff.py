@@ -124,10 +124,11 @@ class LoopSettings:
         check_range("settle_band", self.settle_band, 0.0, 1.0, lo_open=True)
         if self.t_final / self.dt > 5e7:
             raise InputError(f"t_final/dt must be <= 5e7 steps; got {self.t_final / self.dt:g}")
-        ratio = 1.0 / (self.command_rate_hz * self.dt)
-        if ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6 * ratio:
+        period_steps = self.command_rate_hz * self.dt  # may underflow to 0 for a tiny rate (period: inf)
+        ratio = 1.0 / period_steps if period_steps > 0 else math.inf
+        if not ratio <= 2.0**53 or ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6 * ratio:
             raise InputError(
-                "command_rate_hz must give a command period that is a whole number (>= 1) of "
+                "command_rate_hz must give a command period that is a whole number (1 to 2**53) of "
                 f"steps dt={self.dt:g} s; got command_rate_hz={self.command_rate_hz:g} "
                 f"(period/dt = {ratio:g})"
             )

@@ -247,8 +247,13 @@ class MultiplicativeEKF:
         """
         om = _vec3("omega_meas", omega_meas)
         h = check_positive("dt", dt, allow_zero=True, unit="s")
+        saved = (self._q.copy(), self._b.copy(), self._P.copy())
         _mk.mekf_propagate_jit(self._q, self._b, self._P, om, h, self._sigma_v, self._sigma_u,
                                self._work)
+        if not np.all(np.isfinite(self._P)):  # the process noise grows as dt^3: an absurd step overflows
+            self._q[:], self._b[:], self._P[:] = saved
+            raise InputError(f"dt = {h:g} s is too long a step for this filter: the propagated covariance "
+                             "overflows (the filter state is left unchanged)")
 
     def update_vector(self, v_body: Any, v_ref: Any, sigma: float) -> float:
         """Update with one observed direction.
