@@ -358,6 +358,9 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
 
     ``None`` values are written as comments, since TOML has no null. ``comments`` maps a
     (dotted) key to a line written as a ``#`` comment above it (see :func:`config_help`).
+    A key that is not a bare TOML key (``a b``, ``c.d``) is written quoted, strings are escaped,
+    so the text always reads back with :mod:`tomllib`; a non-string key or a value TOML cannot
+    hold (``None`` inside a list, an object) raises :class:`~adcskit.errors.InputTypeError`.
 
     Examples
     --------
@@ -366,6 +369,8 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
     <BLANKLINE>
     [mesh]
     shape = [20, 3]
+    >>> print(dump_toml({"a b": 1}), end="")
+    "a b" = 1
     """
     check_mapping("data", data)
     return _dump_toml(data, _prefix, _prefix, comments or {})
