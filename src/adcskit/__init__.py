@@ -21,8 +21,16 @@ Conventions (see ``docs/conventions.md``): SI units and radians inside, quaterni
 components, batch-first arrays, every stochastic function takes ``rng``.
 """
 
-from adcskit.errors import AdcskitError, ConfigError, InputError, InputTypeError
+from adcskit.errors import (
+    AdcskitError,
+    AdcskitWarning,
+    ConfigError,
+    InputError,
+    InputTypeError,
+    UncontrollableWarning,
+)
 
 __version__ = "0.1.0"
 
-__all__ = ["AdcskitError", "ConfigError", "InputError", "InputTypeError", "__version__"]
+__all__ = ["AdcskitError", "AdcskitWarning", "ConfigError", "InputError", "InputTypeError", "UncontrollableWarning",
+           "__version__"]

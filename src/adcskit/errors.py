@@ -8,7 +8,10 @@ adcskit, and its message names the parameter, the offending value and what is al
 
 from __future__ import annotations
 
-__all__ = ["AdcskitError", "InputError", "InputTypeError", "ConfigError", "SolverError"]
+__all__ = [
+    "AdcskitError", "InputError", "InputTypeError", "ConfigError", "SolverError", "AdcskitWarning",
+    "UncontrollableWarning",
+]
 
 
 class AdcskitError(Exception):
@@ -64,5 +67,31 @@ class SolverError(AdcskitError, RuntimeError):
     Examples
     --------
     >>> issubclass(SolverError, RuntimeError)
+    True
+    """
+
+
+class AdcskitWarning(UserWarning):
+    """Base class of every warning adcskit issues on purpose (a result that runs but that the
+    caller should not trust without reading why).
+
+    Examples
+    --------
+    >>> issubclass(AdcskitWarning, UserWarning)
+    True
+    """
+
+
+class UncontrollableWarning(AdcskitWarning):
+    """A thruster layout (after failures and dispersions) cannot produce torque in every
+    direction, so the closed loop cannot reach or hold every attitude.
+
+    Issued by :func:`adcskit.simulation.simulate` before it flies such a scenario; the
+    message names the unreachable torque direction (the positive-span test of
+    :func:`adcskit.thrusters.check_controllability`).
+
+    Examples
+    --------
+    >>> issubclass(UncontrollableWarning, AdcskitWarning)
     True
     """

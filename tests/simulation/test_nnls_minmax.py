@@ -3,8 +3,6 @@ closed-loop kernel: agreement with the library versions, and their use in simula
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
@@ -115,7 +113,7 @@ def test_minmax_in_loop_equals_qmethod_when_box_never_active():
     q = simulate(_leo(), n_samples=4, rng=3)
     mm = simulate(_leo(estimator=EstimatorSpec(kind="minmax", search_range=10.0, init_error_deg=0.05)),
                   n_samples=4, rng=3)
-    for name in ("rms_error", "knowledge_rms", "propellant", "firings"):
+    for name in ("pointing_rms_deg", "knowledge_rms_deg", "propellant_kg", "firings"):
         np.testing.assert_array_equal(mm.metrics[name], q.metrics[name])
     assert np.all(mm.metrics["box_active_fraction"] == 0.0)
     assert np.all(np.isnan(q.metrics["box_active_fraction"]))
@@ -132,9 +130,9 @@ def test_minmax_in_loop_with_active_box_runs_and_differs():
     assert mm.success
     frac = mm.metrics["box_active_fraction"]
     assert np.all((frac > 0.0) & (frac <= 1.0))
-    assert not np.array_equal(mm.metrics["knowledge_rms"], q.metrics["knowledge_rms"])
+    assert not np.array_equal(mm.metrics["knowledge_rms_deg"], q.metrics["knowledge_rms_deg"])
     # knowledge stays at the sensor level (a few tenths of a degree with the 0.5 deg magnetometer)
-    assert np.all(mm.metrics["knowledge_rms"] < math.radians(1.0))
+    assert np.all(mm.metrics["knowledge_rms_deg"] < 1.0)
 
 
 def test_pwm_with_nnls_allocation_settles():
@@ -144,7 +142,7 @@ def test_pwm_with_nnls_allocation_settles():
                   guidance=GuidanceSpec(kind="step", target_rotvec_deg=(2.0, -1.0, 1.0)),
                   estimator=EstimatorSpec(kind="truth"))
     res = simulate(sc, 2, rng=0)
-    assert res.success and np.all(res.metrics["final_error"] < math.radians(0.3))
+    assert res.success and np.all(res.metrics["final_error_deg"] < 0.3)
 
 
 def test_pwm_nnls_and_pinv_deliver_the_same_torque_when_unsaturated():
@@ -160,8 +158,8 @@ def test_pwm_nnls_and_pinv_deliver_the_same_torque_when_unsaturated():
                   estimator=EstimatorSpec(kind="truth"))
     pi = simulate(sc, 2, rng=0)
     nn = simulate(sc.replace(controller=sc.controller.replace(allocation="nnls")), 2, rng=0)
-    np.testing.assert_allclose(nn.metrics["rms_error"], pi.metrics["rms_error"], rtol=1e-6)
-    np.testing.assert_allclose(nn.metrics["final_error"], pi.metrics["final_error"], rtol=1e-5, atol=1e-12)
+    np.testing.assert_allclose(nn.metrics["pointing_rms_deg"], pi.metrics["pointing_rms_deg"], rtol=1e-6)
+    np.testing.assert_allclose(nn.metrics["final_error_deg"], pi.metrics["final_error_deg"], rtol=1e-5, atol=6e-11)  # 1e-12 rad
 
 
 def test_validation_of_new_options():
@@ -189,7 +187,7 @@ def test_same_seedsequence_gives_same_samples_on_every_call():
     assert ss.n_children_spawned == 0
     for k in a.parameters:
         np.testing.assert_array_equal(a.parameters[k], b.parameters[k])
-    np.testing.assert_array_equal(a.metrics["rms_error"], b.metrics["rms_error"])
+    np.testing.assert_array_equal(a.metrics["pointing_rms_deg"], b.metrics["pointing_rms_deg"])
     # a Generator is consumed: a second call from the same one draws other dispersions
     g = np.random.default_rng(2026)
     assert not np.array_equal(simulate(sc, 8, rng=g).parameters["inertia"], simulate(sc, 8, rng=g).parameters["inertia"])

@@ -48,14 +48,34 @@ def test_process_pool_is_bit_identical(tests_on_path):
         assert ex.map(fake_study.draw, _tasks()) == _expected()
 
 
-def test_dask_local_is_bit_identical(tests_on_path):
-    pytest.importorskip("dask.distributed")
+def test_dask_local_is_bit_identical(dask_local2):
     import fake_study
 
-    with make_executor("dask-local:2") as ex:
-        assert ex.spec == "dask-local:2"
-        assert ex.dashboard_link.startswith("http://127.0.0.1:")
-        assert ex.map(fake_study.draw, _tasks()) == _expected()
+    ex = dask_local2  # the session's DaskExecutor(n_workers=2): a cluster start costs seconds
+    assert ex.spec == "dask-local:2" and ex.n_workers == 2
+    assert ex.dashboard_link.startswith("http://127.0.0.1:")
+    assert ex.map(fake_study.draw, _tasks()) == _expected()
+
+
+@pytest.mark.parametrize(
+    ("spec", "args"),
+    [("dask-local:2", (None, 2)), ("dask-local", (None, None)), ("dask://10.0.0.7:8786", ("tcp://10.0.0.7:8786",))],
+)
+def test_dask_specs_build_a_dask_executor(monkeypatch, spec, args):
+    import adcskit.uncertainty.executor as executor
+
+    calls = []
+    monkeypatch.setattr(executor, "DaskExecutor", lambda *a: calls.append(a) or "built")
+    assert executor.make_executor(spec) == "built" and calls == [args]
+
+
+def test_dask_executor_arguments_are_checked():
+    from adcskit.uncertainty import DaskExecutor
+
+    with pytest.raises(InputError, match="n_workers must be"):
+        DaskExecutor(n_workers=0)
+    with pytest.raises(InputError, match="timeout must be > 0 s"):
+        DaskExecutor(n_workers=1, timeout=-1.0)
 
 
 @pytest.mark.parametrize(

@@ -142,10 +142,10 @@ def worker_path(monkeypatch):
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(SRC), str(TESTS), *sys.path]))
 
 
-def test_campaign_serial_vs_dask_local_identical(worker_path):
+def test_campaign_serial_vs_dask_local_identical(dask_local2):
     serial = monte_carlo([56.24, 0.02, 49.99], TABLE5, 60, settings=SHORT, task_size=15, rng=11)
     dask = monte_carlo([56.24, 0.02, 49.99], TABLE5, 60, settings=SHORT, task_size=15, rng=11,
-                       executor="dask-local:2")
+                       executor=dask_local2)
     assert dask.executor == "dask-local:2"
     np.testing.assert_array_equal(serial.metrics.as_array(), dask.metrics.as_array())
 

@@ -61,16 +61,16 @@ def test_monte_carlo_tasks_do_not_carry_the_samples():
 
 
 @pytest.fixture(scope="module")
-def pools():
-    """One process pool and one local Dask cluster (2 workers each), shared by the tests."""
+def pools(dask_local2):
+    """One process pool and the session's local Dask cluster (2 workers each)."""
     from adcskit.uncertainty import make_executor
 
     old = os.environ.get("PYTHONPATH")
     # spawned workers import adcskit and this test module by name
     os.environ["PYTHONPATH"] = os.pathsep.join([str(SRC), str(TESTS), *sys.path])
     try:
-        with make_executor("processes:2") as proc, make_executor("dask-local:2") as dask:
-            yield {"processes:2": proc, "dask-local:2": dask}
+        with make_executor("processes:2") as proc:
+            yield {"processes:2": proc, "dask-local:2": dask_local2}
     finally:
         if old is None:
             os.environ.pop("PYTHONPATH", None)

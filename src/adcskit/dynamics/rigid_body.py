@@ -36,6 +36,9 @@ from adcskit.errors import InputError
 
 __all__ = ["AttitudeTrajectory", "as_inertia", "euler_equations", "propagate_attitude"]
 
+#: Largest ``| |q0| - 1 |`` that :func:`propagate_attitude` accepts (rounding of a unit quaternion).
+_Q0_NORM_TOL = 1e-9
+
 
 def as_inertia(inertia: Any, name: str = "inertia") -> np.ndarray:
     """Inertia tensor from a ``(3,)`` diagonal or a ``(3, 3)`` matrix; checked symmetric
@@ -153,7 +156,8 @@ def propagate_attitude(
     Parameters
     ----------
     q0 : array_like (4,)
-        Initial attitude (reference → body, scalar last).
+        Initial attitude (reference → body, scalar last), a unit quaternion: ``| |q0| − 1 |``
+        must be ≤ 1e-9 (rounding), else :class:`~adcskit.errors.InputError`.
     omega0 : array_like (3,), rad/s
         Initial body rate.
     inertia : array_like (3,) or (3, 3), kg m²
@@ -189,6 +193,10 @@ def propagate_attitude(
     q, _ = quats("q0", q0)
     if q.shape[0] != 1:
         raise InputError(f"q0 must be one quaternion of shape (4,); got {q.shape[0]} quaternions")
+    nq = float(np.linalg.norm(as_array("q0", q0)))
+    if abs(nq - 1.0) > _Q0_NORM_TOL:
+        raise InputError(f"q0 must be a unit quaternion (|q0| within {_Q0_NORM_TOL:g} of 1: rounding only, an "
+                         f"initial state is not normalised silently); got |q0| = {nq:.12g}")
     w = as_array("omega0", omega0, shape=(3,))
     J = as_inertia(inertia)
     t = as_array("t_eval", t_eval, ndim=1)

@@ -856,7 +856,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             ts[x2o + j] = a21 * x1 + a22 * x2 + b2 * ud
             ts[x1o + j] = a11 * x1 + b1 * ud
             fav = FLEV[i, j] * v / dt  # mean force over the step (N)
-            prop += MDOT[j] * v
+            prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
             d0 = DIRS[i, j, 0]
             d1 = DIRS[i, j, 1]
             d2 = DIRS[i, j, 2]

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -30,11 +31,13 @@ import numpy as np
 import scipy.linalg
 from scipy.spatial.transform import Rotation, Slerp
 
+from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
+from adcskit._progress import status
 from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
-from adcskit.errors import InputTypeError
+from adcskit.errors import InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
-from adcskit.simulation.scenario import Scenario
+from adcskit.simulation.scenario import Scenario, _triangle_ok
 
 __all__ = [
     "SimulationResult",
@@ -46,13 +49,34 @@ __all__ = [
     "reference_profile",
 ]
 
-METRIC_NAMES = _k.METRIC_NAMES
+_DEG = math.pi / 180.0
+#: Per-sample metrics: name -> (kernel slot, factor from the kernel's SI value). Angles are in
+#: degrees like the scenario's inputs (names end ``_deg``), times in s, propellant in kg.
+_METRICS: dict[str, tuple[int, float]] = {
+    "pointing_mean_deg": (_k.M_MEAN_ERR, 1.0 / _DEG),
+    "pointing_rms_deg": (_k.M_RMS_ERR, 1.0 / _DEG),
+    "pointing_max_deg": (_k.M_MAX_ERR, 1.0 / _DEG),
+    "pointing_rms_x_deg": (_k.M_RMS_X, 1.0 / _DEG),
+    "pointing_rms_y_deg": (_k.M_RMS_Y, 1.0 / _DEG),
+    "pointing_rms_z_deg": (_k.M_RMS_Z, 1.0 / _DEG),
+    "settling_time_s": (_k.M_SETTLE, 1.0),
+    "final_error_deg": (_k.M_FINAL_ERR, 1.0 / _DEG),
+    "propellant_kg": (_k.M_PROP, 1.0),
+    "firings": (_k.M_FIRINGS, 1.0),
+    "on_time_s": (_k.M_ONTIME, 1.0),
+    "knowledge_rms_deg": (_k.M_KNOW_RMS, 1.0 / _DEG),
+    "nees_mean": (_k.M_NEES, 1.0),
+    "nees_count": (_k.M_NEES_N, 1.0),
+    "max_rate_deg_s": (_k.M_MAX_RATE, 1.0 / _DEG),
+    "box_active_fraction": (_k.M_BOX_ACTIVE, 1.0),
+}
+#: Names of the per-sample metrics of :class:`SimulationResult` (units in the names).
+METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
 #: Wahba methods usable in the loop -> kernel code.
 WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
 #: S3 §6: reference 6-thruster layout (Servidia & Sanchez Pena 2000), torque matrix as printed.
 S3_REFERENCE_A = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
 
-_DEG = math.pi / 180.0
 _ARCSEC = _DEG / 3600.0
 _MU = 3.986004418e14
 _RE = 6378137.0
@@ -73,23 +97,41 @@ class SimulationResult:
     Attributes
     ----------
     metrics : dict of str to ndarray (N,)
-        Per-sample metrics (:data:`METRIC_NAMES`): pointing error mean / RMS / max and
-        per-axis RMS over the metrics window (rad), ``settling_time`` (s; NaN = not settled
-        by the end; 0 = never outside the band), ``final_error`` (rad), ``propellant`` (kg),
-        ``firings`` (pulses), ``on_time`` (s, commanded, all thrusters), ``knowledge_rms``
-        (rad), ``nees_mean`` (MEKF NEES averaged over its epochs; NaN without MEKF),
-        ``nees_count``, ``max_rate`` (rad/s), ``box_active_fraction`` (``minmax``
+        Per-sample metrics (:data:`METRIC_NAMES`; each name carries its unit, angles in
+        degrees like the scenario's inputs): pointing error to the reference over the
+        metrics window, ``pointing_mean_deg`` / ``pointing_rms_deg`` / ``pointing_max_deg``
+        and per-axis ``pointing_rms_x_deg`` (y, z); ``settling_time_s`` (NaN = not settled
+        by the end; 0 = never outside the band); ``final_error_deg``; ``propellant_kg``
+        (each thruster's delivered impulse times its mass flow, which scales with the
+        sample's dispersed thrust at constant specific impulse); ``firings`` (pulses);
+        ``on_time_s`` (commanded, all thrusters); ``knowledge_rms_deg`` (estimate vs truth
+        over the window); ``nees_mean`` (MEKF NEES averaged over its epochs; NaN without
+        MEKF); ``nees_count``; ``max_rate_deg_s``; ``box_active_fraction`` (``minmax``
         estimator: fraction of its determination epochs at which the search box was active,
         i.e. the answer differs from the q-method of the same midpoints; NaN otherwise).
+    controllable : ndarray (N,) bool
+        Whether the sample's thrusters (failed ones removed, each with its dispersed
+        direction and thrust) can produce torque in every direction (their torques
+        positively span R^3, the test of :func:`adcskit.thrusters.check_controllability`);
+        ``parameters["torque_authority"]`` (N m) is the torque each sample can produce in
+        its weakest direction. Checked before the run; uncontrollable samples are still
+        simulated, with an :class:`adcskit.errors.UncontrollableWarning` and
+        ``success=False``. A layout that is uncontrollable without dispersions gives both
+        even if some misaligned samples span every direction (with a tiny authority).
     on_time_per_thruster : ndarray (N, n), s
         Commanded on-time of each thruster.
     t : ndarray (R,) or None, s
         Trace times (``record=True``).
     trace : ndarray (N, R, C) or None
-        Time histories, channels :attr:`channels`.
+        Time histories, channels :attr:`channels` (SI: errors in rad, rates in rad/s,
+        propellant in kg, thrust as a fraction of ``f_max``).
     channels : tuple of str
     parameters : dict of str to ndarray
-        The dispersed parameters of every sample (inertia, thrust levels, delay, ...).
+        The dispersed parameters of every sample (inertia, thrust levels, delay, ...);
+        ``inertia_physical`` (bool) flags the samples whose dispersed principal moments
+        satisfy the triangle inequality (see :class:`~adcskit.simulation.DispersionSpec`);
+        ``mass_flow`` (kg/s per thruster) scales with the dispersed ``thrust``;
+        ``torque_authority`` (N m) is the torque available in every direction.
     seeds : ndarray (N,) uint64
         Per-sample noise seeds.
     n_samples, n_steps : int
@@ -101,18 +143,20 @@ class SimulationResult:
         Campaign bookkeeping (chunks resumed from ``directory``).
     executor : str
     success : bool
-        Every metric finite where it must be (pointing error, propellant).
+        The layout and every sample controllable, and every metric finite where it must be
+        (pointing error, propellant).
     message : str
 
     Examples
     --------
     >>> from adcskit.simulation import Scenario, SimSpec, simulate
     >>> res = simulate(Scenario(sim=SimSpec(dt=0.02, t_final=2.0, metrics_from_s=1.0)), n_samples=4, rng=1)
-    >>> res.success, res.n_samples, res.metrics["rms_error"].shape
-    (True, 4, (4,))
+    >>> res.success, res.n_samples, res.metrics["pointing_rms_deg"].shape, bool(res.controllable.all())
+    (True, 4, (4,), True)
     """
 
     metrics: dict[str, np.ndarray]
+    controllable: np.ndarray
     on_time_per_thruster: np.ndarray
     t: np.ndarray | None
     trace: np.ndarray | None
@@ -147,6 +191,7 @@ class SimulationResult:
     def to_dict(self) -> dict[str, Any]:
         return {
             "summary": self.summary(),
+            "controllable_fraction": float(np.mean(self.controllable)) if self.controllable.size else math.nan,
             "n_samples": self.n_samples,
             "n_steps": self.n_steps,
             "sample_steps_per_s": self.sample_steps_per_s,
@@ -326,6 +371,89 @@ def _draw(scenario: Scenario, n: int, gen: np.random.Generator) -> dict[str, np.
     return draws
 
 
+def _torque_authority(A: np.ndarray) -> np.ndarray:
+    """Torque available in every direction: the radius of the largest ball about 0 inside the
+    attainable set ``{A F : 0 <= F_j <= 1}`` of each sample, ``A`` (n, 3, k) in N m per unit
+    command (columns ``F_max,j (r_j - com) x d_j``).
+
+    The attainable set is a zonotope; every facet normal of a zonotope in R^3 is the cross
+    product of two of its generators, and ``h(u) = sum_j max(0, u . a_j)`` is its support
+    function, so the radius is ``min h(u)`` over the unit cross products ``+-(a_i x a_j)``
+    (further normals only raise the minimum: ``h(u) >= r`` for every unit ``u``). It is > 0
+    iff the columns positively span R^3 (Davis 1954), the test of
+    :func:`adcskit.thrusters.check_controllability`.
+    """
+    n, _, k = A.shape
+    out = np.zeros(n)
+    if k < 2 or n == 0:
+        return out
+    ii, jj = np.triu_indices(k, 1)
+    for lo in range(0, n, 128):  # chunks: (m, k(k-1)/2, k) temporaries
+        a = A[lo:lo + 128]
+        N = np.cross(a[:, :, ii], a[:, :, jj], axis=1)  # (m, 3, p)
+        nrm = np.linalg.norm(N, axis=1)
+        big = np.max(np.linalg.norm(a, axis=1), axis=1)  # largest column norm per sample
+        ok = nrm > 1e-12 * (big * big)[:, None]
+        U = N / np.where(ok, nrm, 1.0)[:, None, :]
+        d = np.einsum("map,mak->mpk", U, a)
+        h = np.minimum(np.maximum(d, 0.0).sum(axis=2), np.maximum(-d, 0.0).sum(axis=2))
+        r = np.where(ok, h, np.inf).min(axis=1)
+        out[lo:lo + 128] = np.where(np.isfinite(r), r, 0.0)  # all columns parallel: rank 1
+    return out
+
+
+def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> dict[str, Any]:
+    """Per-sample feasibility of the working thrusters, before the flight.
+
+    A sample's torque columns are ``F_j (r_j - com) x d_j`` of its non-failed thrusters, with
+    its dispersed directions ``d_j`` and thrust levels ``F_j`` (N). ``authority`` (N m) is the
+    torque it can produce in *every* direction (:func:`_torque_authority`); the sample is
+    controllable iff that is > 1e-9 of its largest column (positive span). The nominal layout
+    (failed thrusters removed, no dispersion) and the first uncontrollable sample also get
+    :func:`adcskit.thrusters.check_controllability`, whose message names the unreachable
+    direction.
+    """
+    from adcskit.thrusters import check_controllability
+
+    th = scenario.thrusters
+    n, nt = flev.shape
+    pos = np.asarray(th.positions) - np.asarray(th.com)
+    work = np.ones(nt, bool)
+    work[list(th.failed)] = False
+    cols = np.flatnonzero(work)
+    A0 = np.cross(pos, np.asarray(th.directions)).T[:, cols] * th.f_max
+    nominal = check_controllability(A0) if cols.size else None
+    A = np.swapaxes(np.cross(pos[None], dirs), 1, 2)[:, :, cols] * flev[:, None, cols]  # (n, 3, k), N m
+    auth = _torque_authority(A)
+    big = np.max(np.linalg.norm(A, axis=1), axis=1) if cols.size else np.zeros(n)
+    ok = auth > 1e-9 * big
+    first_bad = None
+    bad = np.flatnonzero(~ok)
+    if bad.size and cols.size:
+        first_bad = check_controllability(A[bad[0]])
+    return {"controllable": ok, "authority": auth, "nominal": nominal, "first_bad": first_bad}
+
+
+def _controllability_message(scenario: Scenario, feas: dict[str, Any]) -> str:
+    """Why a scenario fails the feasibility test (empty when it passes)."""
+    th = scenario.thrusters
+    ok, nominal, auth = feas["controllable"], feas["nominal"], feas["authority"]
+    failed = f" with thruster(s) {list(th.failed)} failed" if th.failed else ""
+    if nominal is None:
+        return f"the layout has no working thruster{failed}: no torque can be produced"
+    n_ok = int(np.count_nonzero(ok))
+    if not nominal.success:
+        tail = ("no sample can produce torque in every direction" if n_ok == 0 else
+                f"{n_ok} of {ok.size} dispersed samples span every direction only through their misalignment, "
+                f"with at most {np.max(auth[ok]):.3g} N m in their weakest direction")
+        return f"the thruster layout{failed} cannot produce torque in every direction: {nominal.message}; {tail}"
+    if n_ok == ok.size:
+        return ""
+    why = f" (first such sample: {feas['first_bad'].message})" if feas["first_bad"] is not None else ""
+    return (f"{ok.size - n_ok} of {ok.size} samples cannot produce torque in every direction with their "
+            f"dispersed thrusters{failed} (misalignment or zero thrust){why}")
+
+
 def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
     sc = scenario
     dt = sc.sim.dt
@@ -348,7 +476,14 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     # --- per-sample parameters
     J0 = sc.spacecraft.matrix()
     scale = np.stack([draws[f"inertia_{a}"] for a in range(3)], axis=1)  # (n, 3)
-    J = J0[None] * np.sqrt(scale[:, :, None] * scale[:, None, :])  # keeps symmetry and PD
+    if np.count_nonzero(J0 - np.diag(np.diag(J0))) == 0:
+        # diagonal: body axes are principal axes; s_a scales the moment about body axis a
+        lam0, V = np.diag(J0).copy(), np.eye(3)
+    else:
+        lam0, V = np.linalg.eigh(J0)  # J0 = V diag(lam0) V^T
+    lam = lam0[None] * scale  # dispersed principal moments (n, 3), > 0 (scale >= 0.1)
+    J = np.einsum("ab,sb,cb->sac", V, lam, V)
+    J = 0.5 * (J + np.swapaxes(J, 1, 2))
     P = np.zeros((n, _k.N_PARAMS))
     P[:, _k.P_J:_k.P_J + 9] = J.reshape(n, 9)
     P[:, _k.P_JI:_k.P_JI + 9] = np.linalg.inv(J).reshape(n, 9)
@@ -375,6 +510,8 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     pos = np.asarray(th.positions) - np.asarray(th.com)
     failed = np.zeros(nt)
     failed[list(th.failed)] = 1.0
+    # mass flow at constant specific impulse: proportional to the sample's thrust
+    mdot = th.mdot * flev / th.f_max
     amask = np.ones(nt)
     if th.failure_known:
         amask[list(th.failed)] = 0.0
@@ -437,17 +574,21 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     C[_k.BUF_MASK] = buf_len - 1
     C[_k.RPI_EPS] = 1e-12
     C[_k.ALLOC_MODE] = _k.ALLOC_BVLS if (c.kind == "pwm" and c.allocation == "nnls") else _k.ALLOC_RPI
-    shared = dict(C=C, POS=np.ascontiguousarray(pos), MDOT=np.full(nt, th.mdot), FAILED=failed,
+    shared = dict(C=C, POS=np.ascontiguousarray(pos), FAILED=failed,
                   ENV=env, QREF=np.ascontiguousarray(qref), WREF=np.ascontiguousarray(wref),
                   ATAB=atab, ANOM=A_nom, FNOM=np.full(nt, th.f_max), AMASK=amask, buf_len=buf_len,
                   n_steps=n_steps)
-    per_sample = dict(P=P, DIRS=np.ascontiguousarray(dirs), FLEV=np.ascontiguousarray(flev))
+    feas = _controllability(sc, dirs, flev)
+    per_sample = dict(P=P, DIRS=np.ascontiguousarray(dirs), FLEV=np.ascontiguousarray(flev),
+                      MDOT=np.ascontiguousarray(mdot))
     params = {
-        "inertia": J, "thrust": flev, "directions": dirs, "delay": draws["delay"],
+        "inertia": J, "inertia_physical": _triangle_ok(lam), "thrust": flev, "mass_flow": mdot,
+        "torque_authority": feas["authority"],
+        "directions": dirs, "delay": draws["delay"],
         "initial_quaternion": q0, "initial_rate": P[:, _k.P_W0:_k.P_W0 + 3].copy(),
         "gyro_bias": P[:, _k.P_BIAS:_k.P_BIAS + 3].copy(), "disturbance_scale": draws["disturbance"],
     }
-    return {"shared": shared, "per_sample": per_sample}, params
+    return {"shared": shared, "per_sample": per_sample, "feasibility": feas}, params
 
 
 def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bool]) -> dict[str, Any]:
@@ -465,7 +606,7 @@ def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bo
     e = np.empty
     t0 = time.perf_counter()
     _k.run_parallel(
-        ps["P"], C, seeds, ps["DIRS"], ps["FLEV"], shared["POS"], shared["MDOT"], shared["FAILED"],
+        ps["P"], C, seeds, ps["DIRS"], ps["FLEV"], shared["POS"], ps["MDOT"], shared["FAILED"],
         shared["ENV"], shared["QREF"], shared["WREF"], shared["ATAB"], shared["ANOM"], shared["FNOM"],
         shared["AMASK"], np.zeros((n, shared["buf_len"], nt)), np.zeros((n, _k.N_TS_PER_THR * nt + _k.N_TS_EXTRA)),
         e((n, 4)), e((n, 3)), e((n, 6, 6)), e((n, 48)), e((n, 12)), e((n, 3)),
@@ -514,14 +655,31 @@ def simulate(
     Returns
     -------
     SimulationResult
+        ``success=False`` (and :attr:`~SimulationResult.controllable` False for the samples
+        concerned) when a sample's thrusters cannot produce torque in every direction.
+
+    Warns
+    -----
+    UncontrollableWarning
+        Before the run, when the layout without its failed thrusters, or a sample's
+        dispersed layout (misalignment, zero thrust), cannot produce torque in every
+        direction (:func:`adcskit.thrusters.check_controllability`); the message names the
+        unreachable torque direction.
+
+    Notes
+    -----
+    The first call in a fresh installation compiles the numba kernel (about 3 min on
+    2 cores; cached on disk afterwards); inside a progress display (the ``adcskit`` CLI) a
+    one-line notice says so first. The notice
+    is printed only when numba's disk cache holds no usable entry for the kernel.
 
     Examples
     --------
     >>> from adcskit.simulation import Scenario, SimSpec, simulate
     >>> sc = Scenario(sim=SimSpec(dt=0.02, t_final=2.0, metrics_from_s=1.0))
     >>> res = simulate(sc, n_samples=4, rng=1)
-    >>> res.metrics["propellant"].shape
-    (4,)
+    >>> res.metrics["propellant_kg"].shape, res.controllable.tolist()
+    ((4,), [True, True, True, True])
 
     References
     ----------
@@ -540,6 +698,11 @@ def simulate(
     gen = as_rng(rng)
     t_start = time.perf_counter()
     prep, params = _prepare(scenario, n_samples, gen)
+    feas = prep["feasibility"]
+    controllable = feas["controllable"]
+    feas_msg = _controllability_message(scenario, feas)
+    if feas_msg:
+        warnings.warn(f"simulate: {feas_msg}", UncontrollableWarning, stacklevel=2)
     seeds = np.random.SeedSequence(int(gen.integers(2**63))).generate_state(n_samples, dtype=np.uint64)
     if chunk_size is None:
         chunk_size = max(64, -(-n_samples // 8))
@@ -552,6 +715,8 @@ def simulate(
         tasks.append((shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi], record))
     from adcskit.uncertainty import run_campaign
 
+    if will_compile(_k.run_parallel):
+        status(CLOSED_LOOP_NOTICE)
     camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
                         description="closed-loop samples")
     blocks = camp.values
@@ -566,12 +731,17 @@ def simulate(
     else:
         trace = None
         t = None
-    metrics = {name: out[:, j].copy() for j, name in enumerate(METRIC_NAMES)}
-    ok = bool(np.all(np.isfinite(metrics["rms_error"])) and np.all(np.isfinite(metrics["propellant"])))
+    metrics = {name: out[:, j] * f for name, (j, f) in _METRICS.items()}
+    finite = bool(np.all(np.isfinite(metrics["pointing_rms_deg"])) and np.all(np.isfinite(metrics["propellant_kg"])))
+    ok = finite and not feas_msg
+    n_unphys = int(np.count_nonzero(~params["inertia_physical"]))
     msg = (f"{n_samples} samples x {n_steps} steps; {camp.n_chunks} chunk(s), {camp.n_resumed} resumed"
-           + ("" if ok else "; some samples produced non-finite metrics"))
+           + ("" if finite else "; some samples produced non-finite metrics")
+           + (f"; {feas_msg}" if feas_msg else "")
+           + (f"; {n_unphys} sample(s) with dispersed principal moments that break the triangle inequality "
+              "(parameters['inertia_physical'])" if n_unphys else ""))
     return SimulationResult(
-        metrics=metrics, on_time_per_thruster=tot, t=t, trace=trace, channels=_trace_channels(nt),
+        metrics=metrics, controllable=controllable, on_time_per_thruster=tot, t=t, trace=trace, channels=_trace_channels(nt),
         parameters=params, seeds=seeds, n_samples=n_samples, n_steps=n_steps,
         sample_steps_per_s=n_samples * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed,

@@ -86,6 +86,26 @@ class _Spec:
         return out
 
 
+#: Relative rounding allowance of the inertia triangle inequality ``I_max <= (1 + rtol) (I_a + I_b)``.
+_TRIANGLE_RTOL = 1e-9
+
+
+def _triangle_ok(moments: Any) -> np.ndarray:
+    """Whether principal moments ``(..., 3)`` satisfy the rigid-body triangle inequality.
+
+    ``I_a <= I_b + I_c`` for every axis (Markley & Crassidis 2014, §3.3.5: the moments are
+    sums of ``m (y^2 + z^2)`` etc. over the body's mass), to a relative ``_TRIANGLE_RTOL`` = 1e-9.
+
+    Examples
+    --------
+    >>> bool(_triangle_ok([1218.6, 442.2, 1429.4])), bool(_triangle_ok([1.0, 1.0, 100.0]))
+    (True, False)
+    """
+    m = np.asarray(moments, dtype=float)
+    big = np.max(m, axis=-1)
+    return np.asarray(big <= (np.sum(m, axis=-1) - big) * (1.0 + _TRIANGLE_RTOL))
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SpacecraftSpec(_Spec):
     """Rigid body.
@@ -94,7 +114,10 @@ class SpacecraftSpec(_Spec):
     ----------
     inertia : tuple of 3 or 9 floats, kg m^2
         Principal moments (diagonal) or the full row-major matrix (symmetric positive
-        definite). Default: S3's GEO satellite, diag(1218.6, 442.2, 1429.4).
+        definite). The principal moments must satisfy the triangle inequality of a rigid body,
+        ``I_a <= I_b + I_c`` for every axis (equality: a flat plate), to a relative
+        1e-9 (rounding); a body such as diag(1, 1, 100) is an :class:`InputError`.
+        Default: S3's GEO satellite, diag(1218.6, 442.2, 1429.4).
 
     Examples
     --------
@@ -115,8 +138,15 @@ class SpacecraftSpec(_Spec):
             raise InputError(f"inertia must have 3 (diagonal) or 9 (matrix) entries kg m^2; got {len(a)}")
         if not np.all(np.isfinite(J)) or not np.allclose(J, J.T, rtol=1e-12, atol=0.0):
             raise InputError(f"inertia must be finite and symmetric; got {self.inertia!r}")
-        if np.min(np.linalg.eigvalsh(J)) <= 0.0:
-            raise InputError(f"inertia must be positive definite; got eigenvalues {np.linalg.eigvalsh(J)}")
+        ev = np.linalg.eigvalsh(J)
+        if np.min(ev) <= 0.0:
+            raise InputError(f"inertia must be positive definite; got eigenvalues {ev}")
+        if not _triangle_ok(ev):
+            raise InputError(
+                "inertia must satisfy the triangle inequality of a rigid body (each principal moment "
+                f"<= the sum of the other two, to a relative {_TRIANGLE_RTOL:g}); got principal moments "
+                f"{np.array2string(ev, precision=6)} kg m^2: {ev[2]:.6g} > {ev[0]:.6g} + {ev[1]:.6g}"
+            )
         object.__setattr__(self, "inertia", tuple(float(x) for x in a))
 
     def matrix(self) -> np.ndarray:
@@ -562,7 +592,14 @@ class DispersionSpec(_Spec):
     Attributes
     ----------
     inertia_rel : float
-        Relative std of each principal moment (truncated at +-90 %).
+        Relative std of each principal moment (truncated at +-90 %): a sample's inertia is
+        ``V diag(s_a I_a) V^T`` with ``J = V diag(I_a) V^T`` the nominal's eigen-decomposition
+        (principal axes kept; for a diagonal inertia ``V = I`` and ``s_a`` scales the moment
+        about body axis ``a``). A sample whose moments break the triangle inequality
+        (possible for a large ``inertia_rel`` or a near-flat body) is simulated as drawn (the
+        equations of motion stay well posed for any positive definite inertia) and flagged:
+        ``SimulationResult.parameters["inertia_physical"]`` is False for it and the result's
+        ``message`` counts such samples.
     thrust_rel : float
         Relative std of each thruster's force.
     misalignment_deg : float

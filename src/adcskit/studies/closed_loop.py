@@ -27,6 +27,7 @@ spacecraft, layouts, allocation), S4 (loop, gains, dispersions); Lefferts, Markl
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,6 +35,7 @@ import numpy as np
 
 from adcskit._progress import status
 from adcskit.config import ConfigError
+from adcskit.errors import UncontrollableWarning
 from adcskit.simulation import (
     ControllerSpec,
     DispersionSpec,
@@ -301,14 +303,22 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
     figures: dict[str, Any] = {}
     checks: list[Check] = []
     rate_log: list[float] = []
+    feas_log: dict[str, list[float]] = {}  # question -> controllable fraction of each simulate call
 
-    def sim(sc: Scenario, seq: np.random.SeedSequence, record: bool = False, n: int | None = None):
+    def sim(sc: Scenario, seq: np.random.SeedSequence, record: bool = False, n: int | None = None,
+            question: str = ""):
         # the SeedSequence itself (simulate copies it): every configuration run with the same
         # `seq` gets the same dispersions and noise seeds (common random numbers). A Generator
         # made from `seq` would not: scipy's Latin-hypercube sampler spawns from its
         # SeedSequence, so each call would draw other dispersions.
-        res = simulate(sc, n or ns, rng=seq, executor=executor, record=record)
+        with warnings.catch_warnings():
+            # an uncontrollable layout (Q1 with a failed thruster) is reported in the tables and
+            # `measured` (controllable fractions), not as a warning per call
+            warnings.simplefilter("ignore", UncontrollableWarning)
+            res = simulate(sc, n or ns, rng=seq, executor=executor, record=record)
         rate_log.append(res.sample_steps_per_s)
+        if question:
+            feas_log.setdefault(question, []).append(float(np.mean(res.controllable)))
         return res
 
     # ---------------------------------------------------------------- Q1: layouts
@@ -317,6 +327,8 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
     q1_runs: dict[str, list[dict[str, float]]] = {r: [] for r in Q1_READINGS}
     q1_rows = []
     prop_hist: dict[str, np.ndarray] = {}
+    q1_ctrl: dict[str, list[float]] = {}
+    q1_auth: dict[str, list[float]] = {}
     for s_i, seq in enumerate(seeds):
         sub = seq.spawn(3)
         opt_layout = _design_layout(cfg, int(sub[0].generate_state(1)[0]))
@@ -329,19 +341,29 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
                 th = L.replace(failed=(fail[name][0],)) if failed == "one failed" else L
                 r = sim(_geo_base(cfg, th, alloc), sub[1])  # same dispersion/noise seed for both layouts
                 res[name] = r
+                q1_ctrl.setdefault(f"{name}, {reading}", []).append(float(np.mean(r.controllable)))
+                q1_auth.setdefault(f"{name}, {reading}", []).append(float(np.mean(r.parameters["torque_authority"])))
                 q1_rows.append({"seed": s_i, "reading": reading, "layout": name,
                                 "failed_thruster": fail[name][0] if failed == "one failed" else -1,
                                 "still_controllable": fail[name][1] if failed == "one failed" else True,
-                                "propellant_mean_kg": _mean(r.metrics["propellant"]),
-                                "rms_error_mean_deg": _mean(r.metrics["rms_error"]) / _DEG,
-                                "settled_fraction": float(np.mean(np.isfinite(r.metrics["settling_time"]))),
+                                "controllable_fraction": float(np.mean(r.controllable)),
+                                "torque_authority_mean_nm": float(np.mean(r.parameters["torque_authority"])),
+                                "propellant_mean_kg": _mean(r.metrics["propellant_kg"]),
+                                "pointing_rms_mean_deg": _mean(r.metrics["pointing_rms_deg"]),
+                                "settled_fraction": float(np.mean(np.isfinite(r.metrics["settling_time_s"]))),
                                 "firings_mean": _mean(r.metrics["firings"])})
-            pr = _mean(res["reference"].metrics["propellant"])
-            po = _mean(res["optimised"].metrics["propellant"])
+            pr = _mean(res["reference"].metrics["propellant_kg"])
+            po = _mean(res["optimised"].metrics["propellant_kg"])
             q1_runs[reading].append({"ratio": po / pr, "ref": pr, "opt": po})
             if s_i == len(seeds) - 1 and reading == Q1_READINGS[0]:
-                prop_hist = {k: v.metrics["propellant"] for k, v in res.items()}
+                prop_hist = {k: v.metrics["propellant_kg"] for k, v in res.items()}
     tables["q1_layouts"] = q1_rows
+    for key, fr in q1_ctrl.items():
+        # fraction of the Monte-Carlo samples whose thrusters (failed one removed, dispersed
+        # misalignment) can produce torque in every direction (simulate's feasibility test)
+        measured[f"q1_controllable_fraction[{key}]"] = float(np.mean(fr))
+        # torque available in the weakest direction (N m), mean over samples and seeds
+        measured[f"q1_torque_authority_nm[{key}]"] = float(np.mean(q1_auth[key]))
     f1 = F1.evaluate(q1_runs, default=Q1_READINGS[0])
 
     # ---------------------------------------------------------------- Q2: estimators (LEO)
@@ -356,22 +378,22 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
             noise = "uniform" if reading.startswith("bounded") else "gaussian"
             weights = "equal" if reading.endswith("equal weights") else "inverse-variance"
             # the same dispersion and noise seed for every estimator: paired comparisons
-            rq = sim(_leo_base(cfg, "wahba", noise, weights), sub[0])
-            rr = sim(_leo_base(cfg, "minmax", noise, weights), sub[0])
-            eq, er = _mean(rq.metrics["rms_error"]), _mean(rr.metrics["rms_error"])
+            rq = sim(_leo_base(cfg, "wahba", noise, weights), sub[0], question="q2")
+            rr = sim(_leo_base(cfg, "minmax", noise, weights), sub[0], question="q2")
+            eq, er = _mean(rq.metrics["pointing_rms_deg"]), _mean(rr.metrics["pointing_rms_deg"])
             q2m_runs[reading].append({"ratio": er / eq, "q": eq, "minmax": er})
-            row = {"seed": s_i, "reading": reading, "rms_error_qmethod_deg": eq / _DEG,
-                   "rms_error_minmax_deg": er / _DEG, "rms_error_mekf_deg": math.nan,
-                   "knowledge_rms_qmethod_deg": _mean(rq.metrics["knowledge_rms"]) / _DEG,
-                   "knowledge_rms_minmax_deg": _mean(rr.metrics["knowledge_rms"]) / _DEG,
+            row = {"seed": s_i, "reading": reading, "pointing_rms_qmethod_deg": eq,
+                   "pointing_rms_minmax_deg": er, "pointing_rms_mekf_deg": math.nan,
+                   "knowledge_rms_qmethod_deg": _mean(rq.metrics["knowledge_rms_deg"]),
+                   "knowledge_rms_minmax_deg": _mean(rr.metrics["knowledge_rms_deg"]),
                    "knowledge_rms_mekf_deg": math.nan,
                    "minmax_box_active_fraction": _mean(rr.metrics["box_active_fraction"]),
                    "mekf_nees_mean": math.nan}
             if reading in Q2_READINGS:  # the MEKF uses no Wahba weights
-                rm = sim(_leo_base(cfg, "mekf", noise), sub[0])
-                em = _mean(rm.metrics["rms_error"])
+                rm = sim(_leo_base(cfg, "mekf", noise), sub[0], question="q2")
+                em = _mean(rm.metrics["pointing_rms_deg"])
                 q2_runs[reading].append({"ratio": em / eq, "q": eq, "mekf": em})
-                row.update(rms_error_mekf_deg=em / _DEG, knowledge_rms_mekf_deg=_mean(rm.metrics["knowledge_rms"]) / _DEG,
+                row.update(pointing_rms_mekf_deg=em, knowledge_rms_mekf_deg=_mean(rm.metrics["knowledge_rms_deg"]),
                            mekf_nees_mean=_mean(rm.metrics["nees_mean"]))
             q2_rows.append(row)
     tables["q2_estimators"] = q2_rows
@@ -403,12 +425,12 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
         sub = seq.spawn(1)
         out = {}
         for name, g in S4_GAINS.items():
-            r = sim(_s4_base(cfg, g), sub[0])
-            e = r.metrics["rms_error"]
+            r = sim(_s4_base(cfg, g), sub[0], question="q3")
+            e = r.metrics["pointing_rms_deg"]
             out[name] = (float(np.nanstd(e, ddof=1)), _mean(e))
         q3_runs.append({"ratio": out["robust"][0] / out["nominal"][0]})
-        q3_rows.append({"seed": s_i, "std_nominal_deg": out["nominal"][0] / _DEG, "std_robust_deg": out["robust"][0] / _DEG,
-                        "mean_nominal_deg": out["nominal"][1] / _DEG, "mean_robust_deg": out["robust"][1] / _DEG})
+        q3_rows.append({"seed": s_i, "std_nominal_deg": out["nominal"][0], "std_robust_deg": out["robust"][0],
+                        "mean_nominal_deg": out["nominal"][1], "mean_robust_deg": out["robust"][1]})
     tables["q3_gains"] = q3_rows
     f3 = F3.evaluate({"default": q3_runs})
 
@@ -432,15 +454,15 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
                     settle_band_deg=0.2, record_every=max(1, int(round(0.2 / cfg.geo_dt_s)))))
     for s_i, seq in enumerate(seeds):
         sub = seq.spawn(1)
-        rs = sim(base4.replace(guidance=step), sub[0])
-        ro = sim(base4.replace(guidance=table), sub[0])
-        ts_, to_ = _mean(rs.metrics["settling_time"]), _mean(ro.metrics["settling_time"])
-        ps_, po_ = _mean(rs.metrics["propellant"]), _mean(ro.metrics["propellant"])
+        rs = sim(base4.replace(guidance=step), sub[0], question="q4")
+        ro = sim(base4.replace(guidance=table), sub[0], question="q4")
+        ts_, to_ = _mean(rs.metrics["settling_time_s"]), _mean(ro.metrics["settling_time_s"])
+        ps_, po_ = _mean(rs.metrics["propellant_kg"]), _mean(ro.metrics["propellant_kg"])
         q4a.append({"ratio": to_ / ts_})
         q4b.append({"ratio": po_ / ps_})
         q4_rows.append({"seed": s_i, "settling_step_s": ts_, "settling_optimal_s": to_,
-                        "settled_fraction_step": float(np.mean(np.isfinite(rs.metrics["settling_time"]))),
-                        "settled_fraction_optimal": float(np.mean(np.isfinite(ro.metrics["settling_time"]))),
+                        "settled_fraction_step": float(np.mean(np.isfinite(rs.metrics["settling_time_s"]))),
+                        "settled_fraction_optimal": float(np.mean(np.isfinite(ro.metrics["settling_time_s"]))),
                         "propellant_step_kg": ps_, "propellant_optimal_kg": po_})
     tables["q4_slew"] = q4_rows
     f4a = F4A.evaluate({"default": q4a})
@@ -454,6 +476,15 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
     figures["nees"] = _fig_nees(nees_trace)
     figures["propellant"] = _fig_propellant(prop_hist)
 
+    fr = {q: float(np.min(v)) for q, v in sorted(feas_log.items())}
+    checks.append(Check(
+        name="feasibility before flight: in Q2-Q4 every Monte-Carlo sample's thrusters (dispersed misalignment) "
+             "can produce torque in every direction",
+        passed=bool(fr) and all(v == 1.0 for v in fr.values()),
+        detail="smallest controllable fraction per question over its simulate calls: "
+               + ", ".join(f"{q} {v:.3g}" for q, v in fr.items())
+               + " (Q1 with a failed thruster: see q1_controllable_fraction in measured)",
+        kind="check"))
     measured["kernel_sample_steps_per_s_median"] = float(np.median(rate_log))
     measured["n_simulate_calls"] = len(rate_log)
     findings = [f1, f2, f2b, f3, f4a, f4b]

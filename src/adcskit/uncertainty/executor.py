@@ -23,8 +23,9 @@ Data shared by every task (e.g. the Monte-Carlo sample arrays) is passed once, a
 ``map(fn, tasks, shared=data)``, and every task then runs ``fn(task, data)``: the serial
 executor passes the object, the process pool writes it once to a temporary file that each
 worker loads once, and Dask scatters it once to the workers (:meth:`Client.scatter`,
-broadcast), so the task graph holds only the small tasks and a reference to the data —
-never a copy of the data per task.
+broadcast, under a fresh random key per call, released once the results are back), so the
+task graph holds only the small tasks and a reference to the data — never a copy of the
+data per task.
 
 Hand-written here: only the thin adapter; the pools are the standard library's and Dask's.
 """
@@ -42,8 +43,8 @@ from collections.abc import Callable, Iterable, Sequence, Sized
 from pathlib import Path
 from typing import Any
 
-from adcskit._progress import track
-from adcskit._validation import check_callable, check_int, short_repr
+from adcskit._progress import bar, track
+from adcskit._validation import check_callable, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
@@ -221,6 +222,38 @@ class ProcessExecutor(Executor):
 class DaskExecutor(Executor):
     """Tasks on a ``dask.distributed`` cluster: a new local one or an existing scheduler.
 
+    Parameters
+    ----------
+    address : str, optional
+        ``tcp://HOST:PORT`` of a running scheduler; None starts a
+        :class:`~dask.distributed.LocalCluster` on 127.0.0.1.
+    n_workers : int, optional
+        Worker processes of the local cluster (one thread each; default: CPU count). Not
+        used with ``address``.
+    timeout : float, s, optional
+        Longest time one :meth:`map` may take (scatter, tasks and results together); past it
+        the outstanding tasks are cancelled and :class:`TimeoutError` is raised. None (the
+        default) waits as long as the tasks take.
+
+    Notes
+    -----
+    Shared data is scattered once per :meth:`map` call, broadcast to every worker, under a
+    fresh random key (``hash=False`` on a one-element list). A dict is never scattered as
+    such: :meth:`Client.scatter` would use its keys as Dask keys, so two successive calls
+    with the same keys would share them, and releasing the first call's data would delete the
+    second's (issue 23: ``FutureCancelledError ... lost dependencies``). The reference is held
+    until every result is back and released afterwards.
+
+    A worker that dies mid-campaign costs only its running tasks: the scheduler reruns them
+    on another worker (up to ``distributed.scheduler.allowed-failures`` times per task). If
+    every copy of the shared data is lost with it (it cannot be recomputed), :meth:`map`
+    scatters it again and resubmits the tasks that did not finish, at most
+    ``max_resubmits`` times. Every task is a pure function of its own seed and the shared
+    data, so the results are the same as without the failure.
+
+    The local cluster's logs are silenced (``silence_logs=CRITICAL``): every failure of a
+    task reaches the caller as the exception :meth:`map` raises.
+
     Examples
     --------
     >>> import math
@@ -229,13 +262,27 @@ class DaskExecutor(Executor):
     ...     print(ex.n_workers, ex.map(math.sqrt, [1.0, 4.0, 9.0]))
     2 [1.0, 2.0, 3.0]
     >>> from adcskit.uncertainty import Executor
-    >>> issubclass(DaskExecutor, Executor)
-    True
+    >>> issubclass(DaskExecutor, Executor), DaskExecutor.max_resubmits
+    (True, 3)
     """
 
-    def __init__(self, address: str | None = None, n_workers: int | None = None) -> None:
+    max_resubmits: int = 3
+    """Rounds of re-scatter + resubmission after the shared data was lost with its workers."""
+
+    def __init__(
+        self, address: str | None = None, n_workers: int | None = None, *, timeout: float | None = None
+    ) -> None:
+        import logging
+
         from dask.distributed import Client, LocalCluster
 
+        if n_workers is not None:
+            n_workers = check_int("n_workers", n_workers, minimum=1, maximum=1024)
+        if timeout is not None:
+            timeout = check_positive("timeout", timeout, unit="s")
+        if address is not None and not isinstance(address, str):
+            raise InputTypeError(f"address must be a string 'tcp://HOST:PORT'; got {short_repr(address)}")
+        self._timeout = timeout
         self._cluster = None
         if address is None:
             n = int(n_workers or os.cpu_count() or 1)
@@ -245,13 +292,18 @@ class DaskExecutor(Executor):
                 processes=True,
                 dashboard_address="127.0.0.1:0",
                 host="127.0.0.1",
-                silence_logs=40,
+                silence_logs=logging.CRITICAL,
             )
             self._client = Client(self._cluster)
             self.spec = f"dask-local:{n}"
         else:
             self._client = Client(address, timeout=30)
             self.spec = f"dask://{address.removeprefix('tcp://')}"
+
+    @property
+    def client(self):
+        """The :class:`dask.distributed.Client` (e.g. to inspect or restart workers)."""
+        return self._client
 
     @property
     def dashboard_link(self) -> str:
@@ -264,24 +316,72 @@ class DaskExecutor(Executor):
         return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
 
     def map(self, fn, tasks, *, description="tasks", shared=NO_SHARED):
-        from dask.distributed import as_completed
+        import time
 
         _check_map(fn, tasks)
-        if shared is NO_SHARED:
-            futures = self._client.map(fn, list(tasks), pure=False)
-        else:
-            # one copy of the data per worker; the tasks carry a reference (a future)
-            ref = self._client.scatter(shared, broadcast=True, hash=False)
-            futures = self._client.map(_apply_shared, list(tasks), fn=fn, shared=ref, pure=False)
-        index = {f.key: i for i, f in enumerate(futures)}
-        results: list[Any] = [None] * len(futures)
+        tasks = list(tasks)
+        results: list[Any] = [None] * len(tasks)
+        todo = list(range(len(tasks)))
+        if not todo:
+            return results
+        deadline = None if self._timeout is None else time.monotonic() + self._timeout
+        reason = ""
+        with bar(description, len(tasks)) as advance:
+            for _ in range(1 + self.max_resubmits):
+                todo, reason = self._round(fn, tasks, todo, shared, results, advance, deadline)
+                if not todo:
+                    return results
+        raise RuntimeError(
+            f"Dask lost {len(todo)} of {len(tasks)} tasks after {1 + self.max_resubmits} submissions "
+            f"on {self.spec}: {reason}"
+        )
+
+    def _round(self, fn, tasks, todo, shared, results, advance, deadline):
+        """Submit ``tasks[todo]`` once; return the indices whose futures were lost, and why."""
+        import time
+
+        from dask.distributed import TimeoutError as DaskTimeoutError
+        from dask.distributed import as_completed
+
+        client = self._client
+        left = None if deadline is None else max(1e-3, deadline - time.monotonic())
+        ref = None
+        futures: list[Any] = []
+        lost: list[int] = []
+        reason = ""
         try:
-            for fut in track(as_completed(futures), description, total=len(futures)):
-                results[index[fut.key]] = fut.result()
+            if shared is NO_SHARED:
+                futures = client.map(fn, [tasks[i] for i in todo], pure=False)
+            else:
+                # one fresh random key per call: a one-element list with hash=False, never the
+                # dict itself (Client.scatter would use the dict's keys as Dask keys)
+                [ref] = client.scatter([shared], broadcast=True, hash=False, timeout=left)
+                futures = client.map(_apply_shared, [tasks[i] for i in todo], fn=fn, shared=ref, pure=False)
+            index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+            left = None if deadline is None else max(1e-3, deadline - time.monotonic())
+            for fut in as_completed(futures, timeout=left):
+                try:
+                    value = fut.result(timeout=None if deadline is None else max(1e-3, deadline - time.monotonic()))
+                except cf.CancelledError as exc:  # lost with a worker, with the shared data it needs
+                    lost.append(index[fut.key])
+                    reason = str(exc)
+                    continue
+                results[index[fut.key]] = value
+                advance(1)
+        except (DaskTimeoutError, TimeoutError) as exc:
+            client.cancel(futures)
+            if deadline is None or time.monotonic() < deadline:
+                raise  # a task's own TimeoutError, not this map's deadline
+            raise TimeoutError(
+                f"Dask map on {self.spec} did not finish within timeout = {self._timeout:g} s"
+            ) from exc
         except BaseException:
-            self._client.cancel(futures)
+            client.cancel(futures)
             raise
-        return results
+        finally:
+            if ref is not None:
+                ref.release()  # the workers drop the shared data once no task needs it
+        return sorted(lost), reason
 
     def close(self) -> None:
         self._client.close()
