@@ -47,7 +47,7 @@ from adcskit.simulation import (
     ThrusterSpec,
     simulate,
 )
-from adcskit.simulation.core import S3_REFERENCE_A
+from adcskit.thrusters import S3_REFERENCE_A
 
 INERTIA = (1218.6, 442.2, 1429.4)  # S3 Table 5, kg m^2
 MASS = 900.0  # S3 §6

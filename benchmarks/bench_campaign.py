@@ -31,8 +31,8 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
 from adcskit.control import LoopSettings  # noqa: E402
+from adcskit.control.tuning import monte_carlo  # noqa: E402
 from adcskit.uncertainty import Gaussian, TruncatedGaussian, latin_hypercube, make_executor  # noqa: E402
-from adcskit.uncertainty.tuning import monte_carlo  # noqa: E402
 
 TABLE5 = {
     "inertia": TruncatedGaussian(mean=10.0, std=2.0, low=0.5),

@@ -76,6 +76,9 @@ def problems(rigid_body: bool):
         ("brachistochrone", S.brachistochrone(10.0, 5.0), None, None),
         ("goddard-rocket", S.goddard_rocket(), _goddard_guess(), [(4, 4)] * 3),
         ("launch-ascent", launch, launch_ascent_guess(launch), [(8, 4)] * 4),
+        # issue 22: bang-bang problems (exact switch times through free phase boundaries)
+        ("free-flying-robot", S.free_flying_robot(), None, None),
+        ("oscillator-min-time", S.oscillator_min_time(), None, None),
     ]
     if rigid_body:
         out.append(("rigid-body-reorientation", S.rigid_body_reorientation(180.0), None, None))

@@ -45,8 +45,8 @@ def _naive_score(A, demands, fmax=10.0, tmin=3e-3, t_s=0.2, gain=600.0, w=(100.0
 
 
 def bench_eval(repeat: int = 5) -> dict:
-    from adcskit.studies.thruster_layout import manoeuvre_demands
     from adcskit.thrusters import box_faces, score_layout
+    from adcskit.thrusters import s3_manoeuvre_demands as manoeuvre_demands
     from adcskit.thrusters.layout import _decode, _face_table
 
     D = manoeuvre_demands(0.5, 600.0)

@@ -7,7 +7,30 @@ errors drawn from ``P0`` (1° per axis, 1e-3 rad/s bias), 300 s. For each seed: 
 the last epoch against the χ² 95 % band, the fraction of epochs whose mean NEES is inside the
 band, the time-averaged NEES and NIS, and the final bias and attitude errors.
 
+Closed loop (``--loop``): the MEKF inside :func:`adcskit.simulation.simulate` (plant, gyro,
+sensors, controller and thrusters all in the loop), ``--loop-runs`` samples, seed 7, 300 s at
+dt = 0.05 s, NEES recorded every 0.5 s, each case with the default measurement underweighting
+(p = 0.2) and without it (p = 0, the plain EKF update):
+
+* ``default``: ``Scenario(estimator=EstimatorSpec(kind="mekf", init_error_deg=1.0))`` (LEO
+  hold; sun sensor 1 Hz 0.005°, magnetometer 1 Hz 0.5°, gyro 10 Hz) — issue 23's reproduction;
+* ``slew``: the same with a 30° step about z at t = 5 s (the gyro rate and the sensor
+  geometry change during the estimation transient);
+* ``star-tracker``: no sun sensor or magnetometer, a 10 arcsec star tracker at 1 Hz.
+
+Remedy choice (``--choice``): the standalone filter on a static analogue of ``default`` (two
+fixed directions at 1 Hz with σ = 0.005° and 0.5°, the simulator's default gyro at 10 Hz,
+1° prior, 300 s), with underweighting ``p`` in {0, 0.05, 0.2, 0.5, 1} and with the plain
+update initialised from a Wahba solution (q-method) of the first measurement pair and its
+covariance (Markley & Crassidis 2014 eq. 5.66), 2 seeds.
+
+For the closed-loop cases: the ensemble-mean NEES at 1 s, its time mean over 100–300 s against the χ²(6N)/N
+95 % band of one epoch's mean of N values, and the fraction of 100–300 s epochs inside it.
+``--figure PATH`` draws the ensemble-mean NEES traces.
+
 Usage: python benchmarks/mekf_consistency.py [--runs N] [--seeds S] [--json PATH]
+       [--choice] [--choice-init D,D] [--loop] [--loop-sweep P,P] [--loop-runs N]
+       [--figure PATH] [--no-standalone]
 """
 
 from __future__ import annotations
@@ -16,6 +39,7 @@ import argparse
 import json
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -84,13 +108,143 @@ def run(N: int, seed: int) -> dict:
     }
 
 
+def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
+    """Underweighting factors and Wahba initialisation on the static analogue of ``default``
+    (prior σ ``init_deg`` per axis)."""
+    from adcskit.determination import solve_wahba
+
+    sv, su, dt, T = 3.16e-7, 3.16e-10, 0.1, 3001
+    sig = np.radians([0.005, 0.5])
+    p0 = np.diag([np.radians(init_deg) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
+    rng = np.random.default_rng(seed)
+    r = np.array([[1.0, 0.2, -0.1], [0.3, 1.0, 0.4]])
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    q_hat0 = random_quat(N, rng=rng)
+    x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
+    q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
+    qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
+    bt = np.empty((N, T, 3))
+    gyro = np.empty((N, T, 3))
+    for k in range(N):
+        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
+        gyro[k], bt[k] = m.omega, m.bias
+    body = np.full((N, T, 2, 3), np.nan)
+    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
+    for i in range(2):
+        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
+        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    t = np.arange(T) * dt
+    ref = np.broadcast_to(r, (T, 2, 3))
+    lo, hi = chi2_band(6, N)
+    rows = []
+
+    def row(name, res):
+        late = res.mean_nees[1000:]
+        rows.append({"seed": seed, "runs": N, "init_deg": init_deg, "variant": name, "band_95": [lo, hi],
+                     "mean_nees_at_1s": float(res.mean_nees[10]),
+                     "time_mean_nees_100_300s": float(np.mean(late)),
+                     "fraction_of_epochs_in_band_100_300s": float(np.mean((late >= lo) & (late <= hi)))})
+
+    for p in (0.0, 0.01, 0.05, 0.2, 0.5, 1.0):
+        row(f"underweight p = {p:g}", mekf_filter(q_hat0, np.zeros(3), p0, t, gyro, body, ref, sig, sigma_v=sv,
+                                                  sigma_u=su, q_true=qt, b_true=bt, underweight=p))
+    w = solve_wahba(body[:, 0], r, weights=1 / sig**2)
+    p0w = np.zeros((N, 6, 6))
+    p0w[:, :3, :3] = w.cov
+    p0w[:, 3:, 3:] = p0[3:, 3:]
+    b2 = body.copy()
+    b2[:, 0] = np.nan  # the first pair is in the Wahba prior
+    row("Wahba initialisation, p = 0", mekf_filter(w.q, np.zeros(3), p0w, t, gyro, b2, ref, sig, sigma_v=sv,
+                                                   sigma_u=su, q_true=qt, b_true=bt, underweight=0.0))
+    return rows
+
+
+LOOP_CASES = ("default", "slew", "star-tracker")
+
+
+def loop_scenario(case: str, underweight: float):
+    """The closed-loop scenario of one ``--loop`` case (see the module docstring)."""
+    from adcskit.simulation import EstimatorSpec, GuidanceSpec, Scenario, SensorSpec, SimSpec
+
+    est = EstimatorSpec(kind="mekf", init_error_deg=1.0, underweight=underweight)
+    sim = SimSpec(dt=0.05, t_final=300.0, metrics_from_s=100.0, record_every=10)
+    kw = {}
+    if case == "slew":
+        kw["guidance"] = GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 30.0), t_step=5.0)
+    elif case == "star-tracker":
+        kw["sensors"] = SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=1.0,
+                                   star_tracker_noise_arcsec=10.0)
+    return Scenario(estimator=est, sim=sim, **kw)
+
+
+def run_loop(case: str, underweight: float, N: int) -> dict:
+    from adcskit.simulation import simulate
+
+    res = simulate(loop_scenario(case, underweight), N, rng=7, record=True)
+    nees = res.trace[:, :, res.channels.index("nees")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # t = 0: no NEES recorded yet
+        mean = np.nanmean(nees, axis=0)
+    lo, hi = chi2_band(6, N)
+    late = (res.t >= 100.0) & (res.t <= 300.0)
+    i1 = int(np.argmin(np.abs(res.t - 1.0)))
+    return {
+        "case": case,
+        "underweight": underweight,
+        "runs": N,
+        "band_95": [lo, hi],
+        "mean_nees_at_1s": float(mean[i1]),
+        "time_mean_nees_100_300s": float(np.nanmean(mean[late])),
+        "time_mean_in_band": bool(lo <= np.nanmean(mean[late]) <= hi),
+        "fraction_of_epochs_in_band_100_300s": float(np.mean((mean[late] >= lo) & (mean[late] <= hi))),
+        "max_error_deg_p95": float(np.percentile(res.metrics["pointing_max_deg"], 95)),
+        "rms_error_deg_mean": float(np.mean(res.metrics["pointing_rms_deg"])),
+        "propellant_mean": float(np.mean(res.metrics["propellant_kg"])),
+        "knowledge_rms_deg_mean": float(np.mean(res.metrics["knowledge_rms_deg"])),
+        "t": res.t.tolist(),
+        "mean_nees": mean.tolist(),
+    }
+
+
+def loop_figure(rows: list[dict], path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(LOOP_CASES), figsize=(4.2 * len(LOOP_CASES), 3.4), sharey=True)
+    for ax, case in zip(np.atleast_1d(axes), LOOP_CASES):
+        for r in (r for r in rows if r["case"] == case):
+            lab = (f"underweighting p = {r['underweight']:g}" if r["underweight"] > 0
+                   else "plain EKF (p = 0)")
+            ax.plot(r["t"], r["mean_nees"], lw=0.9, label=f"{lab}: {r['time_mean_nees_100_300s']:.2f}")
+            lo, hi = r["band_95"]
+        ax.axhspan(lo, hi, color="0.8", label=f"χ²(6N)/N 95 % band, N = {rows[0]['runs']}")
+        ax.axvspan(100, 300, color="0.95", zorder=0)
+        ax.set_yscale("log")
+        ax.set_title(case)
+        ax.set_xlabel("t [s]")
+        ax.legend(fontsize=7, loc="upper right")
+    np.atleast_1d(axes)[0].set_ylabel("ensemble-mean NEES (6 states)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=200)
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--json", metavar="PATH")
+    ap.add_argument("--loop", action="store_true", help="also run the closed-loop cases")
+    ap.add_argument("--loop-runs", type=int, default=200)
+    ap.add_argument("--figure", metavar="PATH", help="NEES traces of the closed-loop cases (PNG)")
+    ap.add_argument("--no-standalone", action="store_true", help="skip the standalone-filter seeds")
+    ap.add_argument("--choice", action="store_true", help="underweighting factors vs Wahba initialisation")
+    ap.add_argument("--choice-init", default="1", help="prior sigmas [deg] of --choice, comma-separated")
+    ap.add_argument("--loop-sweep", metavar="P,P,...", help="closed-loop default case for these p only")
     args = ap.parse_args(argv)
-    out = [run(args.runs, seed) for seed in range(args.seeds)]
+    out = [] if args.no_standalone else [run(args.runs, seed) for seed in range(args.seeds)]
     for o in out:
         print(f"seed {o['seed']}: NEES(last) {o['mean_nees_last_epoch']:.2f} "
               f"band [{o['band_95'][0]:.2f}, {o['band_95'][1]:.2f}] in={o['last_epoch_in_band']}; "
@@ -98,11 +252,43 @@ def main(argv: list[str] | None = None) -> list[dict]:
               f"time-mean NEES {o['time_mean_nees_after_100s']:.2f}; NIS {o['mean_nis_after_100s']:.3f}; "
               f"bias rms {o['final_bias_rms_rad_s']:.2e} (filter σ {o['final_bias_sigma_filter_rad_s']:.2e}); "
               f"attitude rms {o['final_attitude_rms_rad']:.2e} rad "
-              f"(filter σ {o['final_attitude_sigma_filter_rad']:.2e})")
+              f"(filter σ {o['final_attitude_sigma_filter_rad']:.2e})", flush=True)
+    choice_rows = []
+    if args.choice:
+        for init, seed in ((float(i), s) for i in args.choice_init.split(",") for s in (0, 1)):
+            for r in run_choice(args.runs, seed, init):
+                choice_rows.append(r)
+                print(f"choice {init:g} deg seed {seed} {r['variant']:28s}: NEES(1 s) {r['mean_nees_at_1s']:.2f}; time mean "
+                      f"100-300 s {r['time_mean_nees_100_300s']:.3f} band [{r['band_95'][0]:.2f}, "
+                      f"{r['band_95'][1]:.2f}]; epochs in band {100 * r['fraction_of_epochs_in_band_100_300s']:.0f} %",
+                      flush=True)
+    loop_rows = []
+    if args.loop_sweep:
+        for uw in (float(p) for p in args.loop_sweep.split(",")):
+            r = run_loop("default", uw, args.loop_runs)
+            loop_rows.append(r)
+            print(f"sweep default p={uw:g}: NEES(1 s) {r['mean_nees_at_1s']:.2f}; time mean 100-300 s "
+                  f"{r['time_mean_nees_100_300s']:.3f} in={r['time_mean_in_band']}; pointing rms "
+                  f"{r['rms_error_deg_mean']:.4f} deg; knowledge rms {r['knowledge_rms_deg_mean']:.4f} deg; "
+                  f"propellant {r['propellant_mean']:.4g}", flush=True)
+    if args.loop:
+        for case in LOOP_CASES:
+            for uw in (0.2, 0.0):
+                r = run_loop(case, uw, args.loop_runs)
+                loop_rows.append(r)
+                print(f"loop {case:12s} p={uw:g}: NEES(1 s) {r['mean_nees_at_1s']:.2f}; time mean "
+                      f"100-300 s {r['time_mean_nees_100_300s']:.2f} band [{r['band_95'][0]:.2f}, "
+                      f"{r['band_95'][1]:.2f}] in={r['time_mean_in_band']}; epochs in band "
+                      f"{100 * r['fraction_of_epochs_in_band_100_300s']:.0f} %; knowledge rms "
+                      f"{r['knowledge_rms_deg_mean']:.2e} deg; p95 max error {r['max_error_deg_p95']:.3f} deg",
+                      flush=True)
+        if args.figure:
+            loop_figure(loop_rows, args.figure)
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(out, fh, indent=2)
-    return out
+            json.dump(out + choice_rows + [{k: v for k, v in r.items() if k not in ("t", "mean_nees")} for r in loop_rows],
+                      fh, indent=2)
+    return out + choice_rows + loop_rows
 
 
 if __name__ == "__main__":

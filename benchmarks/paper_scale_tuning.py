@@ -4,7 +4,7 @@ For each uncertainty case of S4 Table 6 (inertia, thrust, disturbance, delay, al
 printed weight ratios w2/w1 = 25, 22, 15, 10, 180) this runs the robust GA twice on the
 same machine and backend:
 
-* paper scale (:data:`adcskit.uncertainty.tuning.PAPER_SCALE`): population 70, the S4
+* paper scale (:data:`adcskit.control.tuning.PAPER_SCALE`): population 70, the S4
   stopping rule with the 1000-generation cap, 1000 LHS samples per candidate;
 * capped (the onoff-tuning study's 2-core GA): population 70, ``--capped-gen`` generations
   (default 30, the study's ``ga_max_gen``), ``--capped-samples`` LHS samples (default 40,
@@ -40,14 +40,14 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from adcskit._progress import progress_session, status  # noqa: E402
 from adcskit._targets import resolve_backend  # noqa: E402
 from adcskit.control import LoopSettings  # noqa: E402
-from adcskit.uncertainty import Gaussian, TruncatedGaussian  # noqa: E402
-from adcskit.uncertainty.tuning import (  # noqa: E402
+from adcskit.control.tuning import (  # noqa: E402
     PAPER_SCALE,
     RobustTuningScale,
     estimate_tuning_time,
     monte_carlo,
     tune_robust,
 )
+from adcskit.uncertainty import Gaussian, TruncatedGaussian  # noqa: E402
 
 # S4 Table 5 standard deviations around the Table 3 means; inertia, thrust level and delay
 # truncated to stay positive (as in the onoff-tuning study)

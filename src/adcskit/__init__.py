@@ -1,20 +1,29 @@
 """adcskit — spacecraft attitude determination and control design toolkit.
 
-Subpackages (dependencies flow downward in this list's reverse order; nothing imports
-from a package above it):
+Subpackages, from the top layer down. A package imports only from the layers below its own;
+packages on one line are independent siblings. ``pyproject.toml`` states these layers as
+import-linter contracts and ``tests/test_layers.py`` checks them (``lint-imports``):
 
-* :mod:`adcskit.attitude` — quaternions (scalar last), DCMs, MRPs, Euler sequences.
-* :mod:`adcskit.dynamics` — rigid body, gravity gradient, linearised LVLH model, Hill/CW.
-* :mod:`adcskit.environment` — orbits, sun direction, geomagnetic field.
-* :mod:`adcskit.sensors` — sun sensor and magnetometer models.
-* :mod:`adcskit.determination` — Wahba solvers, robust interval Wahba.
-* :mod:`adcskit.estimation` — Kalman filtering and model identification.
-* :mod:`adcskit.optimal_control` — Gauss/Radau pseudospectral optimal control.
-* :mod:`adcskit.thrusters` — thruster geometry, allocation, layout design.
-* :mod:`adcskit.control` — on-off thruster attitude loop, batch simulation.
-* :mod:`adcskit.uncertainty` — sampling, executors, campaigns, robust objectives.
-* :mod:`adcskit.studies` — one module per reproduced paper study.
+* :mod:`adcskit.cli` — the ``adcskit`` command.
 * :mod:`adcskit.report` — HTML report from ``result.json`` files.
+* :mod:`adcskit.studies` — the study framework (registry, runner, verdict) and one module per
+  reproduced paper study.
+* :mod:`adcskit.simulation` — the closed loop (plant, sensors, estimation, guidance, control,
+  allocation, thrusters), batched over Monte-Carlo samples.
+* :mod:`adcskit.control` (on-off thruster loop, S4's robust tuning),
+  :mod:`adcskit.thrusters` (geometry, allocation, layout design, S3's reference data),
+  :mod:`adcskit.optimal_control` (Gauss/Radau pseudospectral optimal control),
+  :mod:`adcskit.determination` (Wahba solvers, robust interval Wahba),
+  :mod:`adcskit.estimation` (Kalman filtering, MEKF, model identification).
+* :mod:`adcskit.uncertainty` (generic: sampling, executors, campaigns, statistics),
+  :mod:`adcskit.sensors` (sun sensor, magnetometer, rate gyro),
+  :mod:`adcskit.dynamics` (rigid body, gravity gradient, LVLH model, Hill/CW),
+  :mod:`adcskit.environment` (orbits, sun direction, geomagnetic field).
+* :mod:`adcskit.attitude` — quaternions (scalar last), DCMs, MRPs, Euler sequences.
+* :mod:`adcskit.config` — TOML study configurations.
+* utilities: ``_results`` (``to_jsonable``, the ``Result`` base), ``_validation``,
+  ``_targets``, ``_progress``, :mod:`adcskit.constants`.
+* :mod:`adcskit.errors` — the error hierarchy.
 
 Conventions (see ``docs/conventions.md``): SI units and radians inside, quaternions
 ``[q1, q2, q3, q4]`` with the scalar last and ``A(q)`` mapping reference-frame to body-frame

@@ -86,7 +86,7 @@ def _err(message: str) -> None:
 
 
 def _cmd_list(quiet: bool = False) -> int:
-    from adcskit.studies._registry import PAPERS, STUDIES, is_available
+    from adcskit.studies import PAPERS, STUDIES, is_available
 
     if quiet:
         print("\n".join(n for n in STUDIES if is_available(n)))
@@ -103,7 +103,7 @@ def _cmd_list(quiet: bool = False) -> int:
 
 def _cmd_config(args: argparse.Namespace) -> int:
     from adcskit.config import config_help, config_to_dict, dump_toml
-    from adcskit.studies._runner import resolve_config
+    from adcskit.studies import resolve_config
 
     cfg = resolve_config(args.study, None, quick=args.quick)
     if args.quiet:
@@ -116,11 +116,11 @@ def _cmd_config(args: argparse.Namespace) -> int:
 
 
 def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tuple[bool, str]:
-    from adcskit.studies._runner import run_study
+    from adcskit.studies import run_study
 
     t0 = time.perf_counter()
     result = run_study(name, config=config, quick=args.quick, seed=args.seed, out=args.out, executor=executor)
-    from adcskit.studies._verdict import tally
+    from adcskit.studies import tally
 
     counts = tally(c.display_outcome for c in result.all_claims())
     verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n)
@@ -134,7 +134,7 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
 
 def _record_errors(out: Path, errors: dict, clear: list[str]) -> None:
     from adcskit.report.html import ERRORS_FILE
-    from adcskit.studies._runner import write_json_atomic
+    from adcskit.studies import write_json_atomic
 
     path = out / ERRORS_FILE
     current = {}
@@ -152,12 +152,12 @@ def _record_errors(out: Path, errors: dict, clear: list[str]) -> None:
 def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     from adcskit._progress import progress_session, status, track
     from adcskit.report.html import build_report
-    from adcskit.studies._registry import STUDIES, is_available
+    from adcskit.studies import STUDIES, is_available
     from adcskit.uncertainty.executor import make_executor
 
     out = Path(args.out)
     if args.command == "run":
-        from adcskit.studies._registry import get_study
+        from adcskit.studies import get_study
 
         get_study(args.study)  # validates the name before any work
         names = [args.study]
@@ -175,7 +175,7 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     # every argument is checked before anything is written (exit 2, one line, no output)
     check_path("--out", args.out, writable_dir=True)
     if getattr(args, "config", None) is not None:
-        from adcskit.studies._runner import resolve_config
+        from adcskit.studies import resolve_config
 
         resolve_config(args.study, args.config, quick=args.quick)  # unreadable/bad TOML -> ConfigError
     executor = make_executor(args.executor)

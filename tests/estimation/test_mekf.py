@@ -130,7 +130,7 @@ def test_kernel_steps_match_numpy_reference():
         assert np.max(np.abs(Pk - Pr)) <= 1e-13 * np.max(np.abs(Pr))
         vb, vr = rng.normal(size=3), rng.normal(size=3)
         qr, br, Pr, nis_r = ref_update_vector(qr, br, Pr, vb, vr, 0.02)
-        nis_k = mk.mekf_update_vector_jit(qk, bk, Pk, vb, vr, 0.02, work)
+        nis_k = mk.mekf_update_vector_jit(qk, bk, Pk, vb, vr, 0.02, 0.0, work)  # no underweighting
         # sequential scalar updates with a frozen linearisation point = the 3-vector update
         np.testing.assert_allclose(qk, qr, atol=1e-14)
         np.testing.assert_allclose(bk, br, atol=1e-14)
@@ -161,7 +161,7 @@ def test_plain_python_source_equals_compiled():
                       (mk.mekf_propagate_jit, mk.mekf_update_vector_jit)):
         qq, bb, PP, w = q.copy(), b.copy(), P.copy(), np.empty(mk.WORK_SIZE)
         prop(qq, bb, PP, om, 0.2, 1e-4, 1e-6, w)
-        nis = upd(qq, bb, PP, vb, vr, 0.01, w)
+        nis = upd(qq, bb, PP, vb, vr, 0.01, 0.2, w)
         out.append((qq, bb, PP, nis))
     for a, c in zip(out[0], out[1]):
         np.testing.assert_allclose(a, c, rtol=1e-13, atol=1e-18)
@@ -171,7 +171,7 @@ def test_invalid_measurement_leaves_state_unchanged():
     work = np.empty(mk.WORK_SIZE)
     q, b, P = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3), np.eye(6)
     for vb, sig in (([np.nan, 0, 1], 0.1), ([0.0, 0, 0], 0.1), ([0.0, 0, 1], 0.0)):
-        assert np.isnan(mk.mekf_update_vector_jit(q, b, P, np.array(vb), np.ones(3), sig, work))
+        assert np.isnan(mk.mekf_update_vector_jit(q, b, P, np.array(vb), np.ones(3), sig, 0.2, work))
     assert np.isnan(mk.mekf_update_quaternion_jit(q, b, P, np.zeros(4), 0.1, work))
     assert np.array_equal(P, np.eye(6)) and np.array_equal(q, [0, 0, 0, 1.0])
     assert np.isnan(mk.mekf_nees_jit(q, b, np.zeros((6, 6)), q, b, work))  # singular P
@@ -213,20 +213,26 @@ def test_static_covariance_equals_wahba_covariance(mode):
     # (a) "no-time": no time elapses between updates (the bias never couples in), or
     # (b) "no-gyro-noise": σv = σu = 0, zero rate, and the bias known (P0 bias block 0),
     # and the estimate sits at the truth with noise-free data (H is then evaluated at the
-    # true body vectors, the ones solve_wahba uses).
+    # true body vectors, the ones solve_wahba uses). The identity is that of the plain EKF
+    # update (underweight=0); underweighting counts the first updates with an inflated noise,
+    # so its covariance is larger in the Loewner order (less information per update).
     r = _two_vectors()
     sig = np.array([1e-3, 3e-3])
     q = random_quat(rng=4)
     body = (quat_to_dcm(q) @ r.T).T
     n = 40
     P0 = np.diag([1e-2] * 3 + ([1e-6] * 3 if mode == "no-time" else [0.0] * 3))
-    f = MultiplicativeEKF(q, np.zeros(3), P0, sigma_v=0.0 if mode != "no-time" else 1e-4,
-                          sigma_u=0.0 if mode != "no-time" else 1e-6)
+    kw = dict(sigma_v=0.0 if mode != "no-time" else 1e-4, sigma_u=0.0 if mode != "no-time" else 1e-6)
+    f = MultiplicativeEKF(q, np.zeros(3), P0, underweight=0.0, **kw)
+    fu = MultiplicativeEKF(q, np.zeros(3), P0, **kw)  # default underweighting
     for _ in range(n):
         if mode == "no-gyro-noise":
             f.propagate(np.zeros(3), 1.0)
+            fu.propagate(np.zeros(3), 1.0)
         for i in range(2):
             f.update_vector(body[i], r[i], sig[i])
+            fu.update_vector(body[i], r[i], sig[i])
+    assert np.linalg.eigvalsh(fu.P[:3, :3] - f.P[:3, :3]).min() >= -1e-12 * np.abs(f.P).max()
     w = solve_wahba(np.tile(body, (n, 1)), np.tile(r, (n, 1)), np.tile(1.0 / sig**2, n))
     expected = np.linalg.inv(np.linalg.inv(P0[:3, :3]) + np.linalg.inv(w.cov))
     # exact identity up to rounding (the Joseph recursion of 80 updates: ~1e-12 relative)
@@ -347,6 +353,61 @@ def test_batch_equals_stepping_class_and_single_call():
     assert d["success"] is True and len(d["q"]) == N
 
 
+def test_underweighting_closed_form_oracle():
+    # One vector update at the identity with v_ref = e_z (H rows [b̂×] = (0, −1, 0), (1, 0, 0),
+    # 0) of an isotropic, bias-decoupled prior P_att = s² I: the two non-zero rows are
+    # orthogonal, so each posterior variance has the closed form of a scalar Kalman update
+    # with the inflated noise var' = σ² + p s² when s² > σ² (measurement underweighting,
+    # Zanetti, DeMars & Bishop 2010) and the plain s² σ²/(s² + σ²) when s² <= σ²; the
+    # rotation about e_z is unobserved. Exact up to rounding (1e-12 relative).
+    work = np.empty(mk.WORK_SIZE)
+    sig = 1e-3
+    vb = np.array([1e-3, -2e-3, 1.0])
+    y = vb / np.linalg.norm(vb) - np.array([0.0, 0.0, 1.0])
+    for s2, p in ((1e-4, 0.2), (1e-4, 1.0), (1e-4, 0.0), (0.5e-6, 0.2)):
+        q, b = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3)
+        P = np.diag([s2] * 3 + [1e-8] * 3)
+        nis = mk.mekf_update_vector_jit(q, b, P, vb, np.array([0.0, 0.0, 1.0]), sig, p, work)
+        var = sig**2 + (p * s2 if s2 > sig**2 else 0.0)
+        post = s2 - s2**2 / (s2 + var)
+        np.testing.assert_allclose(np.diag(P), [post, post, s2] + [1e-8] * 3, rtol=1e-12)
+        assert nis == pytest.approx((y[0] ** 2 + y[1] ** 2) / (s2 + var) + y[2] ** 2 / sig**2, rel=1e-9)
+        # the applied correction is the gain s²/(s² + var') times the innovation (b ≈ b̂ + [b̂×] dθ)
+        np.testing.assert_allclose(_quat_rotvec(q), np.array([y[1], -y[0], 0.0]) * (s2 / (s2 + var)),
+                                   rtol=1e-9, atol=1e-18)
+    # the star-tracker update is never underweighted: equal to the textbook update
+    q, b, P = np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(3), np.diag([1e-4] * 3 + [1e-8] * 3)
+    qm = _rotvec_quat(np.array([1e-3, -2e-3, 0.5e-3]))
+    _, _, Pr, _ = ref_update_quaternion(q, b, P, qm, sig)
+    mk.mekf_update_quaternion_jit(q, b, P, qm, sig, work)
+    np.testing.assert_allclose(P, Pr, rtol=1e-12, atol=1e-24)
+
+
+def test_underweighting_restores_consistency_after_a_precise_first_update():
+    # Issue 23: a 1° prior and a 0.005° sun sensor (with a 0.5° magnetometer), static
+    # attitude. The plain EKF's first sun update locks in its linearisation error (the
+    # second-order term ½|dθ_∥||dθ_⊥| ≈ 2e-4 rad against σ = 8.7e-5 rad) and the late mean NEES
+    # sits far above the χ²(6) band (≈ 9.5 here); with underweighting (p = 0.2, the default)
+    # the time mean over 100–200 s is inside the band of the per-epoch mean of N values
+    # (Bar-Shalom et al. 2001 §5.4.2; used here for a time average, which varies less than
+    # one epoch's mean, so the band is conservative for it).
+    N, T, dt = 150, 2001, 0.1
+    sv, su = 3.16e-7, 3.16e-10  # the simulator's default gyro (SensorSpec)
+    sig = np.radians([0.005, 0.5])
+    P0 = np.diag([np.radians(1.0) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
+    rng = np.random.default_rng(23)
+    q0, b0, qt, bt, gyro, body, ref = _simulate_truth(N, T, dt, np.zeros(3), sv, su, sig, P0, rng, 10)
+    t = np.arange(T) * dt
+    lo, hi = chi2_band(6, N)
+    late = {}
+    for p in (0.0, 0.2):
+        res = mekf_filter(q0, b0, P0, t, gyro, body, ref, sig, sigma_v=sv, sigma_u=su,
+                          q_true=qt, b_true=bt, underweight=p)
+        late[p] = float(np.mean(res.mean_nees[1000:]))
+    assert late[0.0] > 1.2 * hi, late  # the failure this guards against
+    assert lo <= late[0.2] <= hi, (late, (lo, hi))
+
+
 # --------------------------------------------------------------------- properties
 
 
@@ -356,8 +417,9 @@ def test_batch_equals_stepping_class_and_single_call():
     log_rate=st.floats(-8, 1),
     log_dt=st.floats(-4, 1),
     log_sig=st.floats(-6, -1),
+    uw=st.sampled_from([0.0, 0.2, 1.0]),
 )
-def test_property_unit_quaternion_symmetric_psd(seed, log_rate, log_dt, log_sig):
+def test_property_unit_quaternion_symmetric_psd(seed, log_rate, log_dt, log_sig, uw):
     rng = np.random.default_rng(seed)
     q = random_quat(rng=rng)
     b = rng.normal(size=3) * 1e-3
@@ -367,7 +429,7 @@ def test_property_unit_quaternion_symmetric_psd(seed, log_rate, log_dt, log_sig)
         om = rng.normal(size=3) * 10.0**log_rate
         mk.mekf_propagate_jit(q, b, P, om, 10.0**log_dt, 1e-4, 1e-6, work)
         mk.mekf_update_vector_jit(q, b, P, rng.normal(size=3), rng.normal(size=3),
-                                  10.0**log_sig, work)
+                                  10.0**log_sig, uw, work)
         mk.mekf_update_quaternion_jit(q, b, P, random_quat(rng=rng), 10.0**log_sig, work)
         assert abs(np.linalg.norm(q) - 1.0) < 1e-14 and q[3] >= 0
         assert np.array_equal(P, P.T)
@@ -430,6 +492,11 @@ def test_validation_errors():
         mekf_filter([0, 0, 0, 1], np.zeros(3), P0, t, g, full_covariance="yes", **kw)
     with pytest.raises(InputError, match="gyro"):
         mekf_filter([0, 0, 0, 1], np.zeros(3), P0, t, np.full((5, 3), np.inf), **kw)
+    with pytest.raises(InputError, match="underweight"):
+        mekf_filter([0, 0, 0, 1], np.zeros(3), P0, t, g, underweight=-0.1, **kw)
+    with pytest.raises(InputTypeError, match="underweight"):
+        MultiplicativeEKF([0, 0, 0, 1], np.zeros(3), P0, underweight=True, **kw)
+    assert MultiplicativeEKF([0, 0, 0, 1], np.zeros(3), P0, **kw).underweight == 0.2
 
 
 def test_kernels_run_as_cuda_device_functions_in_the_simulator(tmp_path):
@@ -453,7 +520,7 @@ def test_kernels_run_as_cuda_device_functions_in_the_simulator(tmp_path):
         "    i = cuda.grid(1)\n"
         "    if i < q.shape[0]:\n"
         "        prop(q[i], b[i], P[i], om[i], 0.1, 1e-4, 1e-6, work[i])\n"
-        "        out[i, 0] = upd(q[i], b[i], P[i], vb[i], vr[i], 0.01, work[i])\n"
+        "        out[i, 0] = upd(q[i], b[i], P[i], vb[i], vr[i], 0.01, 0.2, work[i])\n"
         "rng = np.random.default_rng(0)\n"
         "N = 3\n"
         "q = np.tile([0.1, -0.2, 0.3, 0.9], (N, 1)); q /= np.linalg.norm(q[0])\n"
@@ -465,7 +532,7 @@ def test_kernels_run_as_cuda_device_functions_in_the_simulator(tmp_path):
         "kern[1, 32](q, b, P, om, vb, vr, w, out)\n"
         "for i in range(N):\n"
         "    mk.mekf_propagate_jit(q2[i], b2[i], P2[i], om[i], 0.1, 1e-4, 1e-6, w[i])\n"
-        "    nis = mk.mekf_update_vector_jit(q2[i], b2[i], P2[i], vb[i], vr[i], 0.01, w[i])\n"
+        "    nis = mk.mekf_update_vector_jit(q2[i], b2[i], P2[i], vb[i], vr[i], 0.01, 0.2, w[i])\n"
         "    assert abs(nis - out[i, 0]) <= 1e-12 * abs(nis), (nis, out[i, 0])\n"
         "np.testing.assert_allclose(q, q2, atol=1e-15)\n"
         "np.testing.assert_allclose(P, P2, rtol=1e-12, atol=1e-20)\n"

@@ -8,6 +8,7 @@ import subprocess
 
 import pytest
 
+import adcskit.studies
 import adcskit.studies._registry as registry
 from adcskit.studies import run_study
 
@@ -36,6 +37,7 @@ def report_dir(tmp_path, monkeypatch):
     studies = dict(registry.STUDIES)
     studies["fake"] = registry.StudyInfo("fake", "fake_study", "none", "A fake study")
     monkeypatch.setattr(registry, "STUDIES", studies)
+    monkeypatch.setattr(adcskit.studies, "STUDIES", studies)  # the public face the report reads
     run_study("fake", quick=True, out=tmp_path)
     from adcskit.report import build_report
 

@@ -703,6 +703,7 @@ case("thrusters.min_reachable_error", positive=("f_max", "t_min", "t_s", "gain")
 )
 case("thrusters.pulse_width", positive=("force", "f_max", "t_s"))(lambda: dict(force=[1.0, 5.0, 0.0], f_max=10.0, t_s=0.2))
 case("thrusters.realisable_pulses", positive=("t_p", "t_min"))(lambda: dict(t_p=[0.001, 0.01, 0.1], t_min=0.003, mode="drop"))
+case("thrusters.s3_manoeuvre_demands", positive=("correction_deg", "gain"))(lambda: dict(correction_deg=0.5, gain=600.0))
 
 # ============================================================================================
 # control
@@ -767,12 +768,12 @@ def _():
 
 
 case("uncertainty.sample_stats", nonfinite_ok=("x",))(lambda: dict(x=[1.0, 2.0, 3.0, 4.0]))
-case("uncertainty.mean_change_converged", positive=("tol",))(lambda: dict(history=[1.0, 1.1, 1.05, 1.04], tol=1e-3, window=2))
-case("uncertainty.robust_objective", nonfinite_ok=("errors", "overshoot_pct"), positive=("w1", "w2", "overshoot_max_pct", "penalty_weight"))(
+case("control.mean_change_converged", positive=("tol",))(lambda: dict(history=[1.0, 1.1, 1.05, 1.04], tol=1e-3, window=2))
+case("control.robust_objective", nonfinite_ok=("errors", "overshoot_pct"), positive=("w1", "w2", "overshoot_max_pct", "penalty_weight"))(
     lambda: dict(errors=[[0.1, 0.2], [0.3, 0.1]], overshoot_pct=[[1.0, 2.0], [3.0, 20.0]], w1=1.0, w2=1.0,
                  overshoot_max_pct=10.0, penalty_weight=1.0)
 )
-case("uncertainty.weights_from_ratio", positive=("ratio",))(lambda: dict(ratio=2.0))
+case("control.weights_from_ratio", positive=("ratio",))(lambda: dict(ratio=2.0))
 case("uncertainty.make_executor", kinds={"spec": "choice"}, aliases={"spec": ("executor",)})(lambda: dict(spec="serial"))
 case("uncertainty.SerialExecutor")(lambda: dict())
 case("uncertainty.ProcessExecutor")(lambda: dict(n_workers=1))
@@ -841,6 +842,13 @@ exempt(
     "tests/test_framework.py with the fake study",
     "studies.run_study",
     "studies.write_result",
+)
+exempt(
+    "framework helpers of the CLI: write_json_atomic writes any JSON-able object (its path is "
+    "checked by the CLI's --out validation), tally counts outcome strings (an unknown one is "
+    "counted, by design)",
+    "studies.write_json_atomic",
+    "studies.tally",
 )
 
 
@@ -1218,3 +1226,70 @@ for _meth in ("state_at", "costate_at"):
         lambda: dict(t=[0.1, 0.5, 0.9]))
 case("optimal_control.OptimalControlSolution.control_at", target=method("", _solution, "control_at"),
      known_open=OC_OPEN)(lambda: dict(t=[0.1, 0.5, 0.9], kind="lagrange"))
+
+
+# ============================================================================================
+# uncertainty: requirement statistics (issue 25 item 4) -- kept as one block for easy merging
+# ============================================================================================
+
+exempt(RESULT, "uncertainty.PercentileBound", "uncertainty.ProportionInterval", "uncertainty.RequirementVerdict",
+       "uncertainty.RequirementTable")
+_REQ_X = [0.01 * i for i in range(1, 60)]  # 59 samples: enough for a 95/95 bound
+case("uncertainty.percentile_bound", nonfinite_ok=("x",), positive=("percentile", "confidence"), shape_stable=False,
+     nan_ok=("lower", "upper", "achieved_confidence"))(
+    lambda: dict(x=list(_REQ_X), percentile=95.0, confidence=0.95, side="upper"))
+case("uncertainty.proportion_interval", positive=("k", "n", "confidence"))(
+    lambda: dict(k=3, n=100, confidence=0.95, method="clopper-pearson", side="two-sided"))
+case("uncertainty.exceedance_probability", nonfinite_ok=("x",), positive=("confidence",))(
+    lambda: dict(x=list(_REQ_X), threshold=0.5, comparison=">", confidence=0.95, method="wilson", side="upper"))
+case("uncertainty.samples_needed", positive=("coverage", "confidence", "failures"))(
+    lambda: dict(coverage=0.95, confidence=0.95, failures=1, side="two-sided"))
+case("uncertainty.Requirement", positive=("percentile", "confidence", "after_s"), kinds={"metric": "skip", "name": "skip"},
+     extra={"bad-metric": ("metric", "pointing error", "type"), "int-name": ("name", 3, "type")})(
+    lambda: dict(metric="pointing_max_deg", statistic="percentile", comparison="<=", threshold=0.1, percentile=99.0,
+                 confidence=0.95, after_s=300.0, name="ADCS-1"))
+case("uncertainty.parse_requirement", kinds={"text": "skip"}, positive=("confidence",),
+     extra={"garbled": ("text", "pointing_max_deg p99 0.1", "type"), "no-text": ("text", None, "type")})(
+    lambda: dict(text="ADCS-1: P(pointing_max_deg > 0.1) <= 1 % after 300 s", confidence=0.9))
+case("uncertainty.read_requirements", kinds={"source": "object"}, positive=("confidence",),
+     extra={"bad-line": ("source", ["x p99 <= 0.1", "x p99 0.1"], "type"),
+            "unknown-key": ("source", [{"metric": "x", "statistic": "max", "comparison": "<=", "threshold": 1.0,
+                                         "unit": "deg"}], "type")})(
+    lambda: dict(source=["x p99 <= 0.1 after 300 s", {"text": "x mean <= 0.05", "name": "R2"}], confidence=0.95))
+case("uncertainty.check_requirements", kinds={"requirements": "object"}, aliases={"requirements": ("source",)},
+     positive=("metrics_from_s",), shape_stable=False, nan_ok=("bound", "opposite_bound"),
+     extra={"nan-metric": ("metrics", {"pointing_max_deg": [0.01, float("nan")]}, "type"),
+            "2d-metric": ("metrics", {"pointing_max_deg": [[0.01, 0.02]]}, "type")})(
+    lambda: dict(requirements=["pointing_max_deg p99 <= 0.1 after 300 s", "P(pointing_max_deg > 0.05) <= 0.5"],
+                 metrics={"pointing_max_deg": list(_REQ_X)}, metrics_from_s=300.0, method="clopper-pearson",
+                 nan_policy="raise"))
+
+# --- names new on main at 7bc2210 (merged into h-robust): optimality check, problems ---------
+
+exempt(RESULT, "optimal_control.OptimalityCheck")
+exempt(
+    "accessor without arguments of a result built by adcskit (nothing to validate)",
+    "uncertainty.RequirementTable.table_rows",
+    "uncertainty.RequirementVerdict.table_row",
+)
+case("optimal_control.check_optimality", kinds={"solution": "object"}, positive=("threshold",), nan_ok=("*",))(
+    lambda: dict(solution=_solution(), threshold=1e-2)
+)
+case("optimal_control.default_optimality_threshold", positive=("tol",))(lambda: dict(tol=1e-4))
+case("optimal_control.problems.free_flying_robot", nan_ok=("*",))(lambda: dict())
+case("optimal_control.problems.oscillator_min_time", nan_ok=("*",))(lambda: dict(x0=7.0, v0=0.5))
+# the number of switching times depends on the start state (none at the origin)
+case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False)(lambda: dict(x0=7.0, v0=0.5))
+
+
+def _guess() -> Any:
+    from adcskit.optimal_control import Guess
+
+    return Guess(t=[0.0, 0.5, 1.0], x=[[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], u=[[1.0], [0.0], [-1.0]], tf=1.0)
+
+
+case("optimal_control.Guess.check_widths", target=method("", _guess, "check_widths"), kinds={"what": "skip"},
+     known_open="issue 23 item 5: Guess.check_widths(n_controls=True) is accepted as 1; optimal_control is owned "
+                "by another helper; reported, not fixed here")(
+    lambda: dict(n_states=2, n_controls=1)
+)

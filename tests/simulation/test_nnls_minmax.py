@@ -18,8 +18,7 @@ from adcskit.simulation import (
     simulate,
 )
 from adcskit.simulation import _kernels as _k
-from adcskit.simulation.core import S3_REFERENCE_A
-from adcskit.thrusters import allocate
+from adcskit.thrusters import S3_REFERENCE_A, allocate
 
 
 def _bvls(A, m, fmax, mask):

@@ -30,9 +30,8 @@ from adcskit.simulation import (
     simulate,
 )
 from adcskit.simulation import _kernels as _k
-from adcskit.simulation.core import S3_REFERENCE_A
 from adcskit.simulation.profiles import table_from_angle
-from adcskit.thrusters import allocate
+from adcskit.thrusters import S3_REFERENCE_A, allocate
 
 J_S3 = np.diag([1218.6, 442.2, 1429.4])  # S3 Table 5 inertia (kg m^2)
 

@@ -10,19 +10,21 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from adcskit.control import LoopSettings
+from adcskit.control import (
+    LoopSettings,
+    mean_change_converged,
+    robust_objective,
+    weights_from_ratio,
+)
+from adcskit.control.tuning import monte_carlo, tune_deterministic, tune_robust
 from adcskit.errors import InputError
 from adcskit.uncertainty import (
     Gaussian,
     TruncatedGaussian,
     latin_hypercube,
-    mean_change_converged,
-    robust_objective,
     run_campaign,
     sample_stats,
-    weights_from_ratio,
 )
-from adcskit.uncertainty.tuning import monte_carlo, tune_deterministic, tune_robust
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 TESTS = Path(__file__).resolve().parents[1]

@@ -13,9 +13,7 @@ import pytest
 
 from adcskit._progress import progress_session
 from adcskit.control import LoopSettings
-from adcskit.errors import InputError
-from adcskit.uncertainty import Gaussian, SerialExecutor, TruncatedGaussian, run_campaign
-from adcskit.uncertainty.tuning import (
+from adcskit.control.tuning import (
     PAPER_SCALE,
     RobustTuningScale,
     estimate_tuning_time,
@@ -23,6 +21,8 @@ from adcskit.uncertainty.tuning import (
     monte_carlo,
     tune_robust,
 )
+from adcskit.errors import InputError
+from adcskit.uncertainty import Gaussian, SerialExecutor, TruncatedGaussian, run_campaign
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 TESTS = Path(__file__).resolve().parents[1]

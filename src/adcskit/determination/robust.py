@@ -74,7 +74,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import as_array, as_rng, check_choice, check_int, check_positive
 from adcskit.determination._box import box_sphere_max
 from adcskit.determination.wahba import _k_from, solve_wahba
@@ -83,9 +83,8 @@ from adcskit.errors import InputError, InputTypeError
 __all__ = ["ROBUST_METHODS", "RobustWahbaResult", "robust_wahba", "interval_objectives"]
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True)
-class RobustWahbaResult:
+@dataclass(frozen=True, slots=True, repr=False)
+class RobustWahbaResult(Result):
     """Solution of one robust (interval) Wahba problem.
 
     Attributes
@@ -134,11 +133,6 @@ class RobustWahbaResult:
     nit: int
     nfev: int
     method: str
-
-    def to_dict(self) -> dict[str, Any]:
-        from adcskit.studies._base import to_jsonable
-
-        return {name: to_jsonable(getattr(self, name)) for name in self.__slots__}
 
 
 # ----------------------------------------------------------------------------- helpers

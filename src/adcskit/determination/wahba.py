@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import as_array, check_choice, check_flag, short_repr
 from adcskit.determination import _kernels as _k
 from adcskit.errors import InputError, InputTypeError
@@ -74,9 +74,8 @@ STATUS_MESSAGES: dict[int, str] = {
 _PARALLEL_MIN = 4096
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True)
-class WahbaResult:
+@dataclass(frozen=True, slots=True, repr=False)
+class WahbaResult(Result):
     """Solution of one or a batch of Wahba problems.
 
     Attributes
@@ -132,11 +131,6 @@ class WahbaResult:
     def messages(self) -> list[str]:
         """One message per problem (a single-element list for a single problem)."""
         return [STATUS_MESSAGES[int(s)] for s in np.atleast_1d(self.status)]
-
-    def to_dict(self) -> dict[str, Any]:
-        from adcskit.studies._base import to_jsonable
-
-        return {name: to_jsonable(getattr(self, name)) for name in self.__slots__}
 
 
 _SLOT_SETTERS = tuple(getattr(WahbaResult, name).__set__ for name in WahbaResult.__slots__)

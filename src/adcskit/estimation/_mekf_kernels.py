@@ -33,7 +33,7 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     [rad/s] held constant over the step. ``sigma_v`` [rad/s^0.5] angle random walk,
     ``sigma_u`` [rad/s^1.5] bias random walk (Farrenkopf model). Exact discrete ``Φ`` and
     ``Q`` for the held rate (closed forms below).
-``mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work) -> float``
+``mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work) -> float``
     One vector measurement ``v_body_meas ≈ A(q_true) v_ref`` (both (3,), normalised here),
     isotropic noise ``sigma`` [rad] per axis (the 3-vector model ``R = σ² I``, Markley &
     Crassidis 2014 §6.2.1). Processed as three sequential scalar updates with a frozen
@@ -41,10 +41,14 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
     Joseph-form covariance update, then the multiplicative reset. Returns the normalised
     innovation squared ``νᵀ S⁻¹ ν`` (NIS; ~χ²(2) for unit vectors with noise transverse to
     the direction, ~χ²(3) for isotropic 3-vector noise). If either vector is non-finite or
-    zero, or ``sigma`` is not > 0, nothing changes and NaN is returned.
+    zero, or ``sigma`` is not > 0, nothing changes and NaN is returned. ``underweight`` is
+    the measurement-underweighting factor ``p >= 0`` (below; 0: the plain EKF update).
 ``mekf_update_quaternion(q, b, P, q_meas, sigma, work) -> float``
     Star-tracker update: ``q_meas = δq(v) ⊗ q_true``, ``v ~ N(0, σ² I)`` [rad], body frame.
-    Returns the NIS (~χ²(3)); NaN and no change for a non-finite/zero ``q_meas``.
+    Returns the NIS (~χ²(3)); NaN and no change for a non-finite/zero ``q_meas``. Never
+    underweighted: its innovation ``rotvec(q_meas ⊗ q⁻¹) = v + dθ + ½ v × dθ + …`` is linear
+    in ``dθ`` up to a term of relative size ``|dθ|/2``, so a precise first star-tracker
+    update is consistent as it is (and underweighting it only slows the convergence).
 ``mekf_nees(q_est, b_est, P, q_true, b_true, work) -> float``
     Normalised estimation error squared ``eᵀ P⁻¹ e``, ``e = [rotvec(q_true ⊗ q_est⁻¹),
     b_true − b_est]`` (~χ²(6) for a consistent filter), by Cholesky in ``work``; NaN if ``P``
@@ -77,6 +81,18 @@ angle-random-walk part integrates to ``σv² dt I`` exactly); for ``w → 0`` it
 Markley & Crassidis eq. 6.93. Quaternion: ``q⁺ = δq(ω̂ dt) ⊗ q`` (exact for the held rate),
 ``δq(θ) = [sin(|θ|/2) θ/|θ|, cos(|θ|/2)]``; reset ``q⁺ = δq(dθ̂) ⊗ q⁻``, ``b⁺ = b⁻ + Δb̂``.
 
+Measurement underweighting (Zanetti, DeMars & Bishop 2010, after Lear's Shuttle practice;
+the remedy for a precise first update that Lefferts, Markley & Shuster 1982 discuss; ``p``
+default 0.2, chosen by the Monte-Carlo NEES in docs/estimation-mekf.md): for each scalar row ``h`` with noise variance ``σ²``, while
+``h P hᵀ > σ²`` the update uses the inflated variance ``σ² + p h P hᵀ`` (gain, Joseph form
+and NIS alike), i.e. ``S = (1 + p) h P hᵀ + σ²``. A precise measurement of a poorly known
+attitude then removes only about ``1/(1 + p)`` of the innovation per update, so the EKF's
+linearisation error — for a unit vector ``½ |dθ_∥| |dθ_⊥|`` transverse to it, with ``dθ_∥``
+the unobserved rotation about it — is never folded in with a covariance that cannot hold
+it; once ``h P hᵀ <= σ²`` the update is the plain EKF one. Both update kernels go through
+the one helper ``_scalar_update``, which the batch filter, the stepping class and the
+closed-loop simulator share; the star-tracker update passes ``p = 0`` (see above).
+
 References
 ----------
 .. [1] Lefferts, E. J., Markley, F. L. and Shuster, M. D., "Kalman filtering for spacecraft
@@ -87,6 +103,10 @@ References
    CRC, 2012, §7.2 (gyro model and its discrete simulation).
 .. [4] Farrenkopf, R. L., "Analytic steady-state accuracy solutions for two common spacecraft
    attitude estimators", JGC 1(4), 1978 (gyro noise model).
+.. [5] Lear, W. M., "Multi-phase navigation program for the space shuttle orbiter", NASA
+   JSC internal note 73-FM-132, 1973, and Zanetti, R., DeMars, K. J. and Bishop, R. H.,
+   "Underweighting nonlinear measurements", JGCD 33(5), 2010, 1670-1675 (measurement
+   underweighting).
 """
 
 from __future__ import annotations
@@ -286,17 +306,23 @@ def mekf_propagate(q, b, P, omega_meas, dt, sigma_v, sigma_u, work):
 
 
 @register_jitable
-def _scalar_update(P, work, h0, h1, h2, innov, var):
+def _scalar_update(P, work, h0, h1, h2, innov, var, underweight):
     """One scalar measurement ``z = h · dθ`` (the vector and star-tracker rows have no bias part) with
     residual ``innov`` (already corrected for the accumulated ``dx``) and noise variance
     ``var``: Joseph-form update of ``P`` and ``dx`` (work[_DX:_DX+6]); returns ``innov²/s``.
 
     Joseph form ``(I − K h)P(I − K h)ᵀ + var K Kᵀ`` expanded with ``u = P hᵀ``,
     ``s = h u + var``: ``P − K uᵀ − u Kᵀ + s K Kᵀ`` (symmetric by construction and, unlike
-    ``P − u uᵀ / s``, first-order insensitive to errors in ``K``)."""
+    ``P − u uᵀ / s``, first-order insensitive to errors in ``K``).
+
+    Underweighting (module docstring): while ``h u > var`` the noise variance is inflated to
+    ``var + underweight · h u`` (gain, Joseph form and NIS all use the inflated value)."""
     for i in range(6):
         work[_U + i] = P[i, 0] * h0 + P[i, 1] * h1 + P[i, 2] * h2
-    s = work[_U] * h0 + work[_U + 1] * h1 + work[_U + 2] * h2 + var
+    hu = work[_U] * h0 + work[_U + 1] * h1 + work[_U + 2] * h2
+    if hu > var:
+        var = var + underweight * hu
+    s = hu + var
     inv_s = 1.0 / s
     for i in range(6):
         work[_K + i] = work[_U + i] * inv_s
@@ -320,7 +346,7 @@ def _reset(q, b, work):
 
 
 @register_jitable
-def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work):
+def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work):
     """Vector-measurement update (see the module docstring); returns the NIS or NaN."""
     nb = v_body_meas[0] * v_body_meas[0] + v_body_meas[1] * v_body_meas[1] + v_body_meas[2] * v_body_meas[2]
     nr = v_ref[0] * v_ref[0] + v_ref[1] * v_ref[1] + v_ref[2] * v_ref[2]
@@ -354,7 +380,7 @@ def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, work):
         else:
             h0, h1, h2 = -bh1, bh0, 0.0
         innov = work[_Y + i] - (h0 * work[_DX] + h1 * work[_DX + 1] + h2 * work[_DX + 2])
-        nis += _scalar_update(P, work, h0, h1, h2, innov, var)
+        nis += _scalar_update(P, work, h0, h1, h2, innov, var, underweight)
     _reset(q, b, work)
     return nis
 
@@ -371,7 +397,7 @@ def mekf_update_quaternion(q, b, P, q_meas, sigma, work):
     for i in range(3):
         innov = work[_Y + i] - work[_DX + i]
         nis += _scalar_update(P, work, 1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0,
-                              1.0 if i == 2 else 0.0, innov, var)
+                              1.0 if i == 2 else 0.0, innov, var, 0.0)
     _reset(q, b, work)
     return nis
 
@@ -410,8 +436,8 @@ def mekf_nees(q_est, b_est, P, q_true, b_true, work):
 
 
 @register_jitable
-def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, qtrue,
-                btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P, work):
+def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, uw,
+                qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P, work):
     """Run sample ``k`` over all ``T`` epochs (see :func:`filter_batch`). ``P``, ``work``:
     this lane's scratch (6, 6) and (WORK_SIZE,)."""
     T = gyro.shape[1]
@@ -439,7 +465,7 @@ def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigm
             mekf_propagate(q, b, P, gyro[k, t - 1], dt[t - 1], sigma_v, sigma_u, work)
         for j in range(m):
             if math.isfinite(vb[k, t, j, 0]):
-                nis[k, t, j] = mekf_update_vector(q, b, P, vb[k, t, j], vr[kr, t, j], sig[j], work)
+                nis[k, t, j] = mekf_update_vector(q, b, P, vb[k, t, j], vr[kr, t, j], sig[j], uw, work)
             else:
                 nis[k, t, j] = math.nan
         if has_st:
@@ -458,8 +484,8 @@ def _filter_one(k, q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigm
 
 
 @njit(cache=True, parallel=True, nogil=True)
-def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, qtrue, btrue,
-                 q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr, work):
+def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_u, uw, qtrue,
+                 btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr, work):
     """All samples in parallel (``prange``), each through :func:`_filter_one`.
 
     Shapes: ``q0`` (N, 4), ``b0`` (N, 3), ``P0`` (N, 6, 6), ``dt`` (T − 1,), ``gyro``
@@ -476,7 +502,7 @@ def filter_batch(q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v, sigma_
         # prange's index is uint64, which would unify with the int 0 of a shared-reference
         # index to float64: pass it as int64
         _filter_one(np.int64(k), q0, b0, P0, dt, gyro, vb, vr, sig, qst, sig_st, sigma_v,
-                    sigma_u, qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
+                    sigma_u, uw, qtrue, btrue, q_out, b_out, Pd_out, P_out, nees, nis, nis_st, P_scr[k], work[k])
 
 
 # --- njit dispatchers for callers outside compiled code (the stepping class, tests) ---------

@@ -21,6 +21,7 @@ from adcskit.optimal_control.adaptive import (
     AdaptiveSolution,
     ErrorCertificate,
     MeshIteration,
+    default_optimality_threshold,
     estimate_error,
     guess_from_function,
     refine_mesh,
@@ -29,8 +30,10 @@ from adcskit.optimal_control.adaptive import (
 )
 from adcskit.optimal_control.analysis import (
     BangBangResult,
+    OptimalityCheck,
     ResimulationResult,
     bang_bang,
+    check_optimality,
     resimulate,
 )
 from adcskit.optimal_control.multiphase import (
@@ -69,6 +72,7 @@ from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS
 __all__ = [
     "AdaptiveSolution",
     "BangBangResult",
+    "OptimalityCheck",
     "Endpoint",
     "ErrorCertificate",
     "Link",
@@ -78,6 +82,7 @@ __all__ = [
     "MultiPhaseSolution",
     "Phase",
     "default_multiphase_guess",
+    "default_optimality_threshold",
     "estimate_error",
     "guess_from_function",
     "refine_mesh",
@@ -96,6 +101,7 @@ __all__ = [
     "ResimulationResult",
     "WARM_START_IPOPT_OPTIONS",
     "bang_bang",
+    "check_optimality",
     "clear_cache",
     "default_guess",
     "gauss_differentiation_matrix",

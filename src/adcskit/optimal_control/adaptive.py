@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import casadi as ca
@@ -77,6 +77,7 @@ __all__ = [
     "AdaptiveSolution",
     "ErrorCertificate",
     "MeshIteration",
+    "default_optimality_threshold",
     "estimate_error",
     "refine_mesh",
     "solve_adaptive",
@@ -366,6 +367,7 @@ def refine_mesh(
     reduce: bool = False,
     reduce_margin: float = 10.0,
     snap: float = 0.02,
+    min_width: float = 0.0,
 ) -> tuple[Mesh, tuple[str, ...]]:
     """The next mesh of the hp scheme and the action taken per interval.
 
@@ -407,6 +409,11 @@ def refine_mesh(
         points; the two intervals' fractions change, their sum does not) instead of splitting
         the interval; in ``[0, 0.5)``, 0 disables it. A switch that moved a little after the
         re-solve is tracked by the mesh point rather than cut off in a sliver interval.
+    min_width : float
+        Smallest interval, as a fraction of the phase's duration (``[0, 0.1]``): an interval
+        the refinement would make narrower is merged into its narrower neighbour (with the
+        larger point count), so a switch cannot pile up slivers (:func:`solve_adaptive`
+        uses 1e-6).
 
     Returns
     -------
@@ -442,6 +449,7 @@ def refine_mesh(
     reduce = check_flag("reduce", reduce)
     margin = check_positive("reduce_margin", reduce_margin)
     snap = check_range("snap", snap, 0.0, 0.5, hi_open=True)
+    min_width = check_range("min_width", min_width, 0.0, 0.1)
     if reduce and pieces is None:
         raise InputError("reduce=True needs the solution's pieces")
     if pieces is not None and len(pieces) != mesh.n_intervals:
@@ -525,6 +533,14 @@ def refine_mesh(
     if reduce:
         nodes, fracs, actions = _merge(nodes, fracs, actions, origin, pieces, lo_u, hi_u, bound,
                                        smooth_decay, jump_threshold)
+    if min_width > 0.0:
+        nodes, fracs = list(nodes), list(fracs)
+        while len(fracs) > 1 and min(fracs) < min_width * sum(fracs):
+            i = int(np.argmin(fracs))
+            j = i - 1 if i == len(fracs) - 1 or (i > 0 and fracs[i - 1] <= fracs[i + 1]) else i + 1
+            a, b = min(i, j), max(i, j)
+            nodes[a:b + 1] = [max(nodes[a], nodes[b])]
+            fracs[a:b + 1] = [fracs[a] + fracs[b]]
     fr_arr = np.array(fracs)
     fr_arr = fr_arr / fr_arr.sum()
     return Mesh(nodes=tuple(nodes), fractions=tuple(float(v) for v in fr_arr)), tuple(actions)
@@ -627,7 +643,7 @@ class ErrorCertificate:
     Attributes
     ----------
     satisfied : bool
-        The NLP converged and every interval's relative state error is ``<= tol``.
+        ``error_met and optimality_met``: what ``success`` of :func:`solve_adaptive` requires.
     tol : float
     max_error : float
     worst_phase, worst_interval : int
@@ -638,6 +654,19 @@ class ErrorCertificate:
     mesh_iterations : int
     estimator : str
         How the error was measured.
+    error_met : bool
+        The NLP converged and every interval's relative state error is ``<= tol``.
+    optimality_met : bool
+        The first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` hold (single-phase problems; for a
+        multi-phase problem, or with ``check_optimality=False``, they are not checked and
+        this repeats the NLP's convergence: ``optimality_checks`` is then empty).
+    optimality_checks : tuple of str
+        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``).
+    optimality_figures : dict
+        ``h_spread``, ``h_target_error``, ``switching_violation`` and the ``threshold``
+        they were held to (relative to the size of the Hamiltonian's terms).
+    optimality_detail : str
 
     Examples
     --------
@@ -659,6 +688,11 @@ class ErrorCertificate:
     n_collocation: int
     mesh_iterations: int
     estimator: str
+    error_met: bool = False
+    optimality_met: bool = False
+    optimality_checks: tuple[str, ...] = ()
+    optimality_figures: dict[str, float] = field(default_factory=dict)
+    optimality_detail: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -717,15 +751,46 @@ def _phase_errors(phase_sols, extra):
     return [estimate_error(s, extra_points=extra) for s in phase_sols]
 
 
-def _certificate(phase_sols, errs, tol, success, n_iter, extra) -> ErrorCertificate:
+def default_optimality_threshold(tol: float) -> float:
+    """Threshold of the optimality figures used by :func:`solve_adaptive` for a tolerance.
+
+    ``max(0.02, 2 √tol)``: see :func:`~adcskit.optimal_control.check_optimality` and
+    docs/optimal-control.md ("What success certifies") for the calibration.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import default_optimality_threshold
+    >>> default_optimality_threshold(1e-6), default_optimality_threshold(1.0)
+    (0.02, 2.0)
+    """
+    tol = check_positive("tol", tol)
+    return float(max(0.02, 2.0 * math.sqrt(tol)))
+
+
+def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, check=True,
+                 threshold=0.02) -> ErrorCertificate:
+    from adcskit.optimal_control.analysis import check_optimality as _check
+
     worst = (-1, -1, -np.inf)
     for i, e in enumerate(errs):
         if e.size and np.max(e) > worst[2]:
             worst = (i, int(np.argmax(e)), float(np.max(e)))
     ip, ir, emax = worst
     piece = phase_sols[ip].pieces[ir]
+    opt = None
+    if check and not multi and success:
+        opt = _check(phase_sols[0], threshold=threshold)
+    if opt is not None:
+        o_met, o_checks, o_fig, o_detail = opt.met, opt.checks, dict(
+            h_spread=opt.h_spread, h_target_error=opt.h_target_error,
+            switching_violation=opt.switching_violation, threshold=opt.threshold), opt.detail
+    else:
+        why = ("not checked (check_optimality=False)" if not check else
+               "not checked (multi-phase problem)" if multi else "not checked (the NLP failed)")
+        o_met, o_checks, o_fig, o_detail = bool(success), (), {}, why
+    dyn_ok = bool(success and emax <= tol)
     return ErrorCertificate(
-        satisfied=bool(success and emax <= tol),
+        satisfied=bool(dyn_ok and o_met),
         tol=tol,
         max_error=emax,
         worst_phase=ip,
@@ -734,6 +799,11 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra) -> ErrorCertific
         n_collocation=int(sum(sum(s.mesh.nodes) for s in phase_sols)),
         mesh_iterations=n_iter,
         estimator=_estimator_text(extra),
+        error_met=dyn_ok,
+        optimality_met=bool(o_met),
+        optimality_checks=tuple(o_checks),
+        optimality_figures=o_fig,
+        optimality_detail=o_detail,
     )
 
 
@@ -752,6 +822,10 @@ def solve_adaptive(
     ipopt_options: dict[str, Any] | None = None,
     transfer_duals: bool = True,
     mesh_reduction: bool = True,
+    min_width: float = 1e-6,
+    check_optimality: bool = True,
+    optimality_threshold: float | None = None,
+    switch_times: bool = True,
 ):
     """Solve an optimal-control problem to a relative state-error tolerance by hp refinement.
 
@@ -765,7 +839,9 @@ def solve_adaptive(
         Initial mesh (one per phase for a multi-phase problem); default 10 intervals of
         ``n_min + 1`` points, as GPOPS-II starts.
     guess : Guess, OptimalControlSolution, callable, "linear", optional
-        Initial guess (see :func:`solve` / :func:`solve_multiphase`; a callable
+        Accepted: single phase — ``None``, a :class:`Guess`, a previous solution, a callable,
+        ``"linear"``; multi-phase — ``None``, ``"linear"``, a :class:`MultiPhaseGuess` or
+        :class:`MultiPhaseSolution`. Initial guess (see :func:`solve` / :func:`solve_multiphase`; a callable
         ``t -> (x, u)`` is sampled by :func:`guess_from_function`; ``"linear"`` is
         :func:`default_guess`). Default for a single phase: :func:`symmetry_breaking_guess`,
         which does not start on the symmetric stationary point (e.g. the eigenaxis slew of
@@ -788,13 +864,33 @@ def solve_adaptive(
         Also lower degrees and merge intervals where the error is far below ``tol``
         (:func:`refine_mesh`'s ``reduce``; Liu, Hager & Rao 2015, §4). Default on: measured
         smaller final meshes at equal wall time (docs/benchmarks.md).
+    min_width : float
+        Narrowest interval the refinement makes, as a fraction of the phase (``[0, 0.1]``).
+    check_optimality : bool
+        Require the first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` (single phase) for ``success``;
+        when the error test passes and they fail, refinement goes on where ``H`` departs
+        from its median.
+    optimality_threshold : float, optional
+        Bound of the relative optimality figures; default
+        :func:`default_optimality_threshold` ``(tol) = max(0.02, 2 √tol)``.
+    switch_times : bool
+        Once a bang-bang structure is stable over two meshes, re-solve with the switch times
+        as free phase boundaries (one constant-bound arc per phase, :func:`solve_multiphase`)
+        and continue from the joined solution (single phase; counts as one solve).
 
     Returns
     -------
     AdaptiveSolution or MultiPhaseSolution
         The usual solution with ``max_error``, ``interval_errors``, ``mesh_history`` and
-        ``certificate``. ``success`` is True only when IPOPT converged *and* the tolerance
-        holds in every interval; otherwise ``message`` says which limit stopped it.
+        ``certificate``. ``success`` is True only when IPOPT converged, the tolerance holds
+        in every interval *and* the optimality checks hold (``certificate.error_met``,
+        ``certificate.optimality_met``); otherwise ``message`` says what failed, opening with
+        ``"infeasible:"`` when IPOPT proved the NLP infeasible. A failed NLP is never
+        refined from: it is retried (cold IPOPT options and more iterations; a fixed-``tf``
+        feasibility step before any converged solve of a free-final-time problem; a perturbed
+        guess after an infeasible first solve), and the last *converged* solution is returned.
+        Two consecutive meshes proved infeasible end the run.
 
     References
     ----------
@@ -824,6 +920,14 @@ def solve_adaptive(
     extra = check_int("extra_points", extra_points, minimum=1, maximum=10)
     transfer_duals = check_flag("transfer_duals", transfer_duals)
     mesh_reduction = check_flag("mesh_reduction", mesh_reduction)
+    min_width = check_range("min_width", min_width, 0.0, 0.1)
+    check_optimality_flag = check_flag("check_optimality", check_optimality)
+    switch_times = check_flag("switch_times", switch_times)
+    from adcskit.optimal_control.analysis import check_optimality as _check_optimality
+    optimality_threshold = (
+        default_optimality_threshold(tol) if optimality_threshold is None
+        else check_positive("optimality_threshold", optimality_threshold)
+    )
     n_phases = len(problem.phases) if multi else 1
     meshes = _initial_meshes(mesh, n_phases, n_min)
     if guess is None and not multi:
@@ -841,67 +945,177 @@ def solve_adaptive(
     message = ""
     converged = False
     sol = None
+    good = None  # (solution, phase solutions, errors, meshes) of the last converged NLP
     errs: list[np.ndarray] = []
-    for it in range(max_iterations):
+    phase_sols: list = []
+    n_solves = 0
+    infeasible_meshes = 0  # consecutive meshes on which IPOPT proved the NLP infeasible
+    stop_infeasible = False
+    cold_next = False
+    last_sig = None
+    tried_sigs: set[bytes] = set()
+
+    def run(meshes, guess, opts, warm, prob=None):
         t_start = time.perf_counter()
         if multi:
-            sol = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=ipopt_options,
-                                   transfer_duals=transfer_duals)
-            phase_sols = list(sol.phases)
+            out = solve_multiphase(problem, method=method, meshes=meshes, guess=guess, ipopt_options=opts,
+                                   transfer_duals=transfer_duals and warm is not False)
+            ps = list(out.phases)
         else:
-            sol = solve(problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=ipopt_options,
-                        transfer_duals=transfer_duals)
-            phase_sols = [sol]
+            out = solve(prob or problem, method=method, mesh=meshes[0], guess=guess, ipopt_options=opts,
+                        transfer_duals=transfer_duals and warm is not False, warm_start=warm)
+            ps = [out]
         wall = time.perf_counter() - t_start
-        errs = _phase_errors(phase_sols, extra)
-        emax = float(max(np.max(e) for e in errs))
+        e = _phase_errors(ps, extra)
         history.append(
             MeshIteration(
                 meshes=tuple(meshes),
                 n_collocation=int(sum(sum(m.nodes) for m in meshes)),
-                max_error=emax,
-                objective=float(sol.objective),
-                success=bool(sol.success),
-                nit=int(sol.nit),
+                max_error=float(max(np.max(v) for v in e)),
+                objective=float(out.objective),
+                success=bool(out.success),
+                nit=int(out.nit),
                 solve_s=wall,
-                warm_start=str(sol.warm_start),
+                warm_start=str(out.warm_start),
             )
         )
+        return out, ps, e
+
+    while n_solves < max_iterations:
+        # after a failed optimality check the refined mesh is solved with IPOPT's cold defaults
+        # (from the previous primal point): the warm start's tiny barrier keeps a switch
+        # where it sits, cold ones let it move
+        sol, phase_sols, errs = run(meshes, guess, ipopt_options, False if cold_next else None)
+        cold_next = False
+        n_solves += 1
+        # a failed NLP is never refined from: retry on the same mesh (IPOPT's cold defaults
+        # from the last good point or the guess, more iterations), then fall back to the last
+        # good solution (below)
+        retry_opts = dict(ipopt_options or {})
+        retry_opts["max_iter"] = 3 * int(retry_opts.get("max_iter", 500))
+        if not sol.success and n_solves < max_iterations and sol.status != 3:
+            start = good[0] if good is not None else guess
+            sol, phase_sols, errs = run(meshes, start, retry_opts, False)
+            n_solves += 1
+        if (not sol.success and not multi and good is None and problem.free_final_time
+                and n_solves + 1 < max_iterations):
+            # no solution yet of a free-final-time problem: a feasibility step with tf fixed at
+            # its guess, then the free problem from there (IPOPT tends to shrink tf from a poor
+            # guess until the NLP is locally infeasible: the minimum-time oscillator)
+            fixed = problem.replace(tf_bounds=(problem.tf_guess, problem.tf_guess))
+            feas, _, _ = run(meshes, guess, retry_opts, False, prob=fixed)
+            n_solves += 1
+            if feas.success:
+                sol, phase_sols, errs = run(meshes, feas, retry_opts, False)
+                n_solves += 1
+        if not sol.success and sol.status == 3 and n_solves < max_iterations and not multi and good is None:
+            # proved infeasible from the first guess: once more from a perturbed (symmetry-breaking) guess
+            sol, phase_sols, errs = run(meshes, symmetry_breaking_guess(problem, amplitude=0.5), retry_opts, False)
+            n_solves += 1
+        emax = float(max(np.max(e) for e in errs))
+        if sol.success and switch_times and not multi and n_solves < max_iterations:
+            structure = _bang_structure(sol)
+            sig = None if structure is None else structure[0].tobytes()
+            if sig is not None and sig == last_sig and sig not in tried_sigs:
+                # the bang-bang structure is stable over two meshes: free the switch times
+                tried_sigs.add(sig)
+                t_start = time.perf_counter()
+                polished = _switch_time_solve(problem, sol, structure, tol=tol, method=method, n_min=n_min,
+                                              n_max=n_max, min_width=min_width, ipopt_options=ipopt_options)
+                n_solves += 1
+                if polished is not None and polished[0].success:
+                    sol, nit_p = polished
+                    phase_sols = [sol]
+                    errs = _phase_errors(phase_sols, extra)
+                    emax = float(np.max(errs[0]))
+                    meshes = [sol.mesh]
+                    history.append(MeshIteration(
+                        meshes=(sol.mesh,), n_collocation=int(sum(sol.mesh.nodes)), max_error=emax,
+                        objective=float(sol.objective), success=True, nit=int(nit_p),
+                        solve_s=time.perf_counter() - t_start, warm_start="switch-times"))
+            last_sig = sig
         if sol.success:
+            infeasible_meshes = 0
+            good = (sol, phase_sols, errs, list(meshes))
             guess = sol  # warm start of the next mesh
+        else:
+            infeasible_meshes = infeasible_meshes + 1 if sol.status == 3 else 0
+            if infeasible_meshes >= 2:
+                stop_infeasible = True
+                message = (
+                    f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive meshes "
+                    f"(last {meshes[0].label() if not multi else 'per-phase meshes'}); the problem's constraints "
+                    "(bounds, boundary values, tf_bounds, path) may have no solution"
+                )
+                break
+        opt_split = None
         if sol.success and emax <= tol:
-            converged = True
-            message = f"tolerance {tol:g} met on mesh iteration {it + 1}: max relative error {emax:.3g}"
-            break
-        if it == max_iterations - 1:
+            opt = None
+            if check_optimality_flag and not multi:
+                opt = _check_optimality(sol, threshold=optimality_threshold)
+            if opt is None or opt.met:
+                converged = True
+                message = f"tolerance {tol:g} met on mesh iteration {len(history)}: max relative error {emax:.3g}"
+                break
+            # the dynamics meet tol but the optimality conditions do not: refine where H departs
+            # from its median (a misplaced switch bounds an arc of wrong H), else beside switches
+            opt_split = _optimality_split(sol, opt, min_width)
+            cold_next = True
+            if n_solves < max_iterations and opt_split is not None:
+                new_meshes = [opt_split]
+                if new_meshes[0] == meshes[0]:
+                    message = (f"tolerance {tol:g} met but the optimality conditions are not and the mesh cannot be "
+                               f"refined further (min_width={min_width:g})")
+                    break
+        if n_solves >= max_iterations:
             message = f"max_iterations={max_iterations} reached with max relative error {emax:.3g} > tol {tol:g}"
             break
-        new_meshes = []
-        for m, ps, e in zip(meshes, phase_sols, errs, strict=True):
-            nm, _ = refine_mesh(
-                m,
-                e,
-                tol=tol,
-                pieces=ps.pieces,
-                control_lower=ps.problem.control_lower,
-                control_upper=ps.problem.control_upper,
-                n_min=n_min,
-                n_max=n_max,
-                reduce=mesh_reduction,
-            )
-            new_meshes.append(nm)
-        if not sol.success and all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
-            # the NLP failed on a mesh whose error estimate is already small: refine uniformly
-            new_meshes = [Mesh(nodes=tuple(min(n + 1, n_max) for n in m.nodes), fractions=m.fractions) for m in meshes]
+        if opt_split is not None:
+            pass
+        elif sol.success:
+            new_meshes = []
+            for m, ps, e in zip(meshes, phase_sols, errs, strict=True):
+                nm, _ = refine_mesh(
+                    m,
+                    e,
+                    tol=tol,
+                    pieces=ps.pieces,
+                    control_lower=ps.problem.control_lower,
+                    control_upper=ps.problem.control_upper,
+                    n_min=n_min,
+                    n_max=n_max,
+                    reduce=mesh_reduction,
+                    min_width=min_width,
+                )
+                new_meshes.append(nm)
+            if all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
+                message = (
+                    f"the mesh cannot be refined further (min_width={min_width:g}, n_max={n_max}); stopped with "
+                    f"max relative error {emax:.3g} > tol {tol:g}"
+                )
+                break
+        else:
+            # the NLP failed on this mesh even after the retry: refine it uniformly (p, or h at
+            # n_max) and start again from the last good solution
+            new_meshes = [_uniform_refinement(m, n_max, min_width) for m in meshes]
         if any(nm.n_intervals > max_intervals for nm in new_meshes):
             message = (
                 f"max_intervals={max_intervals} would be exceeded; stopped with max relative error {emax:.3g} > tol {tol:g}"
             )
             break
         meshes = new_meshes
-    if not sol.success:
-        message = f"{message}; last NLP: {sol.message}"
-    cert = _certificate(phase_sols, errs, tol, sol.success, len(history), extra)
+    failed_nlp = sol
+    if not sol.success and good is not None:
+        # report the last converged NLP, never a failed iterate
+        sol, phase_sols, errs, meshes = good
+        message = f"{message}; the last NLP failed ({failed_nlp.message}): the last converged mesh is reported"
+    elif not sol.success:
+        if sol.status == 3 and not stop_infeasible:
+            message = f"infeasible: IPOPT proved the NLP locally infeasible ({sol.message}); {message}"
+        else:
+            message = f"{message}; last NLP: {sol.message}"
+    cert = _certificate(phase_sols, errs, tol, sol.success, len(history), extra, multi=multi,
+                        check=check_optimality_flag, threshold=optimality_threshold)
     emax = cert.max_error
     extras = dict(
         max_error=emax,
@@ -909,12 +1123,227 @@ def solve_adaptive(
         mesh_history=tuple(history),
         certificate=cert,
     )
-    ok = bool(converged and sol.success)
+    ok = bool(converged and sol.success and cert.satisfied)
+    if sol.success and cert.error_met and not cert.optimality_met:
+        message = f"optimality conditions NOT met ({cert.optimality_detail}); {message}"
     if multi:
         return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)
     base = {f.name: getattr(sol, f.name) for f in fields(OptimalControlSolution)}
     base.update(success=ok, message=f"{message} ({sol.message})")
     return AdaptiveSolution(**base, **extras)
+
+
+def _optimality_split(sol, opt, min_width: float) -> Mesh | None:
+    """Halve the intervals holding a collocation point whose ``H`` departs from the median by
+    more than the threshold (else those beside a control switch), keeping ``min_width``."""
+    mesh = sol.mesh
+    lo, hi = sol.problem.control_lower, sol.problem.control_upper
+    from adcskit.optimal_control.analysis import _switch_adjacent
+
+    dev = np.abs(sol.hamiltonian - opt.h_median) / opt.h_scale
+    bad = dev > opt.threshold if np.isfinite(opt.h_spread) and opt.h_spread > opt.threshold else None
+    if bad is None or not np.any(bad):
+        bad = _switch_adjacent(sol.u, lo, hi)
+    if not np.any(bad):
+        return None
+    owner = np.repeat(np.arange(mesh.n_intervals), mesh.nodes)
+    marked = set(owner[bad].tolist())
+    nodes: list[int] = []
+    fr: list[float] = []
+    for r, (n, f) in enumerate(zip(mesh.nodes, mesh.fractions, strict=True)):
+        if r in marked and f / 2.0 >= min_width:
+            nodes += [n, n]
+            fr += [f / 2.0, f / 2.0]
+        else:
+            nodes.append(n)
+            fr.append(f)
+    a = np.array(fr)
+    return Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+
+
+def _uniform_refinement(mesh: Mesh, n_max: int, min_width: float) -> Mesh:
+    """One more collocation point per interval; intervals already at ``n_max`` are halved
+    (while the halves stay at least ``min_width`` wide)."""
+    nodes: list[int] = []
+    fr: list[float] = []
+    for n, f in zip(mesh.nodes, mesh.fractions, strict=True):
+        if n < n_max:
+            nodes.append(n + 1)
+            fr.append(f)
+        elif f / 2.0 >= min_width:
+            nodes += [n, n]
+            fr += [f / 2.0, f / 2.0]
+        else:
+            nodes.append(n)
+            fr.append(f)
+    a = np.array(fr)
+    return Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+
+
+# ----------------------------------------------------------------------------- switch times
+def _bang_structure(sol, on_bound: float = 0.02, max_transition: float = 0.05):
+    """The arcs of a bang-bang solution: ``(values, boundaries)`` with ``values`` (K, nu) in
+    {−1, +1} (lower / upper bound) and the K − 1 switch-time estimates (s), or None.
+
+    Per channel, consecutive on-bound collocation points on opposite bounds bracket a switch
+    (placed mid-way); off-bound points between them are the discretisation smearing it, as
+    long as the gap is at most ``max_transition`` of the horizon. A longer off-bound run (a
+    singular or smooth arc), an infinite bound, or no switch at all gives None: such
+    solutions are left to the general refinement. Switches of different channels closer than
+    ``1e-4`` of the horizon are one boundary.
+    """
+    pr = sol.problem
+    lo, hi = pr.control_lower, pr.control_upper
+    if pr.n_controls == 0 or not np.all(np.isfinite(lo) & np.isfinite(hi) & (hi > lo)):
+        return None
+    span = hi - lo
+    u, tc = sol.u, sol.t_control
+    T = float(sol.tf - sol.t0)
+    cls = np.where(np.abs(u - hi) <= on_bound * span, 1, np.where(np.abs(u - lo) <= on_bound * span, -1, 0))
+    switch_t: list[float] = []
+    for j in range(u.shape[1]):
+        k_on = np.flatnonzero(cls[:, j] != 0)
+        if k_on.size == 0:
+            return None
+        # off-bound stretches at the ends of the horizon are not a bang-bang control either
+        if tc[k_on[0]] - sol.t0 > max_transition * T or sol.tf - tc[k_on[-1]] > max_transition * T:
+            return None
+        for a, b in zip(k_on[:-1], k_on[1:], strict=True):
+            gap = tc[b] - tc[a]
+            if b > a + 1 and gap > max_transition * T:
+                return None  # a long off-bound run: singular or smooth arc
+            if cls[a, j] != cls[b, j]:
+                switch_t.append(0.5 * (tc[a] + tc[b]))
+    if not switch_t:
+        return None
+    ts = np.sort(np.array(switch_t))
+    merged = [ts[0]]
+    for t in ts[1:]:
+        if t - merged[-1] > 1e-4 * T:
+            merged.append(t)
+    edges = np.concatenate(([sol.t0], merged, [sol.tf]))
+    vals = []
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        row = []
+        for j in range(u.shape[1]):
+            k_on = np.flatnonzero(cls[:, j] != 0)
+            k = k_on[np.argmin(np.abs(tc[k_on] - 0.5 * (a + b)))]
+            row.append(cls[k, j])
+        vals.append(row)
+    return np.array(vals, dtype=int), np.array(merged)
+
+
+def _switch_time_solve(problem, sol, structure, *, tol, method, n_min, n_max, min_width, ipopt_options):
+    """Re-solve a bang-bang solution with its switch times as free phase boundaries.
+
+    One phase per arc with the control fixed at the arc's bounds, state and time continuity
+    between phases (:func:`solve_multiphase`, refined by :func:`solve_adaptive`); the optimal
+    switch times then become mesh points of a single-phase mesh (each phase's final mesh
+    scaled into its arc) on which the original problem is solved warm from the multi-phase
+    trajectory. Returns ``(solution, nit)`` or None when a step fails.
+    """
+    from adcskit.optimal_control.multiphase import MultiPhaseGuess, MultiPhaseProblem, Phase
+
+    vals, bounds = structure
+    pr = problem
+    lo, hi = pr.control_lower, pr.control_upper
+    sx, su = pr.scales()
+    t_hi = pr.tf_bounds[1] if np.isfinite(pr.tf_bounds[1]) else pr.t0 + 10.0 * (sol.tf - pr.t0)
+    edges = np.concatenate(([pr.t0], bounds, [sol.tf]))
+    K = len(vals)
+    phases, guesses = [], []
+    for k in range(K):
+        uval = np.where(vals[k] > 0, hi, lo)
+        phases.append(Phase(
+            name=f"arc{k}",
+            dynamics=lambda x, u, t, p, _f=pr.dynamics: _f(x, u, t),
+            lagrange=None if pr.lagrange is None else (lambda x, u, t, p, _g=pr.lagrange: _g(x, u, t)),
+            path=None if pr.path is None else (lambda x, u, t, p, _c=pr.path: _c(x, u, t)),
+            path_lower=pr.path_lower if pr.path is not None else None,
+            path_upper=pr.path_upper if pr.path is not None else None,
+            n_states=pr.n_states,
+            n_controls=pr.n_controls,
+            state_names=pr.state_names,
+            control_names=pr.control_names,
+            state_lower=pr.state_lower,
+            state_upper=pr.state_upper,
+            control_lower=uval,
+            control_upper=uval,
+            initial_state=pr.initial_state if k == 0 else None,
+            final_state=pr.final_state if k == K - 1 else None,
+            t0_bounds=(pr.t0, pr.t0) if k == 0 else (pr.t0, t_hi),
+            tf_bounds=pr.tf_bounds if k == K - 1 else (pr.t0, t_hi),
+            t0_guess=float(edges[k]),
+            tf_guess=float(edges[k + 1]),
+            state_scale=sx,
+            control_scale=su,
+        ))
+        tt = np.linspace(edges[k], edges[k + 1], 9)
+        guesses.append(Guess(t=tt, x=sol.state_at(tt), u=np.tile(uval, (tt.size, 1)), tf=float(max(edges[k + 1], 1e-12))))
+    mayer = pr.mayer
+    multi = MultiPhaseProblem(
+        name=f"{pr.name}-switch-times",
+        phases=phases,
+        objective=None if mayer is None else (lambda ends, p: mayer(ends[0].x0, ends[0].t0, ends[-1].xf, ends[-1].tf)),
+    )
+    try:
+        msol = solve_adaptive(multi, tol=tol, method=method, mesh=[Mesh.uniform(2, n_min + 1)] * K,
+                              guess=MultiPhaseGuess(phases=tuple(guesses), parameters=np.zeros(0)),
+                              max_iterations=6, n_min=n_min, n_max=n_max, ipopt_options=ipopt_options)
+    except (ValueError, RuntimeError):
+        return None
+    nit = sum(m.nit for m in msol.mesh_history)
+    if not msol.success:
+        return None
+    return _join_phases(pr, msol, min_width), nit
+
+
+def _join_phases(pr, msol, min_width: float) -> OptimalControlSolution:
+    """The single-phase solution made of a multi-phase solution's arcs (collapsed arcs,
+    shorter than ``min_width`` of the horizon, left out): one mesh whose points include the
+    phase boundaries, the phases' pieces, samples and costates in sequence."""
+    T = msol.phases[-1].tf - pr.t0
+    keep = [ph for ph in msol.phases if (ph.tf - ph.t0) / T >= max(min_width, 1e-12)]
+    nodes: list[int] = []
+    fr: list[float] = []
+    cat: dict[str, list] = {k: [] for k in ("t", "x", "costate", "t_control", "u", "hamiltonian", "switching")}
+    pieces: list = []
+    for n, ph in enumerate(keep):
+        d = (ph.tf - ph.t0) / T
+        nodes += list(ph.mesh.nodes)
+        fr += [f * d for f in ph.mesh.fractions]
+        end = None if n == len(keep) - 1 else -1  # the next phase starts where this one ends
+        cat["t"].append(ph.t[:end])
+        cat["x"].append(ph.x[:end])
+        cat["costate"].append(ph.costate[:end])
+        for k in ("t_control", "u", "hamiltonian", "switching"):
+            cat[k].append(getattr(ph, k))
+        pieces += list(ph.pieces)
+    a = np.array(fr)
+    mesh = Mesh(nodes=tuple(nodes), fractions=tuple((a / a.sum()).tolist()))
+    samples = {k: (np.concatenate(v) if k in ("t", "t_control", "hamiltonian") else np.vstack(v)) for k, v in cat.items()}
+    return OptimalControlSolution(
+        success=bool(msol.success),
+        status=int(msol.status),
+        ipopt_status=str(getattr(msol, "ipopt_status", "")),
+        message=f"switch times as free phase boundaries ({len(keep)} arcs): {msol.message}",
+        nit=int(msol.nit),
+        nfev=int(msol.nfev),
+        objective=float(msol.objective),
+        t0=float(pr.t0),
+        tf=float(keep[-1].tf),
+        method=keep[0].method,
+        mesh=mesh,
+        **samples,
+        max_violation=float(msol.max_violation),
+        build_s=float(getattr(msol, "build_s", 0.0)),
+        solve_s=float(getattr(msol, "solve_s", 0.0)),
+        problem=pr,
+        pieces=tuple(pieces),
+        dynamics_fun=keep[0].dynamics_fun,
+        warm_start="switch-times",
+        nlp=None,
+    )
 
 
 def _initial_meshes(mesh, n_phases: int, n_min: int) -> list[Mesh]:

@@ -27,7 +27,7 @@ from adcskit._validation import check_choice, check_int, check_positive, check_r
 from adcskit.errors import InputTypeError
 from adcskit.optimal_control.solve import OptimalControlSolution
 
-__all__ = ["BangBangResult", "ResimulationResult", "bang_bang", "resimulate"]
+__all__ = ["BangBangResult", "OptimalityCheck", "ResimulationResult", "bang_bang", "check_optimality", "resimulate"]
 
 
 @compact_repr
@@ -280,4 +280,249 @@ def resimulate(
         terminal_miss=miss,
         terminal_miss_scaled=float(np.max(np.abs(miss) / sx)),
         nfev=int(nfev),
+    )
+
+
+# ----------------------------------------------------------------------------- optimality
+@compact_repr
+@dataclass(frozen=True, slots=True, kw_only=True)
+class OptimalityCheck:
+    """First-order optimality evidence of a solution from its costate estimates.
+
+    Sign convention: ``H = g + λᵀ f`` with ``λ = ∂J*/∂x`` (the minimum principle for a
+    *minimised* cost; the costate mapping of :func:`~adcskit.optimal_control.solve`), so a
+    control on its upper bound needs ``∂H/∂u <= 0`` and on its lower bound ``∂H/∂u >= 0``,
+    and for a free final time ``H(tf) = −∂φ/∂tf`` (``H ≡ −1`` for minimum time).
+
+    Attributes
+    ----------
+    met : bool
+        Every applicable check is within its threshold.
+    checks : tuple of str
+        Checks applied: ``"H-constant"`` (autonomous problem), ``"transversality"`` (free
+        ``tf`` off its bounds), ``"switching-sign"`` (controls on a bound).
+    h_spread : float
+        ``max_k |H_k − median H| / S`` over the collocation points away from control switches
+        (NaN when not applicable); ``S`` is the size of the Hamiltonian's terms,
+        ``median_k (|g_k| + Σ_i |λ_i f_i|_k)``.
+    h_target_error : float
+        ``|median H + ∂φ/∂tf| / S`` for a free final time (NaN when not applicable).
+    switching_violation : float
+        Largest wrong-signed ``|∂H/∂u_j| (upper_j − lower_j) / S`` at collocation points where
+        ``u_j`` sits on a bound, no path constraint is active and no switch is adjacent.
+    threshold : float
+        Bound applied to each figure.
+    h_scale : float
+        ``S``.
+    h_median : float
+        Median of ``H`` over the points checked.
+    n_excluded : int
+        Collocation points left out as switch-adjacent.
+    detail : str
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve, check_optimality
+    >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+    >>> chk = check_optimality(solve(double_integrator_min_energy(), mesh=(4, 3)), threshold=1e-4)
+    >>> chk.met, chk.checks, bool(chk.h_spread < 1e-8)      # unbounded control: no sign check
+    (True, ('H-constant',), True)
+    """
+
+    met: bool
+    checks: tuple[str, ...]
+    h_spread: float
+    h_target_error: float
+    switching_violation: float
+    threshold: float
+    h_scale: float
+    h_median: float
+    n_excluded: int
+    detail: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {f: getattr(self, f) for f in self.__slots__}
+
+
+def _problem_funs(problem):
+    """CasADi functions ``f``, ``g``, ``C`` of a problem and whether they depend on ``t``."""
+    import casadi as ca
+
+    from adcskit.optimal_control.transcription import _as_list, _scalar
+
+    nx, nu = problem.n_states, problem.n_controls
+    x, u, t = ca.SX.sym("x", nx), ca.SX.sym("u", nu), ca.SX.sym("t")
+    f = ca.vertcat(*_as_list(problem.dynamics(x, u, t), nx, "dynamics"))
+    g = ca.SX(0) if getattr(problem, "lagrange", None) is None else _scalar(problem.lagrange(x, u, t), "lagrange")
+    exprs = [f, g]
+    c = None
+    if getattr(problem, "path", None) is not None and problem.n_path:
+        c = ca.vertcat(*_as_list(problem.path(x, u, t), problem.n_path, "path"))
+        exprs.append(c)
+    autonomous = not any(ca.depends_on(e, t) for e in exprs)
+    fg = ca.Function("fg", [x, u, t], [f, g])
+    cf = ca.Function("c", [x, u, t], [c]) if c is not None else None
+    return fg, cf, autonomous
+
+
+def _mayer_dtf(problem, sol) -> float:
+    """``∂φ/∂tf`` of the Mayer cost at the solution (0 without one)."""
+    import casadi as ca
+
+    if getattr(problem, "mayer", None) is None:
+        return 0.0
+    nx = problem.n_states
+    x0, xf = ca.SX.sym("x0", nx), ca.SX.sym("xf", nx)
+    t0, tf = ca.SX.sym("t0"), ca.SX.sym("tf")
+    from adcskit.optimal_control.transcription import _scalar
+
+    phi = _scalar(problem.mayer(x0, t0, xf, tf), "mayer")
+    d = ca.Function("d", [x0, t0, xf, tf], [ca.gradient(phi, tf)])
+    return float(d(sol.x[0], sol.t0, sol.x[-1], sol.tf))
+
+
+def _switch_adjacent(u: np.ndarray, lo: np.ndarray, hi: np.ndarray, jump: float = 0.5) -> np.ndarray:
+    """Collocation points next to a control switch: the control differs from a neighbour's by
+    more than ``jump`` of the bound span (finite bounds only)."""
+    n = u.shape[0]
+    out = np.zeros(n, bool)
+    if n < 2 or u.shape[1] == 0:
+        return out
+    span = np.where(np.isfinite(hi - lo) & (hi > lo), hi - lo, np.inf)
+    d = np.any(np.abs(np.diff(u, axis=0)) / span > jump, axis=1)  # between k and k+1
+    out[:-1] |= d
+    out[1:] |= d
+    return out
+
+
+def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> OptimalityCheck:
+    """First-order necessary conditions of the minimum principle, checked on the costates.
+
+    * **H constant** on an autonomous problem (``f``, ``g`` and the path constraints do not
+      depend on ``t``): the spread of ``H`` over the collocation points, relative to the size
+      of its terms. A jump of ``H`` at a primal switch equals the switching function there,
+      i.e. the first-order change of ``J`` per unit shift of that switch time, so a
+      misplaced switch shows as a step of ``H`` between the arcs it separates.
+    * **Transversality** for a free final time strictly inside ``tf_bounds``:
+      ``H = −∂φ/∂tf`` (``−1`` for minimum time).
+    * **Switching sign**: where a control sits on a bound (within 0.1 % of its span) with no
+      active path constraint, ``∂H/∂u`` has the sign that makes that bound the minimiser.
+
+    Collocation points adjacent to a control switch are left out of the H and sign checks:
+    there the costate estimate of a bang-bang problem is not unique (the control-bound
+    multipliers absorb an ``O(h)`` shift, :mod:`adcskit.optimal_control.solve`). Passing
+    is evidence, not proof, of a local optimum: the conditions are necessary, evaluated on
+    estimates, and second-order conditions are not checked.
+
+    Parameters
+    ----------
+    solution : OptimalControlSolution
+    threshold : float
+        Largest admissible relative figure (dimensionless; :func:`solve_adaptive` uses
+        :func:`~adcskit.optimal_control.default_optimality_threshold`, ``max(0.02, 2 √tol)``).
+
+    Returns
+    -------
+    OptimalityCheck
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control import solve, check_optimality
+    >>> from adcskit.optimal_control.problems import double_integrator_min_time
+    >>> chk = check_optimality(solve(double_integrator_min_time(), mesh=(10, 4)), threshold=1e-2)
+    >>> chk.met, chk.checks
+    (True, ('H-constant', 'transversality', 'switching-sign'))
+    """
+    if not isinstance(solution, OptimalControlSolution):
+        raise InputTypeError(f"solution must be an OptimalControlSolution; got {type(solution).__name__}")
+    threshold = check_positive("threshold", threshold)
+    prob = solution.problem
+    fg, cf, autonomous = _problem_funs(prob)
+    tc, u, H = solution.t_control, solution.u, solution.hamiltonian
+    # states and costates at the collocation points (Radau: support points; Gauss: interior)
+    xc, lc = [], []
+    for p in solution.pieces:
+        k = p.uc.shape[0]
+        if solution.method == "gauss":
+            xc.append(p.xs[1:]), lc.append(p.lam[1 : k + 1])
+        else:
+            xc.append(p.xs[:k]), lc.append(p.lam[:k])
+    xc, lc = np.vstack(xc), np.vstack(lc)
+    n = tc.size
+    F = np.empty((n, prob.n_states))
+    G = np.empty(n)
+    for k in range(n):
+        fk, gk = fg(xc[k], u[k], tc[k])
+        F[k], G[k] = np.asarray(fk).ravel(), float(gk)
+    terms = np.abs(G) + np.sum(np.abs(lc * F), axis=1)  # size of H's terms at each point
+    S = float(np.median(terms))
+    S = S if np.isfinite(S) and S > 0 else 1.0
+    Sk = np.maximum(np.where(np.isfinite(terms), terms, S), S)  # pointwise, never below S
+    lo, hi = prob.control_lower, prob.control_upper
+    adj = _switch_adjacent(u, lo, hi)
+    keep = ~adj if np.any(~adj) else np.ones(n, bool)
+    checks: list[str] = []
+    notes: list[str] = []
+    Hm = float(np.median(H[keep]))
+    h_spread = np.nan
+    # a state bound active between the boundary points: the costate estimates then carry the
+    # state-constraint multipliers (costate jumps at junctions), which H = g + λᵀf omits
+    # (a bound equal to a fixed boundary value of that state is the boundary condition, not
+    # a state constraint, and is ignored)
+    xs_all = solution.x[1:-1]
+    pinned = lambda b: np.isclose(b, prob.initial_state) | np.isclose(b, prob.final_state)  # noqa: E731
+    sl = np.where(pinned(prob.state_lower), -np.inf, prob.state_lower)
+    su_ = np.where(pinned(prob.state_upper), np.inf, prob.state_upper)
+    tol_x = 1e-6 * (1.0 + np.abs(xs_all))
+    state_active = bool(np.any((xs_all >= su_ - tol_x) | (xs_all <= sl + tol_x))) if xs_all.size else False
+    if state_active:
+        notes.append("H checks not applied (a state bound is active)")
+        autonomous = False
+    if autonomous:
+        h_spread = float(np.max(np.abs(H[keep] - Hm) / Sk[keep]))
+        checks.append("H-constant")
+        notes.append(f"H spread {h_spread:.2e}")
+    h_target = np.nan
+    lo_tf, hi_tf = prob.tf_bounds
+    margin = 1e-6 * max(1.0, abs(solution.tf))
+    if prob.free_final_time and not state_active and lo_tf + margin < solution.tf < hi_tf - margin:
+        target = -_mayer_dtf(prob, solution)
+        h_target = float(abs(Hm - target) / S)
+        checks.append("transversality")
+        notes.append(f"|H - ({target:.6g})| = {h_target:.2e}")
+    span = np.where(np.isfinite(hi - lo) & (hi > lo), hi - lo, np.nan)
+    sw_viol = 0.0
+    if np.any(np.isfinite(span)):
+        on_hi = np.abs(u - hi) <= 1e-3 * span
+        on_lo = np.abs(u - lo) <= 1e-3 * span
+        ok_pts = keep.copy()
+        if cf is not None:
+            C = np.vstack([np.asarray(cf(xc[k], u[k], tc[k])).ravel() for k in range(n)])
+            tol_c = 1e-6 * (1.0 + np.abs(C))
+            active = np.any((C >= prob.path_upper - tol_c) | (C <= prob.path_lower + tol_c), axis=1)
+            ok_pts &= ~active
+        sw = solution.switching
+        bad = np.where(on_hi & ok_pts[:, None], np.maximum(sw, 0.0), 0.0) + np.where(
+            on_lo & ok_pts[:, None], np.maximum(-sw, 0.0), 0.0
+        )
+        sw_viol = float(np.nanmax(np.where(np.isfinite(span), bad * span, 0.0)) / S) if bad.size else 0.0
+        checks.append("switching-sign")
+        notes.append(f"switching-sign violation {sw_viol:.2e}")
+    figs = [v for v in (h_spread, h_target, sw_viol) if np.isfinite(v)]
+    met = bool(all(v <= threshold for v in figs))
+    detail = (
+        f"{'met' if met else 'NOT met'} (threshold {threshold:.2g}, scale S = {S:.3g}, "
+        f"{int(adj.sum())} switch-adjacent points left out): " + ", ".join(notes)
+    )
+    return OptimalityCheck(
+        met=met,
+        checks=tuple(checks),
+        h_spread=h_spread,
+        h_target_error=h_target,
+        switching_violation=sw_viol,
+        threshold=threshold,
+        h_scale=S,
+        h_median=Hm,
+        n_excluded=int(adj.sum()),
+        detail=detail,
     )

@@ -171,21 +171,25 @@ class Phase:
         s(self, "control_names", tuple(self.control_names) or tuple(f"u{i}" for i in range(nu)))
         if len(self.state_names) != nx or len(self.control_names) != nu:
             raise InputError(f"state_names/control_names must have {nx}/{nu} entries")
-        for nm, n, d in (
-            ("state_lower", nx, -np.inf),
-            ("state_upper", nx, np.inf),
-            ("control_lower", nu, -np.inf),
-            ("control_upper", nu, np.inf),
-            ("initial_state", nx, np.nan),
-            ("final_state", nx, np.nan),
-            ("state_scale", nx, np.nan),
-            ("control_scale", nu, np.nan),
+        for nm, n, d, allow in (
+            ("state_lower", nx, -np.inf, "inf"),
+            ("state_upper", nx, np.inf, "inf"),
+            ("control_lower", nu, -np.inf, "inf"),
+            ("control_upper", nu, np.inf, "inf"),
+            ("initial_state", nx, np.nan, "nan"),
+            ("final_state", nx, np.nan, "nan"),
+            ("state_scale", nx, np.nan, "any"),
+            ("control_scale", nu, np.nan, "any"),
         ):
-            s(self, nm, _vec(nm, getattr(self, nm), n, d))
+            s(self, nm, _vec(nm, getattr(self, nm), n, d, allow=allow))
         if np.any(self.state_lower > self.state_upper):
             raise InputError("state_lower must be <= state_upper")
         if np.any(self.control_lower > self.control_upper):
             raise InputError("control_lower must be <= control_upper")
+        for which in ("initial_state", "final_state"):
+            v = getattr(self, which)
+            if np.any(np.isfinite(v) & ((v < self.state_lower) | (v > self.state_upper))):
+                raise InputError(f"{which} must lie inside the state bounds; got {v}")
         for nm in ("t0_bounds", "tf_bounds", "duration_bounds"):
             s(self, nm, _pair(nm, getattr(self, nm)))
         if not np.isfinite(self.t0_bounds[0]) or not np.isfinite(self.t0_bounds[1]):
@@ -203,8 +207,10 @@ class Phase:
             if lv is None and hv is None:
                 raise InputError(f"{fn} needs {lo} and/or {hi}")
             n = int(np.size(lv if lv is not None else hv))
-            s(self, lo, _vec(lo, lv, n, -np.inf))
-            s(self, hi, _vec(hi, hv, n, np.inf))
+            s(self, lo, _vec(lo, lv, n, -np.inf, allow="inf"))
+            s(self, hi, _vec(hi, hv, n, np.inf, allow="inf"))
+            if np.any(getattr(self, lo) > getattr(self, hi)):
+                raise InputError(f"{lo} must be <= {hi}; got {getattr(self, lo)} > {getattr(self, hi)}")
         for nm in ("t0_guess", "tf_guess"):
             v = getattr(self, nm)
             if v is not None and not np.isfinite(float(v)):
@@ -863,6 +869,8 @@ def _as_multiguess(problem, guess) -> MultiPhaseGuess:
                 f"guess must have {len(problem.phases)} phases and {problem.n_parameters} parameters; "
                 f"got {len(guess.phases)} and {guess.parameters.size}"
             )
+        for i, (ph, g) in enumerate(zip(problem.phases, guess.phases, strict=True)):
+            g.check_widths(ph.n_states, ph.n_controls, what=f"guess.phases[{i}]")
         return guess
     raise InputTypeError(f"guess must be a MultiPhaseGuess or MultiPhaseSolution; got {type(guess).__name__}")
 

@@ -32,7 +32,12 @@ from adcskit.errors import InputError, InputTypeError
 __all__ = ["OptimalControlProblem", "Mesh", "Guess"]
 
 
-def _vec(name: str, value: Any, n: int, default: float, *, finite: bool = False) -> np.ndarray:
+def _vec(
+    name: str, value: Any, n: int, default: float, *, finite: bool = False, allow: str = "any"
+) -> np.ndarray:
+    """A length-``n`` vector (a scalar is broadcast); ``allow`` says which non-finite entries
+    are meaningful: ``"any"``, ``"nan"`` (free entries, no infinities), ``"inf"`` (``±inf``
+    bounds, no NaN) or ``"nan-or-positive"`` (NaN = default, else finite > 0)."""
     if value is None:
         return np.full(n, default, dtype=float)
     arr = as_array(name, value, finite=False)
@@ -42,6 +47,10 @@ def _vec(name: str, value: Any, n: int, default: float, *, finite: bool = False)
         raise InputError(f"{name} must have shape ({n},); got shape {arr.shape}")
     if finite and not np.all(np.isfinite(arr)):
         raise InputError(f"{name} must be finite; got {arr}")
+    if allow == "nan" and np.any(np.isinf(arr)):
+        raise InputError(f"{name} must be finite or NaN (NaN: free); got {arr} (an infinite entry)")
+    if allow == "inf" and np.any(np.isnan(arr)):
+        raise InputError(f"{name} must be numbers or ±inf (no bound); got {arr} (NaN is not a bound)")
     arr.setflags(write=False)
     return arr
 
@@ -137,12 +146,12 @@ class OptimalControlProblem:
                 f"state_names/control_names must have {nx}/{nu} entries; got "
                 f"{len(self.state_names)}/{len(self.control_names)}"
             )
-        s(self, "state_lower", _vec("state_lower", self.state_lower, nx, -np.inf))
-        s(self, "state_upper", _vec("state_upper", self.state_upper, nx, np.inf))
-        s(self, "control_lower", _vec("control_lower", self.control_lower, nu, -np.inf))
-        s(self, "control_upper", _vec("control_upper", self.control_upper, nu, np.inf))
-        s(self, "initial_state", _vec("initial_state", self.initial_state, nx, np.nan))
-        s(self, "final_state", _vec("final_state", self.final_state, nx, np.nan))
+        s(self, "state_lower", _vec("state_lower", self.state_lower, nx, -np.inf, allow="inf"))
+        s(self, "state_upper", _vec("state_upper", self.state_upper, nx, np.inf, allow="inf"))
+        s(self, "control_lower", _vec("control_lower", self.control_lower, nu, -np.inf, allow="inf"))
+        s(self, "control_upper", _vec("control_upper", self.control_upper, nu, np.inf, allow="inf"))
+        s(self, "initial_state", _vec("initial_state", self.initial_state, nx, np.nan, allow="nan"))
+        s(self, "final_state", _vec("final_state", self.final_state, nx, np.nan, allow="nan"))
         for lo, hi, what in (
             (self.state_lower, self.state_upper, "state"),
             (self.control_lower, self.control_upper, "control"),
@@ -171,6 +180,10 @@ class OptimalControlProblem:
             if not lo <= guess <= hi:
                 raise InputError(f"tf_guess must be inside tf_bounds {self.tf_bounds} (s); got {guess}")
         s(self, "tf_guess", float(guess))
+        for which, sig in (("mayer", "(x0, t0, xf, tf)"), ("lagrange", "(x, u, t)"), ("path", "(x, u, t)")):
+            fn = getattr(self, which)
+            if fn is not None and not callable(fn):
+                raise InputTypeError(f"{which} must be a callable {which}{sig} or None; got {short_repr(fn)}")
         if self.mayer is None and self.lagrange is None:
             raise InputError("the problem needs a cost: give mayer(x0, t0, xf, tf) and/or lagrange(x, u, t)")
         npath = 0
@@ -179,15 +192,19 @@ class OptimalControlProblem:
                 raise InputError("path constraints need path_lower and/or path_upper")
             ref = self.path_lower if self.path_lower is not None else self.path_upper
             npath = int(np.size(ref))
-            s(self, "path_lower", _vec("path_lower", self.path_lower, npath, -np.inf))
-            s(self, "path_upper", _vec("path_upper", self.path_upper, npath, np.inf))
+            s(self, "path_lower", _vec("path_lower", self.path_lower, npath, -np.inf, allow="inf"))
+            s(self, "path_upper", _vec("path_upper", self.path_upper, npath, np.inf, allow="inf"))
+            if np.any(self.path_lower > self.path_upper):
+                raise InputError(
+                    f"path_lower must be <= path_upper; got {self.path_lower} > {self.path_upper}"
+                )
         s(self, "_n_path", npath)
-        s(self, "state_scale", _vec("state_scale", self.state_scale, nx, np.nan))
-        s(self, "control_scale", _vec("control_scale", self.control_scale, nu, np.nan))
-        for which in ("state_scale", "control_scale"):
-            v = getattr(self, which)
-            if np.any(v[np.isfinite(v)] <= 0):
-                raise InputError(f"{which} must be > 0; got {v}")
+        for which, n in (("state_scale", nx), ("control_scale", nu)):
+            given = getattr(self, which)
+            v = _vec(which, given, n, np.nan)
+            if given is not None and (np.any(~np.isfinite(v)) or np.any(v <= 0)):
+                raise InputError(f"{which} must be finite and > 0 (or None for the default); got {v}")
+            s(self, which, v)
 
     # ------------------------------------------------------------------ helpers
     @property
@@ -204,6 +221,9 @@ class OptimalControlProblem:
         """A copy with some fields changed (e.g. new boundary values); callables are shared,
         so the compiled NLP is reused (see :func:`adcskit.optimal_control.solve`)."""
         kw = {f: getattr(self, f) for f in self.__dataclass_fields__ if not f.startswith("_")}
+        for which in ("state_scale", "control_scale"):
+            if np.all(np.isnan(kw[which])):  # the default (None), stored as NaN
+                kw[which] = None
         kw.update(changes)
         return OptimalControlProblem(**kw)
 
@@ -335,3 +355,23 @@ class Guess:
         object.__setattr__(self, "u", u)
         object.__setattr__(self, "t_u", None if self.t_u is None else tu)
         object.__setattr__(self, "tf", check_positive("guess.tf", self.tf, unit="s"))
+
+    def check_widths(self, n_states: int, n_controls: int, *, what: str = "guess") -> None:
+        """Raise :class:`InputError` unless ``x`` has ``n_states`` and ``u`` ``n_controls`` columns.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from adcskit.optimal_control import Guess
+        >>> g = Guess(t=[0.0, 1.0], x=np.zeros((2, 3)), u=np.zeros((2, 1)), tf=1.0)
+        >>> try:
+        ...     g.check_widths(2, 1)
+        ... except ValueError as exc:
+        ...     print(exc)
+        guess.x must have shape (2, 2) (samples, n_states); got shape (2, 3)
+        """
+        for arr, n, field_name, label in ((self.x, n_states, "x", "n_states"), (self.u, n_controls, "u", "n_controls")):
+            if arr.shape[1] != n:
+                raise InputError(
+                    f"{what}.{field_name} must have shape ({arr.shape[0]}, {n}) (samples, {label}); got shape {arr.shape}"
+                )

@@ -43,7 +43,14 @@ import numpy as np
 
 from adcskit._progress import track
 from adcskit._results import compact_repr
-from adcskit._validation import as_rng, check_choice, check_flag, check_int, check_positive
+from adcskit._validation import (
+    as_array,
+    as_rng,
+    check_choice,
+    check_flag,
+    check_int,
+    check_positive,
+)
 from adcskit.errors import InputError, InputTypeError
 from adcskit.optimal_control.nodes import lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
@@ -296,9 +303,43 @@ class OptimalControlSolution:
         ends = np.array([p.t_end for p in self.pieces])
         return np.minimum(np.searchsorted(ends, t, side=side), len(self.pieces) - 1)
 
+    def _times(self, t) -> np.ndarray:
+        """``t`` (s) as a 1-D array inside ``[t0, tf]``: a 2-D array or a time outside the
+        horizon (beyond a rounding margin of ``1e-9 (tf − t0)``, which is clipped) raises."""
+        tt = as_array("t", t, ndim=(0, 1))
+        tt = np.atleast_1d(tt)
+        margin = 1e-9 * max(abs(self.tf - self.t0), 1e-300)
+        out = (tt < self.t0 - margin) | (tt > self.tf + margin)
+        if np.any(out):
+            bad = float(tt[np.argmax(out)])
+            raise InputError(
+                f"t must lie in the solution's horizon [t0, tf] = [{self.t0:.9g}, {self.tf:.9g}] s (the "
+                f"polynomials are not extrapolated); got {bad:.9g} s"
+            )
+        return np.clip(tt, min(self.t0, self.tf), max(self.t0, self.tf))
+
     def state_at(self, t) -> np.ndarray:
-        """States at times ``t`` (s) by the interval's Lagrange polynomial (S2 eq. 22)."""
-        tt = np.atleast_1d(np.asarray(t, float))
+        """States at times ``t`` (s) by the interval's Lagrange polynomial (S2 eq. 22).
+
+        ``t`` is a time or a 1-D array of times in ``[t0, tf]``; a time outside the horizon
+        or a 2-D array raises :class:`~adcskit.errors.InputError` (no silent extrapolation).
+        Returns ``(n_states,)`` for a scalar ``t``, else ``(len(t), n_states)``.
+
+        Examples
+        --------
+        >>> from adcskit.optimal_control import solve
+        >>> from adcskit.optimal_control.problems import double_integrator_min_energy
+        >>> sol = solve(double_integrator_min_energy(distance=1.0, duration=1.0), mesh=(4, 3))
+        >>> sol.state_at([0.0, 1.0]).round(6) + 0.0
+        array([[0., 0.],
+               [1., 0.]])
+        >>> try:
+        ...     sol.state_at(1.5)
+        ... except ValueError as exc:
+        ...     print(str(exc)[:40])
+        t must lie in the solution's horizon [t0
+        """
+        tt = self._times(t)
         out = np.empty((tt.size, self.x.shape[1]))
         idx = self._locate(tt)
         for j in np.unique(idx):
@@ -309,9 +350,12 @@ class OptimalControlSolution:
 
     def control_at(self, t, *, kind: str = "lagrange") -> np.ndarray:
         """Controls at ``t`` (s): ``"lagrange"`` (S2 eq. 24, clipped to the bounds) or
-        ``"nearest"`` (value of the nearest collocation point in the same interval)."""
+        ``"nearest"`` (value of the nearest collocation point in the same interval).
+
+        ``t`` must lie in ``[t0, tf]`` and be a scalar or 1-D (else
+        :class:`~adcskit.errors.InputError`, as :meth:`state_at`)."""
         check_choice("kind", kind, ("lagrange", "nearest"))
-        tt = np.atleast_1d(np.asarray(t, float))
+        tt = self._times(t)
         out = np.empty((tt.size, self.u.shape[1]))
         idx = self._locate(tt)
         for j in np.unique(idx):
@@ -347,7 +391,7 @@ class OptimalControlSolution:
     def _costate_at(self, t, side: str = "left") -> np.ndarray:
         if not self.pieces or self.pieces[0].lam is None:
             raise InputError("this solution carries no costate polynomials")
-        tt = np.atleast_1d(np.asarray(t, float))
+        tt = self._times(t)
         out = np.empty((tt.size, self.costate.shape[1]))
         idx = self._locate(tt, side)
         for j in np.unique(idx):
@@ -516,7 +560,9 @@ def solve(
     mesh : Mesh or (int, int)
         Mesh or ``(n_intervals, n_nodes)`` for equal intervals; S2 uses ``(20, 3)``.
     guess : Guess or OptimalControlSolution, optional
-        Initial guess; default :func:`default_guess`. A previous solution is a warm start: on
+        Accepted: ``None`` (:func:`default_guess`, straight lines), a :class:`Guess` (its ``x``
+        and ``u`` must have ``n_states`` and ``n_controls`` columns), or a previous solution.
+        (A callable or ``"linear"`` is accepted by :func:`solve_adaptive` only.) A previous solution is a warm start: on
         any mesh its states and controls are interpolated by their Lagrange polynomials
         (S2 eq. 22, 24) onto the new nodes; on the same mesh and transcription (and equal
         scales) its raw NLP point and multipliers (``x0``, ``lam_x0``, ``lam_g0``) are passed
@@ -582,8 +628,15 @@ def solve(
                 f"has {problem.n_states} and {problem.n_controls}"
             )
         guess = prev.as_guess()
+    elif isinstance(guess, str):
+        raise InputTypeError(
+            f"guess must be a Guess, an OptimalControlSolution or None; got {guess!r} (the string 'linear' "
+            "is accepted by solve_adaptive only; here None already means the straight-line default_guess)"
+        )
     elif not isinstance(guess, Guess):
         raise InputTypeError(f"guess must be a Guess or OptimalControlSolution; got {type(guess).__name__}")
+    else:
+        guess.check_widths(problem.n_states, problem.n_controls)
     if warm_start is None:
         warm = prev is not None
     elif isinstance(warm_start, bool | np.bool_):

@@ -158,7 +158,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
     """
     from jinja2 import Environment, select_autoescape
 
-    from adcskit.studies._registry import PAPERS, STUDIES, is_available
+    from adcskit.studies import PAPERS, STUDIES, is_available
 
     out = check_path("out", out)
     if not out.is_dir():

@@ -42,7 +42,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_batch,
@@ -326,9 +326,8 @@ class Magnetometer(VectorSensor):
     unit: ClassVar[str] = "T"
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True)
-class GyroMeasurement:
+@dataclass(frozen=True, slots=True, repr=False)
+class GyroMeasurement(Result):
     """Output of :meth:`RateGyro.measure` (leading ``N`` axis only for a batch).
 
     Attributes
@@ -353,11 +352,6 @@ class GyroMeasurement:
     t: np.ndarray
     omega: np.ndarray
     bias: np.ndarray
-
-    def to_dict(self) -> dict[str, Any]:
-        from adcskit.studies._base import to_jsonable
-
-        return {name: to_jsonable(getattr(self, name)) for name in self.__slots__}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

@@ -69,9 +69,9 @@ def wahba_one(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
     U_ON, U_OFF, T_S, T_MIN, PULSE_ROUND,
     KP0, KP1, KP2, KI0, KI1, KI2, KD0, KD1, KD2, TL0, TL1, TL2,
     K_WIN, SETTLE_BAND, REC_EVERY, K_NEES, BUF_MASK, W_SUN, W_MAG, RPI_EPS,
-    ALLOC_MODE, SEARCH_RANGE,
-) = range(53)
-N_COEFS = 53
+    ALLOC_MODE, SEARCH_RANGE, UNDERWEIGHT,
+) = range(54)
+N_COEFS = 54
 
 EST_TRUTH, EST_WAHBA, EST_MEKF, EST_MINMAX = 0, 1, 2, 3
 CTRL_SCHMITT, CTRL_PWM, CTRL_OPEN = 0, 1, 2
@@ -525,6 +525,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     fil = 1.0 / math.sqrt(3.0) if uni else 1.0
     sig_v = C[SIG_V]
     sig_u = C[SIG_U]
+    uw = C[UNDERWEIGHT]
     est_mode = int(C[EST_MODE])
     wmethod = int(C[WAHBA_METHOD])
     ctrl_mode = int(C[CTRL_MODE])
@@ -707,7 +708,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 WW[i, nobs] = C[W_SUN]
                 nobs += 1
                 if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, wk)
+                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
             if h_mag > 0 and k % h_mag == 0:
                 b0, b1_, b2_ = _rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
                 s, n0 = _noise(s, uni)
@@ -721,7 +722,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 VR[i, nobs, 2] = ENV[k, 8]
                 WW[i, nobs] = C[W_MAG]
                 if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, wk)
+                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
                 nobs += 1
             if h_st > 0 and k % h_st == 0:
                 s, n0 = _normal(s)

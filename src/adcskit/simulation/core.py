@@ -38,6 +38,7 @@ from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
 from adcskit.simulation.scenario import Scenario, _triangle_ok
+from adcskit.thrusters.reference import S3_REFERENCE_A  # re-exported (S3 §6 reference layout)
 
 __all__ = [
     "SimulationResult",
@@ -74,8 +75,6 @@ _METRICS: dict[str, tuple[int, float]] = {
 METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
 #: Wahba methods usable in the loop -> kernel code.
 WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
-#: S3 §6: reference 6-thruster layout (Servidia & Sanchez Pena 2000), torque matrix as printed.
-S3_REFERENCE_A = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
 
 _ARCSEC = _DEG / 3600.0
 _MU = 3.986004418e14
@@ -550,6 +549,7 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
         C[_k.W_MAG] = 1.0 / max(s_mag * fil, 1e-12) ** 2
     C[_k.SIG_V] = sc.sensors.gyro_arw
     C[_k.SIG_U] = sc.sensors.gyro_rrw
+    C[_k.UNDERWEIGHT] = sc.estimator.underweight
     C[_k.EST_MODE] = {"truth": _k.EST_TRUTH, "wahba": _k.EST_WAHBA, "minmax": _k.EST_MINMAX,
                       "mekf": _k.EST_MEKF}[sc.estimator.kind]
     C[_k.SEARCH_RANGE] = sc.estimator.search_range

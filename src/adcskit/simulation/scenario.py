@@ -428,6 +428,13 @@ class EstimatorSpec(_Spec):
         prints only ``Σ a_i = 1``).
     init_error_deg : float
         Std of the initial knowledge error per axis (also the MEKF's initial sigma).
+    underweight : float
+        ``mekf``: measurement-underweighting factor ``p`` >= 0 (default 0.2, on): while a
+        sun-sensor or magnetometer measurement's predicted variance ``h P hᵀ`` exceeds its noise variance ``σ²`` the
+        update uses ``σ² + p h P hᵀ`` (Lefferts, Markley & Shuster 1982), which keeps the
+        filter consistent after a precise first sun update of a 1° prior; ``0`` is the
+        plain EKF update (see :func:`adcskit.estimation.mekf_filter`). Star-tracker updates
+        are never underweighted.
 
     Examples
     --------
@@ -443,6 +450,7 @@ class EstimatorSpec(_Spec):
     search_range: float = 0.1
     weights: Literal["inverse-variance", "equal"] = "inverse-variance"
     init_error_deg: float = 1.0
+    underweight: float = 0.2
 
     def __post_init__(self) -> None:
         if self.kind == "worst-case":
@@ -453,12 +461,15 @@ class EstimatorSpec(_Spec):
                 "adcskit.determination.robust_wahba(method='worst-case') epoch by epoch"
             )
         check_choice("kind", self.kind, ("truth", "wahba", "minmax", "mekf"))
-        from adcskit.simulation.core import WAHBA_CODES
+        from adcskit.determination.wahba import METHODS as WAHBA_CODES
 
         check_choice("wahba_method", self.wahba_method, WAHBA_CODES)
         check_positive("search_range", self.search_range)
         check_choice("weights", self.weights, ("inverse-variance", "equal"))
         _nonneg("init_error_deg", self.init_error_deg, "deg")
+        if isinstance(self.underweight, bool):
+            raise InputError(f"underweight must be a number >= 0 (0 switches it off); got {self.underweight!r}")
+        check_positive("underweight", self.underweight, allow_zero=True, max_value=1e6)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -686,7 +697,7 @@ class SimSpec(_Spec):
 
 def _default_thrusters() -> ThrusterSpec:
     # S3 §6 reference layout (Servidia & Sanchez Pena 2000), realised geometrically
-    from adcskit.simulation.core import S3_REFERENCE_A
+    from adcskit.thrusters.reference import S3_REFERENCE_A
 
     return ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
 

@@ -1,8 +1,21 @@
-"""Paper studies: one module per reproduced experiment (see :mod:`adcskit.studies._registry`)."""
+"""Paper studies: one module per reproduced experiment, and the framework that runs them.
+
+This package is the framework's public face; the CLI, the report and user code import from
+here, never from the private modules behind it:
+
+* registry — :data:`STUDIES`, :data:`PAPERS`, :func:`get_study`, :func:`is_available`,
+  :func:`study_names` (``_registry``);
+* runner — :func:`resolve_config`, :func:`run_study`, :func:`write_result`,
+  :func:`write_json_atomic` (``_runner``);
+* verdict — :class:`ClaimSpec`, :class:`FindingSpec`, :class:`Claim`, :class:`Finding`,
+  :class:`Reading`, :func:`decide`, :func:`tally`, :data:`OUTCOMES` (``_verdict``);
+* results — :class:`Study`, :class:`StudyResult`, :class:`Check`, :class:`Comparison`,
+  :func:`new_figure` (``_base``).
+"""
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
-from adcskit.studies._registry import STUDIES, get_study, is_available, study_names
-from adcskit.studies._runner import resolve_config, run_study, write_result
+from adcskit.studies._registry import PAPERS, STUDIES, get_study, is_available, study_names
+from adcskit.studies._runner import resolve_config, run_study, write_json_atomic, write_result
 from adcskit.studies._verdict import (
     OUTCOMES,
     Claim,
@@ -11,9 +24,11 @@ from adcskit.studies._verdict import (
     FindingSpec,
     Reading,
     decide,
+    tally,
 )
 
 __all__ = [
+    "PAPERS",
     "STUDIES",
     "Check",
     "Claim",
@@ -32,5 +47,7 @@ __all__ = [
     "resolve_config",
     "run_study",
     "study_names",
+    "tally",
+    "write_json_atomic",
     "write_result",
 ]

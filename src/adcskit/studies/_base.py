@@ -13,14 +13,12 @@ fills ``seed``/``runtime_s``/``quick`` and writes ``result.json``, the figures a
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
-
+from adcskit._results import to_jsonable
 from adcskit.studies._verdict import DOES_NOT_HOLD, HOLDS, Claim, Finding
 
 __all__ = ["Check", "Comparison", "Study", "StudyResult", "figure_caption", "new_figure", "to_jsonable"]
@@ -213,31 +211,6 @@ class Study:
     quick: Mapping[str, Any] = field(default_factory=dict)
     doc: str = ""
     neutral_keys: tuple[str, ...] = ("n_seeds",)
-
-
-def to_jsonable(value: Any) -> Any:
-    """Convert numpy scalars/arrays, tuples, dataclasses and non-finite floats for JSON.
-
-    NaN and infinities become ``None`` (JSON has no NaN); arrays become nested lists.
-    """
-    if isinstance(value, Mapping):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        if hasattr(value, "to_dict"):
-            return to_jsonable(value.to_dict())
-        return {f.name: to_jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
-    if isinstance(value, np.ndarray):
-        return to_jsonable(value.tolist())
-    if isinstance(value, list | tuple):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, np.bool_ | bool):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, float | np.floating):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    return value
 
 
 def figure_caption(fig: Any, name: str = "") -> str:

@@ -21,9 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import to_jsonable
 from adcskit._validation import check_flag, check_int
 from adcskit.config import config_to_dict, load_config
-from adcskit.studies._base import StudyResult, to_jsonable
+from adcskit.studies._base import StudyResult
 from adcskit.studies._registry import get_study
 
 #: Resolution of every written figure (issue 16: >= 150 dpi, readable when zoomed).
@@ -92,7 +93,27 @@ def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...
 
 
 def write_json_atomic(path: Path, data: Any) -> None:
-    """Write JSON to ``path`` via a temporary file and an atomic rename."""
+    """Write ``data`` as JSON to ``path`` via a temporary file and an atomic rename.
+
+    ``data`` goes through :func:`adcskit._results.to_jsonable` first (NaN becomes ``null``);
+    a reader never sees a half-written file, and a failed write leaves no temporary file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Target file; its directory is created if missing.
+    data : object
+        Anything :func:`~adcskit._results.to_jsonable` converts.
+
+    Examples
+    --------
+    >>> import json, tempfile, pathlib
+    >>> from adcskit.studies import write_json_atomic
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "errors.json"
+    >>> write_json_atomic(p, {"ratio": float("nan"), "n": 3})
+    >>> json.loads(p.read_text())
+    {'ratio': None, 'n': 3}
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")

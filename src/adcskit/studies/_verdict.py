@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import to_jsonable
 from adcskit._validation import (
     as_array,
     check_callable,
@@ -247,8 +248,6 @@ class Claim:
         return self.outcome if self.comparable else "not comparable"
 
     def to_dict(self) -> dict[str, Any]:
-        from adcskit.studies._base import to_jsonable
-
         return {
             "id": self.id,
             "statement": self.statement,

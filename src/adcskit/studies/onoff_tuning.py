@@ -32,10 +32,7 @@ import numpy as np
 from adcskit._progress import status, track
 from adcskit._validation import as_rng
 from adcskit.control.onoff import LoopParams, LoopSettings, simulate_batch, simulate_trace
-from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
-from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian, latin_hypercube
-from adcskit.uncertainty.tuning import (
+from adcskit.control.tuning import (
     PAPER_SCALE,
     RobustTuningScale,
     estimate_tuning_time,
@@ -44,6 +41,9 @@ from adcskit.uncertainty.tuning import (
     tune_deterministic,
     tune_robust,
 )
+from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian, latin_hypercube
 
 __all__ = ["Config", "run", "STUDY", "PAPER_TABLE4", "PAPER_TABLE6"]
 
@@ -93,8 +93,8 @@ class Config:
     others are run for the all-four case. ``paper_scale=True`` runs the claim GAs at S4's
     protocol (population 70, the S4 stopping rule with the 1000-generation cap, 1000 LHS
     samples per candidate, 10 000-run evaluations: ``PAPER_SCALE`` of
-    :mod:`adcskit.uncertainty.tuning`) after printing a time estimate (issue 14's timed
-    probe, :func:`~adcskit.uncertainty.tuning.estimate_tuning_time`); days on two CPU cores,
+    :mod:`adcskit.control.tuning`) after printing a time estimate (issue 14's timed
+    probe, :func:`~adcskit.control.tuning.estimate_tuning_time`); days on two CPU cores,
     meant for ``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
 
     Attributes
@@ -388,7 +388,7 @@ def _ga_settings(config: Config) -> dict[str, Any]:
 
 def _eq10(config: Config, case: str, err_deg: np.ndarray, os_pct: np.ndarray, penalty_on: str) -> dict[str, float]:
     """S4 eq. (10) as the GA optimised it (weights, penalty) on a set of per-sample metrics."""
-    from adcskit.uncertainty.robust import robust_objective, weights_from_ratio
+    from adcskit.control.robust import robust_objective, weights_from_ratio
 
     w1, w2 = weights_from_ratio(config.ratio(case))
     a = np.abs(err_deg)

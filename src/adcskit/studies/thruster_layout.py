@@ -28,11 +28,14 @@ import numpy as np
 
 from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
 from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
 __all__ = ["Config", "run", "STUDY", "manoeuvre_demands", "A_REF", "PAPER"]
 
-#: S3 §6: reference 6-thruster layout of Servidia & Sanchez Pena (S3 ref. [6]), as printed.
-A_REF = np.array([[-1, 1, -1, 1, 0, 0], [0, 0, 0, 0, 1, -1], [-1, 1, 1, -1, 0, 0]], float)
+#: S3 §6: reference 6-thruster layout (:data:`adcskit.thrusters.S3_REFERENCE_A`) and the manoeuvre
+#: (:func:`adcskit.thrusters.s3_manoeuvre_demands`), kept under the study's names.
+A_REF = S3_REFERENCE_A
+manoeuvre_demands = s3_manoeuvre_demands
 
 #: S3's printed results (§6, Table 8) and layouts. The 4-thruster GA matrix prints "101" in
 #: row 2 (read as 1.01); the 8-thruster matrix is printed wrapped as a 6 x 5 block (columns
@@ -209,18 +212,6 @@ def _parse_de(spec: str) -> tuple[str, float, float]:
             "'current-to-best/1/bin' or 'rand/1/bin', F > 0, CR in [0, 1]"
         )
     return strat, F, CR
-
-
-def manoeuvre_demands(correction_deg: float = 0.5, gain: float = 600.0) -> np.ndarray:
-    """The manoeuvre's demanded torques (14, 3), N m.
-
-    First-sample PD torque ``K theta e`` of a ``theta`` correction about each body half-axis
-    (+-X, +-Y, +-Z) and each cube diagonal ``(+-1, +-1, +-1)/sqrt(3)``. S3 does not print its
-    manoeuvre; this set covers all octants with equal weight.
-    """
-    axes = np.vstack([np.eye(3), -np.eye(3)])
-    diag = np.array([[a, b, c] for a in (1, -1) for b in (1, -1) for c in (1, -1)], float) / math.sqrt(3)
-    return gain * math.radians(correction_deg) * np.vstack([axes, diag])
 
 
 # ----------------------------------------------------------------------------- tasks

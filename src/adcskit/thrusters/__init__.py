@@ -7,7 +7,9 @@
 * :mod:`~adcskit.thrusters.pulse` — pulse width, minimum impulse bit (with the lever arm),
   minimum reachable error, fuel;
 * :mod:`~adcskit.thrusters.layout` — mounting faces as data, S3's fitness (eq. 18), layout
-  design on pymoo GA / DE.
+  design on pymoo GA / DE;
+* :mod:`~adcskit.thrusters.reference` — S3's reference layout and manoeuvre (data used by the
+  simulator and the studies, imported downward).
 """
 
 from adcskit.thrusters.allocation import ALLOCATION_METHODS, AllocationResult, allocate
@@ -40,6 +42,7 @@ from adcskit.thrusters.pulse import (
     pulse_width,
     realisable_pulses,
 )
+from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
 __all__ = [
     "ALLOCATION_METHODS", "AllocationResult", "allocate",
@@ -48,4 +51,5 @@ __all__ = [
     "DE_STRATEGIES", "DEFAULT_WEIGHTS", "DESIGN_ALGORITHMS", "LayoutResult", "LayoutScore",
     "MountingFace", "box_faces", "decode_layout", "design_layout", "score_layout",
     "fuel_mass", "manoeuvre_fuel", "min_impulse_bit", "min_reachable_error", "pulse_width", "realisable_pulses",
+    "S3_REFERENCE_A", "s3_manoeuvre_demands",
 ]

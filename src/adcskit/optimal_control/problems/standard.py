@@ -15,12 +15,21 @@ Each function returns the problem; the reference optimum is returned by
 * :func:`goddard_rocket` — the Goddard maximum-altitude rocket as a three-phase problem
   (full thrust, singular arc, coast) with the singular-arc condition as a path constraint
   (Bryson 1999, §9.3; GPOPS-II example).
+* :func:`free_flying_robot` — Sakawa's planar free-flying robot with two thrusters, minimum
+  fuel ``∫ Σ u_i`` in fixed time (Sakawa 1999; Betts 2010, ex. 6.13; GPOPS-II
+  ``J* = 7.9101471``); bang-bang thrusts with several switches.
+* :func:`oscillator_min_time` — minimum time to bring a controlled harmonic oscillator
+  ``ẍ = −x + u``, ``|u| <= 1`` to rest at the origin (Pontryagin et al. 1962, §I.5):
+  bang-bang with a switch every π s; the default start needs four switches.
 
 References
 ----------
 Rao & Mease, Automatica 36(12), 2000. Bryson & Ho, Applied Optimal Control, 1975, §3.11.
 Bilimoria & Wie, J. Guid. Control Dyn. 16(3), 1993. Bryson, Dynamic Optimization, 1999,
-§9.3. Patterson & Rao, ACM TOMS 41(1), 2014 (GPOPS-II).
+§9.3. Patterson & Rao, ACM TOMS 41(1), 2014 (GPOPS-II). Sakawa, Optim. Control Appl. Meth.
+20(5), 1999. Betts, Practical Methods for Optimal Control, 2nd ed., SIAM 2010, ex. 6.13.
+Pontryagin, Boltyanskii, Gamkrelidze & Mishchenko, The Mathematical Theory of Optimal
+Processes, 1962, §I.5.
 """
 
 from __future__ import annotations
@@ -29,7 +38,7 @@ import casadi as ca
 import numpy as np
 from scipy.optimize import brentq
 
-from adcskit._validation import check_positive, check_range
+from adcskit._validation import check_finite, check_positive, check_range
 from adcskit.errors import InputError
 from adcskit.optimal_control.multiphase import MultiPhaseProblem, Phase
 from adcskit.optimal_control.problem import OptimalControlProblem
@@ -38,8 +47,11 @@ __all__ = [
     "brachistochrone",
     "brachistochrone_time",
     "bryson_denham",
+    "free_flying_robot",
     "goddard_rocket",
     "hypersensitive",
+    "oscillator_min_time",
+    "oscillator_min_time_reference",
     "reference_objective",
     "rigid_body_reorientation",
 ]
@@ -355,6 +367,181 @@ def goddard_rocket() -> MultiPhaseProblem:
     )
 
 
+# ------------------------------------------------------------------------- free-flying robot
+_FFR = {"alpha": 0.2, "beta": 0.2}
+
+
+def _ffr_f(x, u, t):
+    T1 = u[0] - u[1]
+    T2 = u[2] - u[3]
+    return [
+        x[3],
+        x[4],
+        x[5],
+        (T1 + T2) * ca.cos(x[2]),
+        (T1 + T2) * ca.sin(x[2]),
+        _FFR["alpha"] * T1 - _FFR["beta"] * T2,
+    ]
+
+
+def _ffr_g(x, u, t):
+    return u[0] + u[1] + u[2] + u[3]
+
+
+def _ffr_path(x, u, t):
+    return [u[0] + u[1], u[2] + u[3]]
+
+
+def free_flying_robot() -> OptimalControlProblem:
+    """Sakawa's free-flying robot: minimum fuel ``∫ (u1 + u2 + u3 + u4) dt`` over ``tf = 12`` s.
+
+    States ``(x, y, θ, vx, vy, ω)`` from ``(−10, −10, π/2, 0, 0, 0)`` to rest at the origin;
+    thrusts ``T1 = u1 − u2``, ``T2 = u3 − u4`` with ``u_i >= 0`` and ``u1 + u2 <= 1``,
+    ``u3 + u4 <= 1`` (path constraints); ``v̇ = (T1 + T2)(cos θ, sin θ)``,
+    ``ω̇ = α T1 − β T2``, ``α = β = 0.2`` (normalised units). The optimal thrusts are
+    bang-bang (GPOPS-II: ``J* = 7.9101471``).
+
+    References
+    ----------
+    Sakawa, Optim. Control Appl. Meth. 20(5), 1999. Betts 2010, ex. 6.13. Patterson & Rao,
+    ACM TOMS 41(1), 2014, §7.4.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import free_flying_robot
+    >>> p = free_flying_robot()
+    >>> p.n_states, p.n_controls, p.n_path, p.tf_bounds
+    (6, 4, 2, (12.0, 12.0))
+    """
+    return OptimalControlProblem(
+        name="free-flying-robot",
+        dynamics=_ffr_f,
+        n_states=6,
+        n_controls=4,
+        state_names=("x", "y", "theta", "vx", "vy", "omega"),
+        control_names=("u1", "u2", "u3", "u4"),
+        state_lower=[-10.0, -10.0, -np.pi, -2.0, -2.0, -1.0],
+        state_upper=[10.0, 10.0, np.pi, 2.0, 2.0, 1.0],
+        control_lower=[0.0] * 4,
+        control_upper=[1.0] * 4,
+        initial_state=[-10.0, -10.0, np.pi / 2, 0.0, 0.0, 0.0],
+        final_state=[0.0] * 6,
+        tf_bounds=(12.0, 12.0),
+        lagrange=_ffr_g,
+        path=_ffr_path,
+        path_lower=[-np.inf, -np.inf],
+        path_upper=[1.0, 1.0],
+        state_scale=[10.0, 10.0, 1.0, 1.0, 1.0, 1.0],
+        control_scale=[1.0] * 4,
+    )
+
+
+# ------------------------------------------------------------------------- oscillator
+def _osc_f(x, u, t):
+    return [x[1], -x[0] + u[0]]
+
+
+def oscillator_min_time(x0: float = 7.0, v0: float = 0.5) -> OptimalControlProblem:
+    """Minimum time to bring ``ẍ = −x + u``, ``|u| <= 1`` from ``(x0, v0)`` to rest at 0.
+
+    The optimal control is ``u = −sign(λ_v)`` with ``λ_v = A sin(t + φ)``: bang-bang with
+    switches exactly π s apart (Pontryagin et al. 1962, §I.5). From the default start
+    ``(7, 0.5)`` it switches four times (:func:`oscillator_min_time_reference`).
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import oscillator_min_time
+    >>> oscillator_min_time().initial_state.tolist()
+    [7.0, 0.5]
+    """
+    x0 = check_finite("x0", x0)
+    v0 = check_finite("v0", v0)
+    r = float(np.hypot(x0, v0))
+    if r == 0.0:
+        raise InputError("the start (x0, v0) must differ from the origin; got (0, 0)")
+    if r > 200.0:
+        raise InputError(f"hypot(x0, v0) must be <= 200 (about 100 switches); got {r:g}")
+    t_guess = np.pi * (r / 2.0 + 1.0)
+    return OptimalControlProblem(
+        name="oscillator-min-time",
+        dynamics=_osc_f,
+        n_states=2,
+        n_controls=1,
+        state_names=("x", "v"),
+        control_names=("u",),
+        control_lower=[-1.0],
+        control_upper=[1.0],
+        initial_state=[x0, v0],
+        final_state=[0.0, 0.0],
+        tf_bounds=(0.1, 4.0 * t_guess),
+        tf_guess=t_guess,
+        mayer=_br_mayer,
+        state_scale=[max(r, 1.0), max(r, 1.0)],
+        control_scale=[1.0],
+    )
+
+
+def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[float, np.ndarray]:
+    """Optimal ``tf`` (s) and switch times (s) of :func:`oscillator_min_time`, by shooting
+    on the minimum principle's structure.
+
+    On a bang arc with ``u = s = ±1`` the state turns clockwise about ``(s, 0)`` at unit rate;
+    switches are π s apart. The unknowns are the first switch time ``t1 ∈ (0, π]`` and the
+    final arc's length ``τ ∈ (0, π]`` with the number of full arcs ``k`` and the first sign;
+    the candidate reaching the origin (``brentq`` on the final-arc condition) with the least
+    time is returned. Independent of the collocation code: an oracle for the tests.
+
+    Examples
+    --------
+    >>> from adcskit.optimal_control.problems.standard import oscillator_min_time_reference
+    >>> tf, sw = oscillator_min_time_reference(7.0, 0.5)
+    >>> sw.size, round(tf, 6)
+    (4, 11.136045)
+    """
+    x0 = check_finite("x0", x0)
+    v0 = check_finite("v0", v0)
+    z0 = complex(x0, v0)
+
+    def flow(z: complex, s: float, dt: float) -> complex:
+        # rotation of (x - s, v) by -dt (clockwise) about (s, 0)
+        return s + (z - s) * np.exp(-1j * dt)
+
+    best = (np.inf, np.array([]))
+    # each π-long arc moves the state's distance from the origin by at most 2
+    k_max = int(np.ceil(abs(z0) / 2.0)) + 3
+    for s0 in (1.0, -1.0):
+        for k in range(0, k_max):
+
+            def end(t1: float, s0: float = s0, k: int = k) -> complex:
+                z, s = flow(z0, s0, t1), s0
+                for _ in range(k):
+                    s = -s
+                    z = flow(z, s, np.pi)
+                return z, -s
+
+            def miss(t1: float) -> float:
+                z, s = end(t1)
+                # the last arc (sign s) must pass through the origin: |z − s| = |0 − s| = 1
+                return abs(z - s) - 1.0
+
+            grid = np.linspace(1e-9, np.pi, 200)
+            vals = np.array([miss(t) for t in grid])
+            for a, b, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:], strict=True):
+                if fa == 0.0 or fa * fb < 0.0:
+                    t1 = a if fa == 0.0 else brentq(miss, a, b, xtol=1e-15)
+                    z, s = end(t1)
+                    # clockwise angle from (z − s) to (0 − s) about (s, 0)
+                    ang = (np.angle(z - s) - np.angle(-s + 0j)) % (2 * np.pi)
+                    if ang > np.pi + 1e-9:
+                        continue
+                    tf = t1 + k * np.pi + ang
+                    if tf < best[0]:
+                        best = (float(tf), t1 + np.pi * np.arange(k + 1))
+            if best[0] < k * np.pi:
+                break
+    return best
+
+
 # ------------------------------------------------------------------------- references
 def reference_objective(name: str) -> tuple[float, str]:
     """Published / closed-form optimum of a standard problem at its default settings.
@@ -377,8 +564,13 @@ def reference_objective(name: str) -> tuple[float, str]:
         "brachistochrone": (brachistochrone_time(10.0, 5.0), "closed-form cycloid, (0,10) → (10,5) m"),
         "rigid-body-reorientation": (3.243, "Bilimoria & Wie 1993: 180° rest-to-rest, unit inertia and torque, tf = 3.243 (eigenaxis 2√π = 3.545)"),
         "goddard-rocket": (-18550.872, "GPOPS-II example / Bryson 1999 §9.3: h(tf) = 18550.872 ft"),
+        "free-flying-robot": (7.9101471, "Patterson & Rao 2014 (GPOPS-II) §7.4 / Betts 2010 ex. 6.13: J* = 7.9101471"),
+        "oscillator-min-time": (None, "minimum principle by shooting (oscillator_min_time_reference), start (7, 0.5)"),
         "launch-ascent": (-7529.712680, "Patterson & Rao 2014 (GPOPS-II) §7.5: final mass 7529.712680 kg"),
     }
     if name not in refs:
         raise InputError(f"name must be one of {sorted(refs)}; got {name!r}")
-    return refs[name]
+    value, source = refs[name]
+    if value is None:  # computed on demand (a shooting solve)
+        value = oscillator_min_time_reference(7.0, 0.5)[0]
+    return value, source

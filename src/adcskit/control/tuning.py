@@ -41,8 +41,8 @@ from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
+from adcskit.control.robust import mean_change_converged, robust_objective
 from adcskit.errors import InputError
-from adcskit.uncertainty.robust import mean_change_converged, robust_objective
 from adcskit.uncertainty.sampling import Fixed, Gaussian, TruncatedGaussian, latin_hypercube
 
 __all__ = [
@@ -379,7 +379,7 @@ def tune_robust(
         offered to the active session.
     penalty_on : {"sample", "mean"}
         Penalise each sample's overshoot excess (averaged) or the excess of the mean
-        overshoot (:func:`adcskit.uncertainty.robust.robust_objective`).
+        overshoot (:func:`adcskit.control.robust.robust_objective`).
 
     Returns
     -------
@@ -394,7 +394,7 @@ def tune_robust(
     from pymoo.core.termination import Termination
     from pymoo.optimize import minimize
 
-    from adcskit.uncertainty.robust import weights_from_ratio
+    from adcskit.control.robust import weights_from_ratio
 
     for name in dists:
         if name not in LoopParams.__slots__ or name in GAIN_NAMES:  # type: ignore[attr-defined]

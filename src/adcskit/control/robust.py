@@ -27,7 +27,7 @@ def weights_from_ratio(ratio: float) -> tuple[float, float]:
 
     Examples
     --------
-    >>> from adcskit.uncertainty import weights_from_ratio
+    >>> from adcskit.control import weights_from_ratio
     >>> weights_from_ratio(1.0)
     (0.5, 0.5)
     >>> tuple(round(w, 6) for w in weights_from_ratio(3.0))   # w2 / w1 = 3, w1 + w2 = 1
@@ -80,7 +80,7 @@ def robust_objective(
     Examples
     --------
     >>> import numpy as np
-    >>> from adcskit.uncertainty import robust_objective
+    >>> from adcskit.control import robust_objective
     >>> errors = np.array([[1.0, 2.0, 3.0], [2.0, 2.0, 2.0]])   # 2 candidates x 3 samples
     >>> robust_objective(errors).round(6)                 # mean + std (ddof=0)
     array([2.816497, 2.      ])
@@ -131,7 +131,7 @@ def mean_change_converged(history: Sequence[float], *, tol: float = 1e-7, window
 
     Examples
     --------
-    >>> from adcskit.uncertainty import mean_change_converged
+    >>> from adcskit.control import mean_change_converged
     >>> history = [1.0, 0.5, 0.3] + [0.2] * 10            # best objective per generation
     >>> mean_change_converged(history, tol=1e-7, window=10)   # 0.3 -> 0.2 is still in the window
     False
