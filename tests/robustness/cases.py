@@ -1256,7 +1256,9 @@ case("uncertainty.read_requirements", kinds={"source": "object"}, positive=("con
             "unknown-key": ("source", [{"metric": "x", "statistic": "max", "comparison": "<=", "threshold": 1.0,
                                          "unit": "deg"}], "type")})(
     lambda: dict(source=["x p99 <= 0.1 after 300 s", {"text": "x mean <= 0.05", "name": "R2"}], confidence=0.95))
+# metrics is a simulation's metric table: metrics no requirement reads are normal (open keys)
 case("uncertainty.check_requirements", kinds={"requirements": "object"}, aliases={"requirements": ("source",)},
+     open_keys=("metrics",),
      positive=("metrics_from_s",), shape_stable=False, nan_ok=("bound", "opposite_bound"),
      extra={"nan-metric": ("metrics", {"pointing_max_deg": [0.01, float("nan")]}, "type"),
             "2d-metric": ("metrics", {"pointing_max_deg": [[0.01, 0.02]]}, "type")})(
@@ -1279,7 +1281,9 @@ case("optimal_control.default_optimality_threshold", positive=("tol",))(lambda: 
 case("optimal_control.problems.free_flying_robot", nan_ok=("*",))(lambda: dict())
 case("optimal_control.problems.oscillator_min_time", nan_ok=("*",))(lambda: dict(x0=7.0, v0=0.5))
 # the number of switching times depends on the start state (none at the origin)
-case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False)(lambda: dict(x0=7.0, v0=0.5))
+case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False,
+     known_open="issue 23 item 5: oscillator_min_time_reference(x0=3.9e14) runs > 30 s of CPU (hypothesis, a HANG); "
+                "optimal_control is owned by another helper; reported, not fixed here")(lambda: dict(x0=7.0, v0=0.5))
 
 
 def _guess() -> Any:
