@@ -1214,18 +1214,16 @@ def _mp_solution() -> Any:
     return _SOL["mp"]
 
 
-OC_OPEN = ("issue 23 item 5: OptimalControlSolution.state_at/control_at/costate_at (2-D t, extrapolation "
-           "outside the horizon) belong to the optimal-control helper; reported, not fixed here")
 case("control.OnOffMetrics.as_array", target=method("", _onoff_metrics, "as_array"), nan_ok=("*",))(lambda: dict())
 case("determination.WahbaResult.messages", target=method("", _wahba_result, "messages"))(lambda: dict())
 case("optimal_control.OptimalControlSolution.as_guess", target=method("", _solution, "as_guess"))(lambda: dict())
 case("optimal_control.MultiPhaseSolution.as_guess", target=method("", _mp_solution, "as_guess"), slow=True)(
     lambda: dict())
 for _meth in ("state_at", "costate_at"):
-    case(f"optimal_control.OptimalControlSolution.{_meth}", target=method("", _solution, _meth), known_open=OC_OPEN)(
+    case(f"optimal_control.OptimalControlSolution.{_meth}", target=method("", _solution, _meth))(
         lambda: dict(t=[0.1, 0.5, 0.9]))
-case("optimal_control.OptimalControlSolution.control_at", target=method("", _solution, "control_at"),
-     known_open=OC_OPEN)(lambda: dict(t=[0.1, 0.5, 0.9], kind="lagrange"))
+case("optimal_control.OptimalControlSolution.control_at", target=method("", _solution, "control_at"))(
+    lambda: dict(t=[0.1, 0.5, 0.9], kind="lagrange"))
 
 
 # ============================================================================================
