@@ -120,6 +120,9 @@ def as_array(
         raise InputTypeError(
             f"{name} must be real (complex values are not accepted); got {short_repr(value)}"
         )
+    if probe.dtype.kind == "b" and np.dtype(dtype).kind != "b":
+        # True/False for a number would silently mean 1/0 (a flag passed in the wrong place)
+        raise InputTypeError(f"{name} must be an array of numbers, not True/False; got {short_repr(value)}")
     if probe.dtype.kind in "USV" or (
         probe.dtype == object and any(v is None or isinstance(v, (str, bytes)) for v in probe.ravel().tolist())
     ):
@@ -423,6 +426,30 @@ def check_flag(name: str, value: Any) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise InputTypeError(f"{name} must be True or False; got {short_repr(value)}")
     return bool(value)
+
+
+def check_flag_fields(obj: Any) -> None:
+    """Check (and store as ``bool``) every field of a frozen dataclass annotated ``bool``.
+
+    For a ``__post_init__``: a configuration's flags get :func:`check_flag`'s rule (``"no"``,
+    ``1`` or ``None`` for a flag are errors) without one call per field.
+
+    >>> import dataclasses
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Spec:
+    ...     verbose: bool = False
+    ...     def __post_init__(self):
+    ...         check_flag_fields(self)
+    >>> Spec(verbose="no")
+    Traceback (most recent call last):
+    ...
+    adcskit.errors.InputTypeError: verbose must be True or False; got 'no'
+    """
+    import dataclasses
+
+    for f in dataclasses.fields(obj):
+        if f.type in (bool, "bool"):
+            object.__setattr__(obj, f.name, check_flag(f.name, getattr(obj, f.name)))
 
 
 def check_callable(name: str, value: Any, *, allow_none: bool = False) -> Any:

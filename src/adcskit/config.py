@@ -22,6 +22,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
+import numpy as np
+
 from adcskit._validation import check_mapping, check_path, short_repr
 from adcskit.errors import ConfigError, InputTypeError
 
@@ -258,20 +260,38 @@ def config_to_dict(config: Any) -> dict[str, Any]:
 
 
 
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
+def _toml_string(v: str) -> str:
+    # a JSON string literal is a valid TOML basic string (same escapes; control characters as \uXXXX)
+    import json
+
+    return json.dumps(v, ensure_ascii=False)
+
+
+def _toml_key(key: Any, where: str) -> str:
+    """A key as TOML writes it: bare when it can be, quoted otherwise (``"a b"``)."""
+    import re
+
+    if not isinstance(key, str):
+        raise InputTypeError(f"data keys must be strings (TOML keys are strings); got {short_repr(key)} in {where}")
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else _toml_string(key)
+
+
+def _toml_value(v: Any, where: str = "data") -> str:
+    if isinstance(v, bool | np.bool_):
         return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
+    if isinstance(v, int | np.integer):
+        return str(int(v))
+    if isinstance(v, float | np.floating):
+        v = float(v)
         if math.isinf(v):
             return "inf" if v > 0 else "-inf"
         return repr(v)
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return _toml_string(v)
     if isinstance(v, list | tuple):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise TypeError(f"cannot write {v!r} as a TOML value")
+        return "[" + ", ".join(_toml_value(x, where) for x in v) + "]"
+    raise InputTypeError(f"data value {where} = {short_repr(v)} cannot be written as TOML "
+                         "(bool, int, float, str, list or a nested mapping)")
 
 
 def _doc_attributes(cls: type) -> dict[str, str]:
@@ -338,6 +358,9 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
 
     ``None`` values are written as comments, since TOML has no null. ``comments`` maps a
     (dotted) key to a line written as a ``#`` comment above it (see :func:`config_help`).
+    A key that is not a bare TOML key (``a b``, ``c.d``) is written quoted, strings are escaped,
+    so the text always reads back with :mod:`tomllib`; a non-string key or a value TOML cannot
+    hold (``None`` inside a list, an object) raises :class:`~adcskit.errors.InputTypeError`.
 
     Examples
     --------
@@ -346,27 +369,34 @@ def dump_toml(data: Mapping[str, Any], _prefix: str = "", *, comments: Mapping[s
     <BLANKLINE>
     [mesh]
     shape = [20, 3]
+    >>> print(dump_toml({"a b": 1}), end="")
+    "a b" = 1
     """
     check_mapping("data", data)
-    comments = comments or {}
+    return _dump_toml(data, _prefix, _prefix, comments or {})
+
+
+def _dump_toml(data: Mapping[str, Any], prefix: str, header: str, comments: Mapping[str, str]) -> str:
+    # prefix: the dotted path of raw keys (for ``comments``); header: the same path as TOML writes it
     lines: list[str] = []
     tables = []
     for key, value in data.items():
+        bare = _toml_key(key, "data" + ("." + prefix.rstrip(".") if prefix else ""))
         if isinstance(value, Mapping):
-            tables.append((key, value))
+            tables.append((key, bare, value))
             continue
-        note = comments.get(f"{_prefix}{key}")
+        note = comments.get(f"{prefix}{key}")
         if note:
             lines.append(f"# {note}")
         if value is None:
-            lines.append(f"# {key} = (unset)")
+            lines.append(f"# {bare} = (unset)")
         else:
-            lines.append(f"{key} = {_toml_value(value)}")
-    for key, value in tables:
-        name = f"{_prefix}{key}"
+            lines.append(f"{bare} = {_toml_value(value, prefix + key)}")
+    for key, bare, value in tables:
+        name = f"{prefix}{key}"
         lines.append("")
         if comments.get(name):
             lines.append(f"# {comments[name]}")
-        lines.append(f"[{name}]")
-        lines.append(dump_toml(value, name + ".", comments=comments).rstrip("\n"))
+        lines.append(f"[{header}{bare}]")
+        lines.append(_dump_toml(value, name + ".", f"{header}{bare}.", comments).rstrip("\n"))
     return "\n".join(lines).lstrip("\n") + "\n"

@@ -813,8 +813,8 @@ def _toml_file() -> str:
 
 
 case("config.read_toml", kinds={"path": "path"})(lambda: dict(path=_toml_file()))
-case("config.dump_toml", kinds={"_prefix": "skip"})(lambda: dict(data={"a": 1, "b": {"c": 2.5}}))
-case("config.merge_mappings")(lambda: dict(base={"a": 1, "b": {"c": 2}}, override={"b": {"c": 3}}))
+case("config.dump_toml", kinds={"_prefix": "skip"}, open_keys=("data",))(lambda: dict(data={"a": 1, "b": {"c": 2.5}}))
+case("config.merge_mappings", open_keys=("base", "override"))(lambda: dict(base={"a": 1, "b": {"c": 2}}, override={"b": {"c": 3}}))
 
 
 def _cfg_cls() -> type:
@@ -1090,6 +1090,141 @@ case("simulation.simulate", target=_warmed("simulation.simulate", _simulate_kw),
     _simulate_kw
 )
 
+# ============================================================================================
+# public methods (issue 23: every public name, methods of public classes included; the gap is
+# listed by ``public_gap.py`` and checked by ``test_every_public_name_has_an_entry``)
+# ============================================================================================
+
+exempt(
+    "documented unvalidated inner-loop method (its docstring says so and points to the validated "
+    "batch entry: kalman_filter / update_batch); tests/robustness/test_issue_examples.py checks that",
+    "estimation.KalmanFilter.step",
+    "estimation.RecursiveLeastSquares.update",
+)
+
+
+def _ts() -> Any:
+    from adcskit.thrusters import ThrusterSet
+
+    return ThrusterSet(positions=POS, directions=DIRS, f_max=10.0, t_min=0.003, mdot=0.0035)
+
+
+def _spacecraft() -> Any:
+    from adcskit.simulation import SpacecraftSpec
+
+    return SpacecraftSpec(inertia=(1218.6, 442.2, 1429.4))
+
+
+# methods without arguments: the valid call on a validated object must give finite numbers
+for _name, _make, _meth in (
+    ("thrusters.ThrusterSet.angles", _ts, "angles"),
+    ("thrusters.ThrusterSet.force_matrix", _ts, "force_matrix"),
+    ("thrusters.ThrusterSet.lever_arms", _ts, "lever_arms"),
+    ("thrusters.ThrusterSet.torque_matrix", _ts, "torque_matrix"),
+    ("simulation.SpacecraftSpec.matrix", _spacecraft, "matrix"),
+    ("simulation.ThrusterSpec.torque_matrix", _default_thr, "torque_matrix"),
+    ("optimal_control.Mesh.label", _mesh24, "label"),
+    ("optimal_control.OptimalControlProblem.scales", _di, "scales"),
+    ("optimal_control.Phase.scales", lambda: _phases()[0], "scales"),
+):
+    case(_name, target=method("", _make, _meth), nan_ok=("*",) if "scales" in _name else ())(lambda: dict())
+
+case("optimal_control.Mesh.uniform")(lambda: dict(n_intervals=2, n_nodes=4))
+
+
+def _thrusters_list() -> list[Any]:
+    from adcskit.thrusters import Thruster
+
+    return [Thruster(position=p, direction=d, f_max=10.0) for p, d in zip(POS, DIRS)]
+
+
+case("thrusters.ThrusterSet.from_thrusters", kinds={"thrusters": "object"})(
+    lambda: dict(thrusters=_thrusters_list(), com=(0.0, 0.0, 0.1))
+)
+case("simulation.ThrusterSpec.from_thruster_set", kinds={"ts": "object"}, positive=("tau", "delay"))(
+    lambda: dict(ts=_ts(), tau=0.01, delay=0.02)
+)
+case("simulation.ThrusterSpec.from_torque_matrix", positive=("f_max", "tau", "delay"), kinds={"failed": "skip"})(
+    lambda: dict(A=_default_thr().torque_matrix(), f_max=10.0, tau=0.01, delay=0.02)
+)
+
+
+def _sun() -> Any:
+    from adcskit.sensors import SunSensor
+
+    return SunSensor(**SENSOR_KW)
+
+
+case("sensors.SunSensor.measure", target=method("", _sun, "measure"),
+     degenerate={"zero-attitude": {"A": np.zeros((3, 3))}, "zero-ref": {"r": [0.0, 0.0, 0.0]}})(
+    lambda: dict(A=[list(r) for r in A_ATT], r=list(R_REF), rng=3, eclipse=False)
+)
+
+
+_POOL: list[Any] = []
+
+
+def _process_map() -> Callable[..., Any]:
+    # one worker process for every mutation (a pool per call would leave processes behind)
+    if not _POOL:
+        import atexit
+
+        from adcskit.uncertainty import ProcessExecutor
+
+        _POOL.append(ProcessExecutor(n_workers=1))
+        atexit.register(_POOL[0].close)
+    return _POOL[0].map
+
+
+case("uncertainty.ProcessExecutor.map", target=_process_map, kinds={"description": "skip", "tasks": "object"},
+     nan_ok=("*",), nonfinite_ok=("fn",), slow=True)(lambda: dict(fn=_square, tasks=[1.0, 2.0]))
+case("uncertainty.ProcessExecutor.close", target=method("", lambda: __import__(
+    "adcskit.uncertainty", fromlist=["x"]).ProcessExecutor(n_workers=1), "close"))(lambda: dict())
+
+# --- methods of result dataclasses that take input (the results themselves are exempt) ------
+
+exempt(
+    "accessor without arguments of a result built by adcskit (nothing to validate)",
+    "studies.StudyResult.all_claims",
+)
+exempt(
+    "dataclasses.replace of the adaptive-refinement fields, called by solve_adaptive on its own "
+    "result (keyword names are checked by dataclasses.replace)",
+    "optimal_control.MultiPhaseSolution.with_adaptive",
+)
+
+
+def _onoff_metrics() -> Any:
+    from adcskit.control import simulate_batch
+
+    return simulate_batch(_params(), _settings(), backend="numba", parallel=False)
+
+
+def _wahba_result() -> Any:
+    from adcskit.determination import solve_wahba
+
+    return solve_wahba(np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]))
+
+
+def _mp_solution() -> Any:
+    if "mp" not in _SOL:
+        from adcskit.optimal_control import solve_multiphase
+
+        _SOL["mp"] = solve_multiphase(_mp(), method="radau", meshes=[(1, 3), (1, 3)])
+    return _SOL["mp"]
+
+
+case("control.OnOffMetrics.as_array", target=method("", _onoff_metrics, "as_array"), nan_ok=("*",))(lambda: dict())
+case("determination.WahbaResult.messages", target=method("", _wahba_result, "messages"))(lambda: dict())
+case("optimal_control.OptimalControlSolution.as_guess", target=method("", _solution, "as_guess"))(lambda: dict())
+case("optimal_control.MultiPhaseSolution.as_guess", target=method("", _mp_solution, "as_guess"), slow=True)(
+    lambda: dict())
+for _meth in ("state_at", "costate_at"):
+    case(f"optimal_control.OptimalControlSolution.{_meth}", target=method("", _solution, _meth))(
+        lambda: dict(t=[0.1, 0.5, 0.9]))
+case("optimal_control.OptimalControlSolution.control_at", target=method("", _solution, "control_at"))(
+    lambda: dict(t=[0.1, 0.5, 0.9], kind="lagrange"))
+
 
 # ============================================================================================
 # uncertainty: requirement statistics (issue 25 item 4) -- kept as one block for easy merging
@@ -1119,10 +1254,44 @@ case("uncertainty.read_requirements", kinds={"source": "object"}, positive=("con
             "unknown-key": ("source", [{"metric": "x", "statistic": "max", "comparison": "<=", "threshold": 1.0,
                                          "unit": "deg"}], "type")})(
     lambda: dict(source=["x p99 <= 0.1 after 300 s", {"text": "x mean <= 0.05", "name": "R2"}], confidence=0.95))
+# metrics is a simulation's metric table: metrics no requirement reads are normal (open keys)
 case("uncertainty.check_requirements", kinds={"requirements": "object"}, aliases={"requirements": ("source",)},
+     open_keys=("metrics",),
      positive=("metrics_from_s",), shape_stable=False, nan_ok=("bound", "opposite_bound"),
      extra={"nan-metric": ("metrics", {"pointing_max_deg": [0.01, float("nan")]}, "type"),
             "2d-metric": ("metrics", {"pointing_max_deg": [[0.01, 0.02]]}, "type")})(
     lambda: dict(requirements=["pointing_max_deg p99 <= 0.1 after 300 s", "P(pointing_max_deg > 0.05) <= 0.5"],
                  metrics={"pointing_max_deg": list(_REQ_X)}, metrics_from_s=300.0, method="clopper-pearson",
                  nan_policy="raise"))
+
+# --- names new on main at 7bc2210 (merged into h-robust): optimality check, problems ---------
+
+exempt(RESULT, "optimal_control.OptimalityCheck")
+exempt(
+    "accessor without arguments of a result built by adcskit (nothing to validate)",
+    "uncertainty.RequirementTable.table_rows",
+    "uncertainty.RequirementVerdict.table_row",
+)
+case("optimal_control.check_optimality", kinds={"solution": "object"}, positive=("threshold",), nan_ok=("*",))(
+    lambda: dict(solution=_solution(), threshold=1e-2)
+)
+case("optimal_control.default_optimality_threshold", positive=("tol",))(lambda: dict(tol=1e-4))
+case("optimal_control.problems.free_flying_robot", nan_ok=("*",))(lambda: dict())
+case("optimal_control.problems.oscillator_min_time", nan_ok=("*",))(lambda: dict(x0=7.0, v0=0.5))
+# the number of switching times depends on the start state (none at the origin)
+case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False,
+     known_open="issue 23 item 5: oscillator_min_time_reference(x0=3.9e14) runs > 30 s of CPU (hypothesis, a HANG); "
+                "optimal_control is owned by another helper; reported, not fixed here")(lambda: dict(x0=7.0, v0=0.5))
+
+
+def _guess() -> Any:
+    from adcskit.optimal_control import Guess
+
+    return Guess(t=[0.0, 0.5, 1.0], x=[[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], u=[[1.0], [0.0], [-1.0]], tf=1.0)
+
+
+case("optimal_control.Guess.check_widths", target=method("", _guess, "check_widths"), kinds={"what": "skip"},
+     known_open="issue 23 item 5: Guess.check_widths(n_controls=True) is accepted as 1; optimal_control is owned "
+                "by another helper; reported, not fixed here")(
+    lambda: dict(n_states=2, n_controls=1)
+)

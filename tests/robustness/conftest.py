@@ -21,5 +21,5 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):  # noqa: ARG0
         terminalreporter.write_line(
             f"robustness: {STATS['calls']} calls, {STATS['rejected']} clean rejections, "
             f"{STATS['accepted']} accepted (finite, correctly shaped or success=False)"
-            + (f", {STATS['hangs']} hangs" if STATS["hangs"] else "")
+            + "; failures: " + ", ".join(f"{k} {STATS[k]}" for k in ("FOREIGN", "SILENT", "VAGUE", "HANG"))
         )

@@ -21,7 +21,7 @@ import pkgutil
 import numpy as np
 import pytest
 from cases import CASES, EXEMPT
-from harness import Mutation, call_with_timeout, check_outcome, run_case
+from harness import Mutation, call_with_timeout, check_outcome, record, run_case
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -54,14 +54,22 @@ def public_names() -> dict[str, object]:
 
 
 def test_every_public_name_has_an_entry():
-    names = public_names()
-    missing = sorted(n for n in names if n not in CASES and n not in EXEMPT)
+    """Every callable of every ``__all__`` and every public method of a public class has a case
+    or an ``EXEMPT`` reason (the gap is listed by ``python tests/robustness/public_gap.py``)."""
+    import public_gap
+
+    missing = public_gap.uncovered()
     assert not missing, (
-        "public callables without a robustness entry (add one to tests/robustness/cases.py, "
+        "public names without a robustness entry (add one to tests/robustness/cases.py, "
         f"or an EXEMPT reason): {missing}"
     )
-    stale = sorted(n for n in EXEMPT if n not in names)
+    names = public_names()
+    known = set(names) | {m for n, obj in names.items() if inspect.isclass(obj)
+                          for m in public_gap.public_methods(n, obj, {})}
+    stale = sorted(n for n in EXEMPT if n not in known)
     assert not stale, f"EXEMPT names that are not public any more: {stale}"
+    unknown = sorted(n for n in CASES if n not in known and n.rsplit(".", 1)[0] not in names)
+    assert not unknown, f"cases for names that are not public: {unknown}"
 
 
 def test_valid_calls_write_only_under_the_scratch_root():
@@ -88,24 +96,27 @@ FAST = sorted(n for n, c in CASES.items() if not c.slow)
 SLOW = sorted(n for n, c in CASES.items() if c.slow)
 
 
+def _judge(name, failures):
+    if failures and CASES[name].known_open:
+        pytest.xfail(f"{CASES[name].known_open}:\n" + "\n".join(failures))
+    assert not failures, "\n".join(failures)
+
+
 @pytest.mark.parametrize("name", FAST)
 def test_mutations(name):
-    failures = run_case(CASES[name])
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name]))
 
 
 @pytest.mark.parametrize("name", SLOW)
 def test_mutations_expensive_entries_sampled(name):
     """Valid call, degenerate calls and a spread sample of the mutations of a slow entry."""
-    failures = run_case(CASES[name], limit=12)
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name], limit=12))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", SLOW)
 def test_mutations_expensive_entries_exhaustive(name):
-    failures = run_case(CASES[name])
-    assert not failures, "\n".join(failures)
+    _judge(name, run_case(CASES[name]))
 
 
 # --- hypothesis: random extreme values at random positions of random numeric arguments -------
@@ -133,7 +144,8 @@ def _numeric_args(case):
     return out
 
 
-HYP_CASES = sorted(n for n in FAST if _numeric_args(CASES[n]))
+# a known open failure (``known_open``) is shown by test_mutations as an expected failure
+HYP_CASES = sorted(n for n in FAST if _numeric_args(CASES[n]) and not CASES[n].known_open)
 
 
 _REFERENCE: dict[str, object] = {}
@@ -158,7 +170,7 @@ def _hyp(name, data):
     # a negative within a rounding tolerance (> -1e-6) may legitimately be read as zero
     cat = "nonfinite" if not math.isfinite(x) else ("negative" if x < -1e-6 else "finite")
     kwargs[arg] = value
-    out = check_outcome(case, arg, Mutation(f"hyp={x!r}", value, cat), lambda: call_with_timeout(fn, kwargs), ref)
+    out = record(check_outcome(case, arg, Mutation(f"hyp={x!r}", value, cat), lambda: call_with_timeout(fn, kwargs), ref))
     assert out.ok, out.detail
 
 

@@ -51,7 +51,7 @@ import scipy.linalg
 
 from adcskit._results import compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
-from adcskit._validation import as_array, check_choice, check_positive, check_range
+from adcskit._validation import as_array, check_choice, check_flag, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
 from adcskit.errors import InputError
 
@@ -125,10 +125,11 @@ class LoopSettings:
         check_range("settle_band", self.settle_band, 0.0, 1.0, lo_open=True)
         if self.t_final / self.dt > 5e7:
             raise InputError(f"t_final/dt must be <= 5e7 steps; got {self.t_final / self.dt:g}")
-        ratio = 1.0 / (self.command_rate_hz * self.dt)
-        if ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6 * ratio:
+        period_steps = self.command_rate_hz * self.dt  # may underflow to 0 for a tiny rate (period: inf)
+        ratio = 1.0 / period_steps if period_steps > 0 else math.inf
+        if not ratio <= 2.0**53 or ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6 * ratio:
             raise InputError(
-                "command_rate_hz must give a command period that is a whole number (>= 1) of "
+                "command_rate_hz must give a command period that is a whole number (1 to 2**53) of "
                 f"steps dt={self.dt:g} s; got command_rate_hz={self.command_rate_hz:g} "
                 f"(period/dt = {ratio:g})"
             )
@@ -372,7 +373,7 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
     arr = as_array("u", u, ndim=1)
     on = check_positive("u_on", u_on, allow_zero=True)
     off = check_range("u_off", u_off, 0.0, on, hi_name="u_on")
-    if state not in (-1, 0, 1, -1.0, 0.0, 1.0):
+    if isinstance(state, (bool, np.bool_)) or state not in (-1, 0, 1, -1.0, 0.0, 1.0):
         raise InputError(f"state must be -1, 0 or 1; got {state!r}")
     out = np.empty_like(arr)
     s = float(state)
@@ -642,6 +643,7 @@ def simulate_batch(
     True
     """
     params, settings = _checked_inputs(params, settings, backend)
+    parallel = check_flag("parallel", parallel)
     P = _param_matrix(params)
     C = _coefficients(settings)
     L = _buffer_length(P, settings.dt)

@@ -574,6 +574,7 @@ def robust_wahba(
     pop_size = check_int("pop_size", pop_size, minimum=4)
     n_gen = check_int("n_gen", n_gen, minimum=1)
     maxiter = check_int("maxiter", maxiter, minimum=1)
+    gen = as_rng(rng)  # checked for every method, though only NSGA-II draws from it
     if not (select == "knee" or callable(select)):
         raise InputError(f"select must be 'knee' or a callable select(F, Q) -> index; got {select!r}")
     p = _problem(body_mid, body_radius, ref_mid, ref_radius, weights)
@@ -592,7 +593,6 @@ def robust_wahba(
             success=status == 0, status=status, message=msg, nit=nit, nfev=nfev, method=method,
         )
     if method == "nsga2":
-        gen = as_rng(rng)
         q, al, be, f, Q, F, nit, nfev = _nsga2(p, search_range, delta, pop_size, n_gen, select, gen, q0)
         return RobustWahbaResult(
             q=q, alpha=al, beta=be, fun=np.asarray(f, float), objective=float(f[0]), pareto_q=Q,

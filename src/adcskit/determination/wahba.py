@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._results import Result
-from adcskit._validation import as_array, check_choice, short_repr
+from adcskit._validation import as_array, check_choice, check_flag, short_repr
 from adcskit.determination import _kernels as _k
 from adcskit.errors import InputError, InputTypeError
 
@@ -284,6 +284,7 @@ def solve_wahba(
         if not isinstance(method, str):
             raise InputTypeError(f"method must be a string; got {short_repr(method)}")
         check_choice("method", method, METHODS)
+    covariance = check_flag("covariance", covariance)
     b, r, w, batched = _prepare(body, ref, weights)
     code = entry[0]
     if code == _k.TWO_VECTOR and b.shape[-2] != 2:
@@ -300,8 +301,6 @@ def solve_wahba(
     N = b.shape[0]
     q = np.empty((N, 4))
     out = np.empty((N, 3))
-    if not isinstance(covariance, (bool, np.bool_)):
-        raise InputTypeError(f"covariance must be True or False; got {short_repr(covariance)}")
     cov = np.empty((N, 3, 3) if covariance else (N, 0, 0))
     status = np.empty(N, dtype=np.int8)
     kernel = _k.solve_batch_parallel if N >= _PARALLEL_MIN else _k.solve_batch_serial

@@ -239,7 +239,8 @@ def propagate_attitude(
                         atol=atol)
     except _Abort as exc:
         return _failed(t, q[0], w, str(exc), guard.nfev)
-    y = sol.y.T if sol.y.size else np.empty((0, 7))
+    # a step-size failure before the first t_eval point leaves sol.y a plain empty list
+    y = np.asarray(sol.y, dtype=float).reshape(7, -1).T
     if not np.all(np.isfinite(y)):
         return _failed(t, q[0], w, "the integration produced non-finite values", int(sol.nfev))
     qs = _k.canonical(y[:, :4]) if len(y) else y[:, :4]

@@ -189,7 +189,7 @@ def eci_to_ecef_state(r_eci: Any, v_eci: Any, times: Any) -> tuple[np.ndarray, n
     7035.552
     """
     r = eci_to_ecef(r_eci, times)
-    v = eci_to_ecef(as_array("v_eci", v_eci, shape=np.shape(r_eci)), times)
+    v = eci_to_ecef(as_array("v_eci", v_eci, shape=as_array("r_eci", r_eci).shape), times)
     return r, v - np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]), r)
 
 
@@ -204,11 +204,11 @@ def ecef_to_eci_state(r_ecef: Any, v_ecef: Any, times: Any) -> tuple[np.ndarray,
     >>> round(float(np.linalg.norm(v)), 3)   # an Earth-fixed point moves at omega r in ECI, m/s
     494.26
     """
+    as_batch("r_ecef", r_ecef, (3,))  # r_ecef's own shape first, so a bad one is blamed on it
     rr = as_array("r_ecef", r_ecef)
     vv = as_array("v_ecef", v_ecef, shape=rr.shape)
-    v_inertial_ecef = vv + np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]),
-                                    as_array("r_ecef", r_ecef))
-    return ecef_to_eci(r_ecef, times), ecef_to_eci(v_inertial_ecef, times)
+    v_inertial_ecef = vv + np.cross(np.array([0.0, 0.0, EARTH_ROTATION_RATE]), rr)
+    return ecef_to_eci(rr, times), ecef_to_eci(v_inertial_ecef, times)
 
 
 def geodetic_to_ecef(lat: Any, lon: Any, h: Any = 0.0) -> np.ndarray:

@@ -531,7 +531,7 @@ def sgp4_orbit(tle_line1: str, tle_line2: str, times: Any) -> OrbitState:
     from sgp4.api import Satrec
 
     for name, line, first in (("tle_line1", tle_line1, "1"), ("tle_line2", tle_line2, "2")):
-        if not isinstance(line, str) or not line.startswith(first) or len(line.rstrip()) < 69:
+        if not isinstance(line, str) or not line.startswith(first) or len(line.rstrip()) != 69:
             raise InputError(
                 f"{name} must be a TLE line of 69 characters starting with {first!r}; "
                 f"got {line!r}"

@@ -88,6 +88,7 @@ from adcskit._validation import (
     as_array,
     as_rng,
     check_choice,
+    check_flag,
     check_int,
     check_positive,
     check_range,
@@ -217,6 +218,7 @@ def regression_data(states, targets, inputs=None, *, B=None, estimate_B=False):
         if U.shape[0] != N:
             raise InputError(f"inputs must have shape ({N}, p) to match states; got {U.shape}")
     p = U.shape[1]
+    estimate_B = check_flag("estimate_B", estimate_B)
     if estimate_B:
         if p == 0:
             raise InputError("estimate_B=True needs inputs")

@@ -48,6 +48,7 @@ from adcskit._validation import (
     as_rng,
     check_callable,
     check_choice,
+    check_flag,
     check_int,
     check_positive,
     short_repr,
@@ -204,6 +205,7 @@ def joint_estimate(
     opts = _resolve_options(method, options)
     _check_opts(method, opts)
     check_choice("form", form, KALMAN_FORMS)
+    estimate_B = check_flag("estimate_B", estimate_B)
     A_prior = as_array("A_prior", A_prior, ndim=2)
     n = A_prior.shape[0]
     if C is None:
@@ -374,8 +376,8 @@ def augmented_ekf(
         Parameter random-walk covariance per step (0: constant parameters).
     C, Q, R, x0, P0 : as in :func:`~adcskit.estimation.kalman.kalman_filter`.
     p_min : float
-        Parameters are floored at ``p_min`` when the model is evaluated (a negative inertia
-        ratio has no model).
+        Parameters are floored at ``p_min`` whenever the model is evaluated, its first call on
+        ``p0`` included (a negative or zero inertia ratio has no model).
     fd_step : float
         Relative central-difference step for ``d(A_d x + B_d u)/dp``.
 
@@ -405,9 +407,12 @@ def augmented_ekf(
     check_callable("model", model)
     p0 = as_array("p0", p0, ndim=1)
     n_p = p0.shape[0]
-    pair = model(p0.copy())
+    p_min = float(check_positive("p_min", p_min))  # > 0: the model is evaluated at the floor
+    # the model is only ever evaluated at or above the documented floor, the first call included
+    pair = model(np.maximum(p0, p_min))
     if not (isinstance(pair, tuple | list) and len(pair) == 2):
-        raise InputTypeError(f"model must return a pair (A_d, B_d); model(p0) returned {short_repr(pair)}")
+        raise InputTypeError(
+            f"model must return a pair (A_d, B_d); model(max(p0, p_min)) returned {short_repr(pair)}")
     A0, B0 = pair
     A0 = as_array("model(p0)[0]", A0, ndim=2)
     n = A0.shape[0]
@@ -424,7 +429,6 @@ def augmented_ekf(
     P0 = _check_cov("P0", P0, n)
     P_p0 = _check_cov("P_p0", P_p0, n_p)
     Q_p = _check_cov("Q_p", Q_p, n_p)
-    p_min = float(check_positive("p_min", p_min))  # > 0: the model is evaluated at the floor
     h = check_positive("fd_step", fd_step)
 
     nz = n + n_p

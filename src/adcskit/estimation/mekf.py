@@ -163,8 +163,9 @@ def chi2_band(dof: int, n_runs: int, alpha: float = 0.05) -> tuple[float, float]
     dof = check_int("dof", dof, minimum=1, maximum=10**9)
     n_runs = check_int("n_runs", n_runs, minimum=1, maximum=10**9)
     a = check_finite("alpha", alpha)
-    if not 0.0 < a < 1.0:
-        raise InputError(f"alpha must be in (0, 1); got {a:g}")
+    # below 1e-300, alpha / 2 is subnormal or zero and the upper end of the band is inf
+    if not 1e-300 <= a < 1.0:
+        raise InputError(f"alpha must be in [1e-300, 1) (a probability; smaller has no finite band); got {a:g}")
     k = dof * n_runs
     # isf for the upper end: ppf(1 - a/2) rounds to ppf(1) = inf for a tiny alpha
     return float(stats.chi2.ppf(a / 2, k) / n_runs), float(stats.chi2.isf(a / 2, k) / n_runs)
@@ -280,8 +281,13 @@ class MultiplicativeEKF:
         """
         om = _vec3("omega_meas", omega_meas)
         h = check_positive("dt", dt, allow_zero=True, unit="s")
+        saved = (self._q.copy(), self._b.copy(), self._P.copy())
         _mk.mekf_propagate_jit(self._q, self._b, self._P, om, h, self._sigma_v, self._sigma_u,
                                self._work)
+        if not np.all(np.isfinite(self._P)):  # the process noise grows as dt^3: an absurd step overflows
+            self._q[:], self._b[:], self._P[:] = saved
+            raise InputError(f"dt = {h:g} s is too long a step for this filter: the propagated covariance "
+                             "overflows (the filter state is left unchanged)")
 
     def update_vector(self, v_body: Any, v_ref: Any, sigma: float) -> float:
         """Update with one observed direction.

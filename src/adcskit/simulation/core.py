@@ -33,7 +33,7 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
 from adcskit._progress import status
-from adcskit._validation import as_rng, check_int
+from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
@@ -689,8 +689,7 @@ def simulate(
     if not isinstance(scenario, Scenario):
         raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
-    if not isinstance(record, bool):
-        raise InputTypeError(f"record must be a bool; got {record!r}")
+    record = check_flag("record", record)
     if isinstance(rng, np.random.SeedSequence):
         # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
         # SeedSequence, so reusing the caller's object would give every call other dispersions

@@ -28,11 +28,13 @@ from adcskit._validation import (
     as_array,
     check_choice,
     check_finite,
+    check_flag_fields,
     check_int,
     check_positive,
     check_range,
+    short_repr,
 )
-from adcskit.errors import InputError
+from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
     "SpacecraftSpec",
@@ -187,6 +189,7 @@ class OrbitSpec(_Spec):
     magnetic_model: Literal["dipole", "igrf"] = "dipole"
 
     def __post_init__(self) -> None:
+        check_flag_fields(self)
         check_positive("altitude_km", self.altitude_km, unit="km")
         check_range("inclination_deg", self.inclination_deg, 0.0, 180.0, unit="deg")
         check_finite("raan_deg", self.raan_deg)
@@ -276,6 +279,7 @@ class ThrusterSpec(_Spec):
     failure_known: bool = True
 
     def __post_init__(self) -> None:
+        check_flag_fields(self)
         pos = as_array("positions", self.positions)
         d = as_array("directions", self.directions)
         if pos.ndim != 2 or pos.shape[1] != 3 or pos.shape[0] < 1:
@@ -316,6 +320,10 @@ class ThrusterSpec(_Spec):
     @classmethod
     def from_thruster_set(cls, ts: Any, **kw: Any) -> ThrusterSpec:
         """From an :class:`adcskit.thrusters.ThrusterSet` (its first thruster's f_max, mdot, t_min)."""
+        from adcskit.thrusters import ThrusterSet
+
+        if not isinstance(ts, ThrusterSet):
+            raise InputTypeError(f"ts must be an adcskit.thrusters.ThrusterSet; got {short_repr(ts)}")
         return cls(positions=tuple(map(tuple, ts.positions)), directions=tuple(map(tuple, ts.directions)),
                    f_max=float(ts.f_max[0]), mdot=float(ts.mdot[0]), t_min=float(ts.t_min[0]),
                    com=tuple(ts.com), **kw)
@@ -329,8 +337,8 @@ class ThrusterSpec(_Spec):
         position ``r_j = d_j x a_j`` (then ``r_j x d_j = a_j``); ``d_j`` is the unit
         component orthogonal to ``a_j`` of the body axis least aligned with it.
         """
-        A = np.asarray(A, dtype=float)
-        if A.ndim != 2 or A.shape[0] != 3:
+        A = as_array("A", A, ndim=2, max_abs=1e100)  # its squared column norms stay finite
+        if A.shape[0] != 3:
             raise InputError(f"A must have shape (3, n); got {A.shape}")
         pos, dirs = [], []
         for a in A.T:

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._results import to_jsonable
-from adcskit._validation import check_int
+from adcskit._validation import check_flag, check_int
 from adcskit.config import config_to_dict, load_config
 from adcskit.studies._base import StudyResult
 from adcskit.studies._registry import get_study
@@ -42,6 +42,7 @@ def resolve_config(name: str, config: Mapping[str, Any] | str | Path | None = No
     50
     """
     study = get_study(name)
+    quick = check_flag("quick", quick)
     return load_config(study.config_cls, config, overrides=study.quick if quick else None)
 
 

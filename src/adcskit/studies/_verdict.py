@@ -55,6 +55,7 @@ from adcskit._validation import (
     check_mapping,
     check_range,
 )
+from adcskit.errors import InputError
 
 __all__ = [
     "OUTCOMES",
@@ -456,6 +457,10 @@ class ClaimSpec:
         missing = [n for n in names if n not in runs]
         if missing:
             raise ValueError(f"claim {self.id!r}: no runs for readings {missing}; have {sorted(runs)}")
+        unknown = [n for n in runs if n not in names]
+        if unknown:  # a run under a reading the claim does not declare would be dropped silently
+            raise InputError(f"runs has readings {unknown} that claim {self.id!r} does not declare; "
+                             f"declared: {names}")
         per = [self._reading(n, runs[n]) for n in names]
         main = per[0]
         outcome = combine_readings(per)

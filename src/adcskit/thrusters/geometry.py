@@ -30,8 +30,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linprog
 
-from adcskit._validation import as_array, as_batch, check_positive, check_positive_array
-from adcskit.errors import InputError
+from adcskit._validation import as_array, as_batch, check_positive, check_positive_array, short_repr
+from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
     "Thruster",
@@ -252,6 +252,9 @@ class ThrusterSet:
     @classmethod
     def from_thrusters(cls, thrusters: Sequence[Thruster], com: Any = (0.0, 0.0, 0.0)) -> ThrusterSet:
         """Stack :class:`Thruster` objects."""
+        if isinstance(thrusters, str) or not hasattr(thrusters, "__len__") or not all(
+                isinstance(t, Thruster) for t in thrusters):
+            raise InputTypeError(f"thrusters must be a sequence of Thruster; got {short_repr(thrusters)}")
         if len(thrusters) == 0:
             raise InputError("thrusters must contain at least one Thruster; got an empty sequence")
         return cls(

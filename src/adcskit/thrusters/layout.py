@@ -54,7 +54,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -199,14 +199,24 @@ def box_faces(
     h = as_array("half_size", half_size, shape=(3,))
     if np.any(h <= 0):
         raise InputError(f"half_size must be > 0 m per axis; got {h}")
+    if isinstance(names, str) or not hasattr(names, "__len__"):
+        raise InputTypeError(f"names must be a sequence of face names such as ('+X', '-Z'); got {short_repr(names)}")
     if len(names) == 0:
         raise InputError("names must list at least one face")
+    for name in names:
+        check_choice("names (a face name)", name, _BOX_AXES)
+    if isinstance(max_cant, Mapping):
+        unknown = [k for k in max_cant if k not in names]
+        if unknown:
+            raise InputError(f"max_cant names faces that are not among names {list(names)}: {unknown} "
+                             "(a limit for a face that is not built would be ignored)")
+    elif isinstance(max_cant, str) or max_cant is None:
+        raise InputTypeError(f"max_cant must be an angle in rad or a dict face name -> rad; got {short_repr(max_cant)}")
     faces = []
     for name in names:
-        check_choice("face name", name, _BOX_AXES)
         k, sign, iu, iv = _BOX_AXES[name]
         e = np.eye(3)
-        mc = max_cant.get(name, math.pi / 2) if isinstance(max_cant, dict) else max_cant
+        mc = max_cant.get(name, math.pi / 2) if isinstance(max_cant, Mapping) else max_cant
         faces.append(
             MountingFace(
                 name=name, centre=sign * h[k] * e[k], normal=sign * e[k], axis_u=e[iu], axis_v=e[iv],
