@@ -478,7 +478,7 @@ def shape_signature(result: Any) -> list[tuple[str, tuple[int, ...]]]:
 
 
 #: Result fields that measure the machine, not the answer (excluded from equality checks).
-VOLATILE = ("runtime_s", "cpu_s", "wall_s", "build_s", "solve_s", "sample_steps_per_s")
+VOLATILE = ("runtime_s", "cpu_s", "wall_s", "build_s", "solve_s", "ipopt_s", "sample_steps_per_s")
 
 
 def same_values(a: Any, b: Any) -> bool:
