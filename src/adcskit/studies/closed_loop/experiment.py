@@ -43,7 +43,13 @@ from adcskit.simulation import (
 from adcskit.simulation.profiles import optimal_slew_table
 from adcskit.studies._s4 import S4_LOOP
 from adcskit.studies.closed_loop.config import Config
-from adcskit.studies.closed_loop.paper import S0_INERTIA, S3_INERTIA, S4_GAINS
+from adcskit.studies.closed_loop.paper import (
+    S0_INERTIA,
+    S0_INITIAL_ROTVEC_DEG,
+    S3_INERTIA,
+    S4_GAINS,
+    S4_TABLE5_DISPERSIONS,
+)
 from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
 __all__ = ["Q1_READINGS", "Q2_READINGS", "Q2_MINMAX_READINGS", "SeedRatio", "Trace", "LayoutRow", "Layouts",
@@ -232,7 +238,7 @@ def _leo_base(cfg: Config, kind: str, noise: str, weights: str = "inverse-varian
         dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.05, misalignment_deg=0.5,
                                    initial_attitude_deg=0.5, initial_rate_deg_s=0.01),
         guidance=GuidanceSpec(kind="hold"),
-        initial_rotvec_deg=(0.0, 0.0, 5.0),  # S0: initial Euler angles (0, 0, 5 deg)
+        initial_rotvec_deg=S0_INITIAL_ROTVEC_DEG,
         sim=SimSpec(dt=cfg.leo_dt_s, t_final=cfg.leo_t_final_s, metrics_from_s=cfg.leo_t_final_s - cfg.leo_window_s,
                     nees_from_s=10.0, record_every=max(1, int(round(0.5 / cfg.leo_dt_s)))),
     )
@@ -251,8 +257,7 @@ def _s4_base(cfg: Config, gains: tuple[float, float, float]) -> Scenario:
         estimator=EstimatorSpec(kind="mekf", init_error_deg=0.05),
         controller=ControllerSpec(kind="schmitt", period_s=1.0 / S4_LOOP.command_rate_hz, kp=(kp,) * 3, ki=(ki,) * 3, kd=(kd,) * 3,
                                   u_on=S4_LOOP.u_on, off_ratio=S4_LOOP.off_ratio, torque_level=(S4_LOOP.torque_nm,) * 3),
-        # S4 Table 5: J std 2/10, thrust std 0.2/1, disturbance std 0.05/0.05, delay std 0.01 s
-        dispersions=DispersionSpec(inertia_rel=0.2, thrust_rel=0.2, disturbance_rel=1.0, delay_std_s=0.01),
+        dispersions=DispersionSpec(**S4_TABLE5_DISPERSIONS),
         guidance=GuidanceSpec(kind="step", target_rotvec_deg=(S4_LOOP.step_deg, 0.0, 0.0)),  # S4: 15 deg step
         sim=SimSpec(dt=cfg.s4_dt_s, t_final=cfg.s4_t_final_s, metrics_from_s=cfg.s4_t_final_s - S4_LOOP.t_window_s,
                     settle_band_deg=0.3, record_every=max(1, int(round(0.05 / cfg.s4_dt_s)))),
