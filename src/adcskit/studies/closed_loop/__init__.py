@@ -1,0 +1,73 @@
+"""Study ``closed-loop``: the five pieces in one 3-axis loop, answered by Monte-Carlo campaigns.
+
+The papers leave open how their pieces behave together. With :mod:`adcskit.simulation`
+(nonlinear rigid body, gravity gradient and disturbance torques, thrusters with S4's lag and
+delay, sensors, Wahba / MEKF, guidance, S4's Schmitt loop, allocation) we answer four
+questions as findings, each decided over ``n_seeds`` independent seeds of the whole pipeline
+(layout design, dispersions, noise) with intervals:
+
+1. GEO (S3 inertia, gravity gradient + a solar-pressure-like torque): does the S3-optimised
+   6-thruster layout use less propellant than S3's reference layout in closed loop (slew +
+   hold), with S4's controller, under both allocations, and with one thruster failed?
+2. LEO (S0's orbit, inertia and bounded sensor errors): does S0's robust min-max interval
+   determination, or the MEKF, give better closed-loop pointing than the per-epoch q-method?
+3. S4's spacecraft in 3 axes under S4's dispersions + sensor noise: do S4's robust gains
+   (Table 6, all four uncertainties) reduce the spread of the pointing error against the
+   nominal gains (Table 4)?
+4. GEO: does tracking a time-optimal slew profile (from :mod:`adcskit.optimal_control`)
+   settle sooner and use less propellant than a step command?
+
+The package: ``paper`` (the printed numbers the scenarios use), ``config`` (:class:`Config`),
+``experiment`` (:func:`~.experiment.measure` and its frozen records), ``claims`` (findings and
+checks, decided by the verdict framework), ``figures`` and ``report`` (pure functions of the
+records); :func:`run` only wires them together.
+
+References
+----------
+S0 (LEO scenario, bounded errors), S2 (pseudospectral time-optimal guidance), S3 (GEO
+spacecraft, layouts, allocation), S4 (loop, gains, dispersions); Lefferts, Markley & Shuster
+(1982) for the MEKF.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from adcskit.studies._base import Study, StudyResult
+from adcskit.studies.closed_loop import claims, figures, report
+from adcskit.studies.closed_loop.config import Config
+from adcskit.studies.closed_loop.experiment import measure
+
+__all__ = ["Config", "run", "STUDY"]
+
+
+def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any = None) -> StudyResult:
+    """Run the four closed-loop campaigns (see the package docstring): measure, decide, report."""
+    cfg = config
+    m = measure(cfg, rng=rng, executor=executor)
+    findings = claims.evaluate(claims.FINDINGS, cfg, m)
+    return StudyResult(
+        study="closed-loop",
+        title=report.TITLE,
+        summary=report.summary(cfg, m, findings),
+        measured=report.measured(m),
+        findings=findings,
+        checks=claims.evaluate(claims.CHECKS, cfg, m),
+        figures=figures.figures(m),
+        tables=report.tables(m),
+        differences=list(report.DIFFERENCES),
+    )
+
+
+STUDY = Study(
+    name="closed-loop",
+    title=report.TITLE,
+    paper="S0-S4 together (the answers the papers leave open)",
+    config_cls=Config,
+    run=run,
+    quick={"n_seeds": 2, "n_samples": 48, "layout_pop": 16, "layout_gens": 25, "record_samples": 8,
+           "geo_t_final_s": 40.0, "leo_t_final_s": 40.0, "leo_window_s": 20.0, "s4_t_final_s": 20.0},
+    doc="docs/studies/closed-loop.md",
+    # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
+    neutral_keys=("n_seeds", "record_samples"),
+)

@@ -1,0 +1,194 @@
+"""The ``closed-loop`` study's findings (our questions; the papers make no claim here) and checks.
+
+:data:`FINDINGS` and :data:`CHECKS` list one small factory per statement, in report order, each
+``(config, measurements) -> Declared | Check``: a finding is a module-level
+:class:`~adcskit.studies._verdict.FindingSpec` (``F1`` ... ``F4B``) with its per-seed
+:class:`~.experiment.SeedRatio` runs keyed by reading, decided by the framework's
+:meth:`~adcskit.studies._verdict.ClaimSpec.evaluate`; a check is computed from the records (its
+text quotes measured numbers). :data:`CLAIMS` is empty. :func:`evaluate` decides a list.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from adcskit.studies._base import Check
+from adcskit.studies._verdict import FindingSpec
+from adcskit.studies.closed_loop.config import Config
+from adcskit.studies.closed_loop.experiment import (
+    Q1_READINGS,
+    Q2_MINMAX_READINGS,
+    Q2_READINGS,
+    Measurements,
+)
+
+__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "F1", "F2", "F2B", "F3", "F4A", "F4B", "Declared", "chi2_mean_band",
+           "evaluate"]
+
+
+def _ratio(run: Any) -> float:
+    return run.ratio
+
+
+F1 = FindingSpec(
+    id="q1-layout-propellant",
+    statement="the S3-optimised 6-thruster layout uses less propellant than S3's reference layout in closed loop "
+              "(slew + hold, S4 controller)",
+    where="S3 Fig. 5 (open-loop on-times) taken into the closed loop",
+    quantity="mean propellant, optimised / reference",
+    value=_ratio, threshold=1.0, better="below", readings=Q1_READINGS,
+)
+F2 = FindingSpec(
+    id="q2-mekf-vs-qmethod",
+    statement="the MEKF gives better closed-loop pointing than the per-epoch q-method under S0's sensor errors",
+    where="S0 orbit scenario (bounded errors) in closed loop",
+    quantity="mean RMS pointing error, MEKF / q-method",
+    value=_ratio, threshold=1.0, better="below", readings=Q2_READINGS,
+)
+F2B = FindingSpec(
+    id="q2-minmax-vs-qmethod",
+    statement="S0's robust min-max interval determination gives better closed-loop pointing than the per-epoch "
+              "q-method under S0's sensor errors",
+    where="S0 eqs. 3-8 (min-max, TRIAD +-10 % search box) per epoch in the S0 orbit scenario, closed loop",
+    quantity="mean RMS pointing error, min-max / q-method",
+    value=_ratio, threshold=1.0, better="below", readings=Q2_MINMAX_READINGS,
+)
+F3 = FindingSpec(
+    id="q3-robust-gains-spread",
+    statement="S4's robust gains reduce the spread of the 3-axis pointing error under S4's dispersions + sensor noise",
+    where="S4 Tables 4-6 in a 3-axis loop",
+    quantity="std of the per-sample RMS pointing error (last 10 s), robust / nominal",
+    value=_ratio, threshold=1.0, better="below",
+)
+F4A = FindingSpec(
+    id="q4-optimal-slew-settling",
+    statement="tracking a time-optimal slew profile settles sooner than a step command",
+    where="S2 guidance in an S3/S4 loop",
+    quantity="mean settling time, optimal profile / step",
+    value=_ratio, threshold=1.0, better="below",
+)
+F4B = FindingSpec(
+    id="q4-optimal-slew-propellant",
+    statement="tracking a time-optimal slew profile uses less propellant than a step command",
+    where="S2 guidance in an S3/S4 loop",
+    quantity="mean propellant, optimal profile / step",
+    value=_ratio, threshold=1.0, better="below",
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Declared:
+    """A finding spec with its per-seed runs keyed by reading."""
+
+    spec: FindingSpec
+    runs: Mapping[str, Sequence[Any]]
+    default: str = "default"
+
+
+def chi2_mean_band(dof: int, n: int) -> tuple[float, float]:
+    """95 % band of the mean of ``n`` independent chi2(``dof``) values.
+
+    Examples
+    --------
+    >>> lo, hi = chi2_mean_band(6, 1000); round(lo, 2), round(hi, 2)
+    (5.79, 6.22)
+    """
+    from scipy.stats import chi2
+
+    return float(chi2.ppf(0.025, dof * n) / n), float(chi2.ppf(0.975, dof * n) / n)
+
+
+# ----------------------------------------------------------------------------- findings
+
+
+def _q1(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F1, m.layouts.runs, Q1_READINGS[0])
+
+
+def _q2_mekf(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F2, m.estimators.mekf_runs, Q2_READINGS[0])
+
+
+def _q2_minmax(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F2B, m.estimators.minmax_runs, Q2_MINMAX_READINGS[0])
+
+
+def _q3(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F3, {"default": m.gains.runs})
+
+
+def _q4_settling(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F4A, {"default": m.slews.settling_runs})
+
+
+def _q4_propellant(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F4B, {"default": m.slews.propellant_runs})
+
+
+# ----------------------------------------------------------------------------- checks
+
+
+def _mekf_consistent(cfg: Config, m: Measurements) -> Check:
+    nees_all = m.estimators.nees_gaussian
+    ns = cfg.n_samples
+    lo, hi = chi2_mean_band(6, ns)
+    return Check(
+        name="MEKF consistency in the loop: mean NEES over the Gaussian-error LEO campaigns within the chi2(6) "
+             "95 % band of a mean over the samples",
+        passed=bool(lo <= np.mean(nees_all) <= hi),
+        detail=f"mean NEES {np.mean(nees_all):.2f} (per-seed {', '.join(f'{v:.2f}' for v in nees_all)}); "
+               f"95 % band of the mean of {ns} chi2(6) values [{lo:.2f}, {hi:.2f}] (strict; the MEKF "
+               "underweights measurements while its covariance exceeds their noise)",
+        kind="check")
+
+
+def _bang_bang(cfg: Config, m: Measurements) -> Check:
+    tf, bb = m.slews.optimal_tf_s, m.slews.bang_bang_tf_s
+    return Check(
+        name="the pseudospectral slew reaches the bang-bang optimum t_f = 2 sqrt(angle / accel_max)",
+        passed=bool(abs(tf - bb) <= 1e-3 * bb),
+        detail=f"t_f {tf:.4f} s vs {bb:.4f} s", kind="check")
+
+
+def _feasible(cfg: Config, m: Measurements) -> Check:
+    fr = m.feasibility
+    return Check(
+        name="feasibility before flight: in Q2-Q4 every Monte-Carlo sample's thrusters (dispersed misalignment) "
+             "can produce torque in every direction",
+        passed=bool(fr) and all(v == 1.0 for v in fr.values()),
+        detail="smallest controllable fraction per question over its simulate calls: "
+               + ", ".join(f"{q} {v:.3g}" for q, v in fr.items())
+               + " (Q1 with a failed thruster: see q1_controllable_fraction in measured)",
+        kind="check")
+
+
+#: The papers' claims: none (the study answers questions they leave open).
+CLAIMS: tuple = ()
+#: Our findings, in report order.
+FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant)
+#: Our consistency checks, in report order.
+CHECKS = (_mekf_consistent, _bang_bang, _feasible)
+
+
+def evaluate(factories: Sequence[Callable[[Config, Measurements], Any]], cfg: Config, m: Measurements) -> list:
+    """Build each declared statement and decide it: findings by the framework's
+    :meth:`~adcskit.studies._verdict.ClaimSpec.evaluate` over their readings, checks as computed.
+
+    Examples
+    --------
+    >>> from adcskit.studies.closed_loop.claims import CHECKS, CLAIMS, FINDINGS
+    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
+    (0, 6, 3)
+    """
+    out = []
+    for make in factories:
+        d = make(cfg, m)
+        if isinstance(d, Declared):
+            out.append(d.spec.evaluate(d.runs, default=d.default))
+        elif d is not None:
+            out.append(d)
+    return out

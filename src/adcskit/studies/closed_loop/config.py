@@ -1,0 +1,87 @@
+"""Settings of the ``closed-loop`` study (:class:`Config`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from adcskit.config import ConfigError
+
+__all__ = ["Config"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    """Settings of the closed-loop study.
+
+    Attributes
+    ----------
+    n_seeds : int
+        Independent seeds of the whole pipeline per finding (>= 5 at full settings).
+    n_samples : int
+        Monte-Carlo samples per configuration and seed.
+    geo_dt_s, geo_t_final_s : float, s
+        GEO step and duration (questions 1 and 4).
+    geo_slew_deg : float, deg
+        Question 1: step about the (1, 1, 1) axis, then hold.
+    geo_torque_level_nm : float, N m
+        Schmitt torque level per axis on the GEO spacecraft.
+    geo_srp_torque_nm : float, N m
+        Amplitude of the solar-pressure-like torque (constant + orbit-periodic part; S3
+        names the torques but prints no value).
+    layout_pop, layout_gens : int
+        Differential evolution for the S3-optimised 6-thruster layout (S3 eq. 18).
+    leo_dt_s, leo_t_final_s, leo_window_s : float, s
+        Question 2 (S0 LEO); pointing statistics over the last ``leo_window_s``.
+    s4_dt_s, s4_t_final_s : float, s
+        Question 3 (S4's 30 s step, statistics over the last 10 s).
+    switch_tc_s : float, s
+        GEO and LEO: S4's Schmitt loop keeps Table 4's ``K_p`` and ``K_i`` with
+        ``K_d = switch_tc_s K_p`` (the switching line ``e + (K_d/K_p) de/dt = 0``); S4's own
+        ``K_d/K_p = 0.89 s`` suits its plant's angular acceleration (T/J = 0.1 rad/s^2), 12x
+        that of the GEO spacecraft with 10 N m per axis, and overshoots there.
+    command_period_s : float, s
+        GEO and LEO command (sample-and-hold) period of the Schmitt loop: S4's 50 Hz. At S3's
+        t_s = 0.2 s a held pulse changes ``K_d omega`` by more than the Schmitt hysteresis on
+        the low-inertia y axis and the loop chatters between opposite thrusters.
+    slew_deg : float, deg
+        Question 4: slew about the body z axis.
+    slew_accel_fraction : float
+        Question 4: the optimal profile uses this fraction of the torque level's angular
+        acceleration.
+    record_samples : int
+        Samples whose time histories are kept for the figures.
+    """
+
+    n_seeds: int = 5
+    n_samples: int = 1000
+    geo_dt_s: float = 0.02
+    geo_t_final_s: float = 45.0
+    geo_slew_deg: float = 5.0
+    geo_torque_level_nm: float = 10.0
+    geo_srp_torque_nm: float = 5e-5
+    layout_pop: int = 30
+    layout_gens: int = 150
+    leo_dt_s: float = 0.02
+    leo_t_final_s: float = 60.0
+    leo_window_s: float = 30.0
+    s4_dt_s: float = 0.005
+    s4_t_final_s: float = 30.0
+    switch_tc_s: float = 5.0
+    command_period_s: float = 0.02
+    slew_deg: float = 20.0
+    slew_accel_fraction: float = 0.7
+    record_samples: int = 32
+
+    def __post_init__(self) -> None:
+        if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:
+            raise ConfigError("n_seeds must be >= 1, n_samples >= 2, record_samples >= 1")
+        for name in ("geo_dt_s", "geo_t_final_s", "geo_slew_deg", "geo_torque_level_nm", "leo_dt_s", "leo_t_final_s",
+                     "leo_window_s", "s4_dt_s", "s4_t_final_s", "slew_deg", "switch_tc_s", "command_period_s"):
+            if not getattr(self, name) > 0:
+                raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
+        if not 0 < self.slew_accel_fraction <= 1:
+            raise ConfigError(f"slew_accel_fraction must be in (0, 1]; got {self.slew_accel_fraction!r}")
+        if self.leo_window_s >= self.leo_t_final_s:
+            raise ConfigError("leo_window_s must be < leo_t_final_s")
+        if self.s4_t_final_s <= 10.0:
+            raise ConfigError("s4_t_final_s must exceed S4's 10 s statistics window")

@@ -1,0 +1,96 @@
+"""The ``closed-loop`` study's figures: pure functions of the :class:`~.experiment.Measurements`.
+
+Every trace drawn here was recorded by :func:`~.experiment.measure`; nothing here draws random
+numbers or simulates.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from adcskit.studies._base import new_figure
+from adcskit.studies.closed_loop.claims import chi2_mean_band
+from adcskit.studies.closed_loop.experiment import Measurements, Trace
+
+__all__ = ["figures"]
+
+
+def figures(m: Measurements) -> dict[str, Any]:
+    """The study's four figures, by file stem, in report order.
+
+    Examples
+    --------
+    >>> from adcskit.studies.closed_loop import figures
+    >>> callable(figures.figures)
+    True
+    """
+    return {
+        "attitude-error": _fig_error(m.slews.step_trace, m.slews.optimal_trace),
+        "thruster-activity": _fig_thrusters(m.slews.step_trace, m.slews.optimal_trace),
+        "nees": _fig_nees(m.estimators.nees_trace),
+        "propellant": _fig_propellant(m.layouts.propellant_samples),
+    }
+
+
+def _envelope(ax, t, err, style, label):
+    p05, p50, p95 = np.nanpercentile(err, [5, 50, 95], axis=0)
+    ax.plot(t, p50, style, label=f"{label} median")
+    ax.fill_between(t, p05, p95, alpha=0.25, label=f"{label} 5-95 %")
+
+
+def _fig_error(rec_s: Trace, rec_o: Trace):
+    fig, ax = new_figure(figsize=(6.4, 4.0))
+    i = rec_s.channels.index("pointing_error")
+    _envelope(ax, rec_s.t, np.degrees(rec_s.trace[:, :, i]), "-", "step command")
+    _envelope(ax, rec_o.t, np.degrees(rec_o.trace[:, :, i]), "--", "optimal profile")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("pointing error to the reference [deg]")
+    ax.set_yscale("log")
+    ax.set_title(f"GEO slew, {rec_s.n_samples} Monte-Carlo samples")
+    ax.legend(fontsize=7)
+    return fig
+
+
+def _fig_thrusters(rec_s: Trace, rec_o: Trace):
+    fig, axes = new_figure(2, 1, figsize=(6.4, 5.0), sharex=True)
+    for ax, rec, name in zip(axes, (rec_s, rec_o), ("step command", "optimal profile")):
+        n = len(rec.channels) - 10
+        for j in range(n):
+            ax.plot(rec.t, rec.trace[0, :, 10 + j] + 1.2 * j, lw=0.8, label=f"thruster {j}")
+        ax.set_ylabel("thrust / F_max (offset)")
+        ax.set_title(f"{name}: sample 0", fontsize=9)
+    axes[-1].set_xlabel("time [s]")
+    axes[0].legend(fontsize=6, ncol=3)
+    return fig
+
+
+def _fig_nees(rec: Trace):
+    t, nees = rec.t, rec.trace[:, :, rec.channels.index("nees")]
+    fig, ax = new_figure(figsize=(6.4, 3.8))
+    n = nees.shape[0]
+    keep = np.any(np.isfinite(nees), axis=0)
+    t, nees = t[keep], nees[:, keep]
+    mean = np.nanmean(nees, axis=0)
+    ax.plot(t, mean, "-", lw=0.8, label=f"mean NEES over {n} samples")
+    lo, hi = chi2_mean_band(6, n)
+    ax.axhspan(lo, hi, color="0.8", label="chi2(6) 95 % band of the mean")
+    ax.axhline(6.0, ls="--", color="k", lw=0.8, label="expected 6")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("NEES (attitude + bias)")
+    ax.set_yscale("log")
+    ax.set_title("MEKF consistency in the LEO closed loop (Gaussian errors)")
+    ax.legend(fontsize=7)
+    return fig
+
+
+def _fig_propellant(prop: Any):
+    fig, ax = new_figure(figsize=(6.4, 3.8))
+    for (name, v), style in zip(prop.items(), ("step", "stepfilled")):
+        ax.hist(v * 1e3, bins=40, histtype=style, alpha=0.6 if style == "stepfilled" else 1.0, label=name)
+    ax.set_xlabel("propellant per sample [g]")
+    ax.set_ylabel("samples")
+    ax.set_title("GEO slew + hold, S4 loop, pinv-redistribute: propellant distribution")
+    ax.legend(fontsize=8)
+    return fig
