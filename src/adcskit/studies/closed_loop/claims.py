@@ -10,14 +10,12 @@ text quotes measured numbers). :data:`CLAIMS` is empty. :func:`evaluate` decides
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from adcskit.studies._base import Check
-from adcskit.studies._verdict import FindingSpec
+from adcskit.studies._verdict import Declared, FindingSpec, decide_declared
 from adcskit.studies.closed_loop.config import Config
 from adcskit.studies.closed_loop.experiment import (
     Q1_READINGS,
@@ -78,15 +76,6 @@ F4B = FindingSpec(
     quantity="mean propellant, optimal profile / step",
     value=_ratio, threshold=1.0, better="below",
 )
-
-
-@dataclass(frozen=True, slots=True)
-class Declared:
-    """A finding spec with its per-seed runs keyed by reading."""
-
-    spec: FindingSpec
-    runs: Mapping[str, Sequence[Any]]
-    default: str = "default"
 
 
 def chi2_mean_band(dof: int, n: int) -> tuple[float, float]:
@@ -174,21 +163,5 @@ FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant)
 CHECKS = (_mekf_consistent, _bang_bang, _feasible)
 
 
-def evaluate(factories: Sequence[Callable[[Config, Measurements], Any]], cfg: Config, m: Measurements) -> list:
-    """Build each declared statement and decide it: findings by the framework's
-    :meth:`~adcskit.studies._verdict.ClaimSpec.evaluate` over their readings, checks as computed.
-
-    Examples
-    --------
-    >>> from adcskit.studies.closed_loop.claims import CHECKS, CLAIMS, FINDINGS
-    >>> len(CLAIMS), len(FINDINGS), len(CHECKS)
-    (0, 6, 3)
-    """
-    out = []
-    for make in factories:
-        d = make(cfg, m)
-        if isinstance(d, Declared):
-            out.append(d.spec.evaluate(d.runs, default=d.default))
-        elif d is not None:
-            out.append(d)
-    return out
+#: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).
+evaluate = decide_declared
