@@ -1281,9 +1281,7 @@ case("optimal_control.problems.oscillator_min_time", nan_ok=("*",))(lambda: dict
 case("optimal_control.problems.orbit_raising", nan_ok=("*",))(lambda: dict())
 case("optimal_control.problems.robot_arm", nan_ok=("*",))(lambda: dict())
 # the number of switching times depends on the start state (none at the origin)
-case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False,
-     known_open="issue 23 item 5: oscillator_min_time_reference(x0=3.9e14) runs > 30 s of CPU (hypothesis, a HANG); "
-                "optimal_control is owned by another helper; reported, not fixed here")(lambda: dict(x0=7.0, v0=0.5))
+case("optimal_control.problems.oscillator_min_time_reference", shape_stable=False)(lambda: dict(x0=7.0, v0=0.5))
 
 
 def _guess() -> Any:
@@ -1292,8 +1290,6 @@ def _guess() -> Any:
     return Guess(t=[0.0, 0.5, 1.0], x=[[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], u=[[1.0], [0.0], [-1.0]], tf=1.0)
 
 
-case("optimal_control.Guess.check_widths", target=method("", _guess, "check_widths"), kinds={"what": "skip"},
-     known_open="issue 23 item 5: Guess.check_widths(n_controls=True) is accepted as 1; optimal_control is owned "
-                "by another helper; reported, not fixed here")(
+case("optimal_control.Guess.check_widths", target=method("", _guess, "check_widths"), kinds={"what": "skip"})(
     lambda: dict(n_states=2, n_controls=1)
 )

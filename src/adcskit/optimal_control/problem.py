@@ -370,6 +370,8 @@ class Guess:
         ...     print(exc)
         guess.x must have shape (2, 2) (samples, n_states); got shape (2, 3)
         """
+        n_states = check_int("n_states", n_states, minimum=1)
+        n_controls = check_int("n_controls", n_controls, minimum=0)
         for arr, n, field_name, label in ((self.x, n_states, "x", "n_states"), (self.u, n_controls, "u", "n_controls")):
             if arr.shape[1] != n:
                 raise InputError(

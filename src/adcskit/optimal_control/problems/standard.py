@@ -45,7 +45,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from adcskit._validation import check_finite, check_positive, check_range
-from adcskit.errors import InputError
+from adcskit.errors import InputError, SolverError
 from adcskit.optimal_control.multiphase import MultiPhaseProblem, Phase
 from adcskit.optimal_control.problem import OptimalControlProblem
 
@@ -489,6 +489,11 @@ def oscillator_min_time(x0: float = 7.0, v0: float = 0.5) -> OptimalControlProbl
     )
 
 
+#: Largest start radius |(x0, v0)| the shooting oracle takes (about 50 switches, ~1 s).
+_OSC_MAX_RADIUS = 100.0
+_OSC_GRID = 200
+
+
 def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[float, np.ndarray]:
     """Optimal ``tf`` (s) and switch times (s) of :func:`oscillator_min_time`, by shooting
     on the minimum principle's structure.
@@ -509,6 +514,12 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
     x0 = check_finite("x0", x0)
     v0 = check_finite("v0", v0)
     z0 = complex(x0, v0)
+    if abs(z0) > _OSC_MAX_RADIUS:
+        # the optimum has about |z0|/2 switches and the search is quadratic in their number
+        raise InputError(
+            f"x0, v0 = {x0!r}, {v0!r}: the start must lie within {_OSC_MAX_RADIUS:g} of the origin "
+            f"(|(x0, v0)| = {abs(z0):.6g}); the optimum would need about {abs(z0) / 2:.3g} switches"
+        )
 
     def flow(z: complex, s: float, dt: float) -> complex:
         # rotation of (x - s, v) by -dt (clockwise) about (s, 0)
@@ -517,8 +528,13 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
     best = (np.inf, np.array([]))
     # each π-long arc moves the state's distance from the origin by at most 2
     k_max = int(np.ceil(abs(z0) / 2.0)) + 3
+    # ... so k + 2 arcs must cover the distance |z0|: k >= |z0|/2 - 2
+    k_min = max(0, int(np.floor(abs(z0) / 2.0)) - 3)
+    # the end point sweeps about |z0| * dt as t1 moves by dt: resolve the crossings on a grid
+    # that grows with |z0| (200 points missed them beyond |z0| ~ 20 and returned inf)
+    n_grid = max(_OSC_GRID, int(40 * abs(z0)))
     for s0 in (1.0, -1.0):
-        for k in range(0, k_max):
+        for k in range(k_min, k_max):
 
             def end(t1: float, s0: float = s0, k: int = k) -> complex:
                 z, s = flow(z0, s0, t1), s0
@@ -532,7 +548,7 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
                 # the last arc (sign s) must pass through the origin: |z − s| = |0 − s| = 1
                 return abs(z - s) - 1.0
 
-            grid = np.linspace(1e-9, np.pi, 200)
+            grid = np.linspace(1e-9, np.pi, n_grid)
             vals = np.array([miss(t) for t in grid])
             for a, b, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:], strict=True):
                 if fa == 0.0 or fa * fb < 0.0:
@@ -547,6 +563,9 @@ def oscillator_min_time_reference(x0: float = 7.0, v0: float = 0.5) -> tuple[flo
                         best = (float(tf), t1 + np.pi * np.arange(k + 1))
             if best[0] < k * np.pi:
                 break
+    if not np.isfinite(best[0]):
+        raise SolverError(f"oscillator_min_time_reference({x0!r}, {v0!r}): the shooting search found no "
+                               "bang-bang path to the origin")
     return best
 
 
