@@ -234,3 +234,23 @@ def test_execution_only_keys_are_neutral_in_the_studies_that_have_them():
     for name in ("onoff-tuning", "closed-loop"):
         fields = set(get_study(name).config_cls.__dataclass_fields__)
         assert set(get_study(name).neutral_keys) <= fields, name
+
+
+def test_cli_announces_kernel_compilation_only_when_pending(fake, tmp_path, monkeypatch, capsys):
+    # issue 23 item 6: a cold first run was silent for 106 s while numba compiled
+    import adcskit.cli as cli
+
+    monkeypatch.setattr(cli, "_KERNEL_STUDIES", frozenset({"fake"}))
+    monkeypatch.setattr(cli, "_kernels_pending", lambda: 3)
+    assert main(["run", "fake", "--quick", "--out", str(tmp_path / "a")]) == 0
+    assert cli.KERNELS_NOTICE in capsys.readouterr().out
+    monkeypatch.setattr(cli, "_kernels_pending", lambda: 0)
+    assert main(["run", "fake", "--quick", "--out", str(tmp_path / "b")]) == 0
+    assert cli.KERNELS_NOTICE not in capsys.readouterr().out
+
+
+def test_kernels_pending_reads_the_numba_caches():
+    from adcskit.cli import _kernels_pending
+
+    n = _kernels_pending()
+    assert isinstance(n, int) and n >= 0

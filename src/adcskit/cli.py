@@ -386,6 +386,40 @@ def _record_errors(out: Path, errors: dict, clear: list[str]) -> None:
     write_json_atomic(path, current)
 
 
+#: Modules whose numba kernels (``cache=True``) the studies compile on first use, besides the
+#: closed-loop simulator (which announces itself: :data:`adcskit._jit.CLOSED_LOOP_NOTICE`).
+_KERNEL_MODULES = (
+    "adcskit.determination._kernels",
+    "adcskit.determination._box",
+    "adcskit.estimation._mekf_kernels",
+    "adcskit.sensors._gyro_kernels",
+    "adcskit.thrusters.allocation",
+    "adcskit.control._onoff_kernels",
+)
+#: Studies that call those kernels (rendezvous runs on CasADi/IPOPT only).
+_KERNEL_STUDIES = frozenset({"wahba-table1", "wahba-orbit", "model-estimation", "thruster-layout", "onoff-schmitt",
+                             "onoff-tuning", "closed-loop"})
+#: Issue 23: the first output of a cold `adcskit reproduce --quick` came after 106 s (2 cores).
+KERNELS_NOTICE = "compiling adcskit's numba kernels once, about 2 min on 2 cores; cached afterwards"
+
+
+def _kernels_pending() -> int:
+    """How many of the studies' numba kernels (closed-loop simulator aside) compile on first use."""
+    import importlib
+
+    from numba.core.registry import CPUDispatcher
+
+    from adcskit._jit import will_compile
+
+    pending = 0
+    for mod_name in _KERNEL_MODULES:
+        mod = importlib.import_module(mod_name)
+        for obj in vars(mod).values():
+            if isinstance(obj, CPUDispatcher) and getattr(obj, "_cache", None) is not None:
+                pending += bool(will_compile(obj))
+    return pending
+
+
 def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     from adcskit._progress import progress_session, status, track
     from adcskit.report.html import build_report
@@ -421,6 +455,8 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     except OSError as exc:
         executor.close()
         raise InputError(f"--out directory cannot be created: {str(out)!r} ({exc.strerror})") from None
+    if not args.quiet and set(names) & _KERNEL_STUDIES and _kernels_pending():
+        print(f"adcskit: {KERNELS_NOTICE}", flush=True)
     failures: dict[str, dict] = {}
     done: list[str] = []
     interrupted = False
