@@ -299,6 +299,12 @@ def finding_specs(cfg: Config, rows_present) -> list[FindingSpec]:
     return out
 
 
+def _declared(runs: dict, spec, default: str) -> dict:
+    """The runs of the readings ``spec`` declares (``runs`` holds both the per-dynamics and the
+    per-dynamics-and-precision readings; each spec decides over one of the two sets)."""
+    return {n: runs[n] for n in dict.fromkeys([default, *spec.readings]) if n in runs}
+
+
 def _decide(meas: dict[str, ReadingMeasure], cfg: Config, rows_present):
     """Claims and findings from the measurements of every dynamics reading (``meas[dyn]``)."""
     first = cfg.readings[0]
@@ -313,7 +319,7 @@ def _decide(meas: dict[str, ReadingMeasure], cfg: Config, rows_present):
         if spec.id == "tf_main" or spec.id.startswith("table4_gpm_row"):
             i = 0 if spec.id == "tf_main" else int(spec.id.removeprefix("table4_gpm_row")) - 1
             detail = _tf_detail(meas, i, cfg)
-        claims.append(spec.evaluate(runs, default=default, detail=detail))
+        claims.append(spec.evaluate(_declared(runs, spec, default), default=default, detail=detail))
     findings = []
     for spec in finding_specs(cfg, rows_present):
         detail = ""
@@ -322,7 +328,8 @@ def _decide(meas: dict[str, ReadingMeasure], cfg: Config, rows_present):
                 f"{READING_NAMES[d]}: " + ", ".join(_gpops_text(meas[d], i, cfg) for i in sorted(meas[d].rows))
                 for d in cfg.readings
             )
-        findings.append(spec.evaluate(runs, default=READING_NAMES[first], detail=detail))
+        findings.append(spec.evaluate(_declared(runs, spec, READING_NAMES[first]), default=READING_NAMES[first],
+                                      detail=detail))
     return claims, findings
 
 
