@@ -54,34 +54,3 @@ def test_checks_and_figures(quick):
         assert (path / "closed-loop" / f).stat().st_size > 1000
     rows = d["tables"]
     assert "q1_layouts.csv" in rows and "q4_slew.csv" in rows
-
-
-def test_package_shape():
-    # issue 20, item 1 ("done when"): run is orchestration (<= 80 lines), no function of the
-    # package is longer than 120 lines, figures and tables are pure functions of the records
-    # (no random numbers, no simulation, no solving), and the records are frozen
-    import ast
-    import dataclasses
-    from pathlib import Path
-
-    import adcskit.studies.closed_loop as pkg
-    from adcskit.studies.closed_loop import experiment
-
-    root = Path(pkg.__file__).parent
-    lengths = {}
-    for path in root.glob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                lengths[f"{path.stem}.{node.name}"] = node.end_lineno - node.lineno + 1
-        if path.stem in ("figures", "report"):
-            names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-            names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-            assert not names & {"rng", "default_rng", "random", "simulate", "sim", "measure",
-                                "optimal_slew_table", "design_layout"}, path.stem
-    assert lengths["__init__.run"] <= 80
-    assert max(lengths.values()) <= 120, max(lengths.items(), key=lambda kv: kv[1])
-    for name in experiment.__all__:
-        obj = getattr(experiment, name)
-        if isinstance(obj, type):
-            assert dataclasses.is_dataclass(obj) and obj.__dataclass_params__.frozen, name

@@ -213,34 +213,3 @@ def test_printed_model_option_runs():
     assert res.measured["converged_solver_max_rel_diff"] < 1e-6
     with pytest.raises(ValueError, match="cases must be a subset"):
         Config(cases=("2dof",))
-
-
-def test_package_shape():
-    # issue 20, item 1 ("done when"): run is orchestration (<= 80 lines), no function of the
-    # package is longer than 120 lines, figures and tables are pure functions of the records
-    # (no random numbers, no estimation, no simulation), and the records are frozen
-    import ast
-    import dataclasses
-    from pathlib import Path
-
-    import adcskit.studies.model_estimation as pkg
-    from adcskit.studies.model_estimation import experiment
-
-    root = Path(pkg.__file__).parent
-    lengths = {}
-    for path in root.glob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                lengths[f"{path.stem}.{node.name}"] = node.end_lineno - node.lineno + 1
-        if path.stem in ("figures", "report", "claims"):
-            names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-            names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-            assert not names & {"rng", "default_rng", "random", "joint_estimate", "augmented_ekf", "identify_model",
-                                "simulate_linear", "measure", "build_case"}, path.stem
-    assert lengths["__init__.run"] <= 80
-    assert max(lengths.values()) <= 120, max(lengths.items(), key=lambda kv: kv[1])
-    for name in experiment.__all__:
-        obj = getattr(experiment, name)
-        if isinstance(obj, type):
-            assert dataclasses.is_dataclass(obj) and obj.__dataclass_params__.frozen, name

