@@ -25,6 +25,7 @@ from scipy.integrate import solve_ivp
 from adcskit._results import compact_repr
 from adcskit._validation import check_choice, check_int, check_positive, check_range
 from adcskit.errors import InputTypeError
+from adcskit.optimal_control._schemes import SCHEMES
 from adcskit.optimal_control.solve import OptimalControlSolution
 
 __all__ = ["BangBangResult", "OptimalityCheck", "ResimulationResult", "bang_bang", "check_optimality", "resimulate"]
@@ -441,12 +442,10 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
     tc, u, H = solution.t_control, solution.u, solution.hamiltonian
     # states and costates at the collocation points (Radau: support points; Gauss: interior)
     xc, lc = [], []
+    col = SCHEMES[solution.method].collocated
     for p in solution.pieces:
         k = p.uc.shape[0]
-        if solution.method == "gauss":
-            xc.append(p.xs[1:]), lc.append(p.lam[1 : k + 1])
-        else:
-            xc.append(p.xs[:k]), lc.append(p.lam[:k])
+        xc.append(p.xs[col]), lc.append(p.lam[col][:k])
     xc, lc = np.vstack(xc), np.vstack(lc)
     n = tc.size
     F = np.empty((n, prob.n_states))

@@ -59,10 +59,13 @@ from adcskit.optimal_control.transcription import (
     METHODS,
     _as_list,
     _scalar,
+    collocation_rows,
     interval_bounds,
     interval_layout,
+    interval_symbols,
     interval_times,
     pack_intervals,
+    quadrature,
     unpack_intervals,
 )
 
@@ -603,48 +606,27 @@ class _MultiTranscription:
             t0 = z[lay.i_t0] * st
             tf = z[lay.i_tf] * st
             T = tf - t0
-            per = []
-            for iv in lay.intervals:
-                Xs = ca.reshape(z[iv.xs], nx, iv.n + 1) * ca.repmat(sx, 1, iv.n + 1)
-                U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else ca.SX(0, iv.n)
-                h = T * (iv.b - iv.a)
-                tc = t0 + T * iv.a + ca.DM((iv.tau[None, :] + 1.0) / 2.0) * h
-                if method == "gauss":
-                    Xc, Xend = Xs[:, 1:], z[iv.xe] * sx
-                else:
-                    Xc, Xend = Xs[:, :-1], Xs[:, -1]
-                per.append((Xs, U, h, Xc, Xend, tc))
+            per = interval_symbols(method, lay.intervals, z, sx, su, t0, T, nx, nu, ca.SX)
             ntot = sum(iv.n for iv in lay.intervals)
-            Xc_all = ca.horzcat(*[q[3] for q in per])
-            U_all = ca.horzcat(*[q[1] for q in per])
-            T_all = ca.horzcat(*[q[5] for q in per])
+            Xc_all = ca.horzcat(*[q.Xc for q in per])
+            U_all = ca.horzcat(*[q.U for q in per])
+            T_all = ca.horzcat(*[q.tc for q in per])
             P_all = ca.repmat(pvec, 1, ntot)
             F_all = lay.f_fun.map(ntot)(Xc_all, U_all, T_all, P_all)
-            G_all = lay.g_fun.map(ntot)(Xc_all, U_all, T_all, P_all) if ph.lagrange is not None else None
+            ordered += collocation_rows(lay.intervals, per, F_all, sx)
+            if ph.lagrange is not None:
+                J = quadrature(lay.intervals, per, lay.g_fun.map(ntot)(Xc_all, U_all, T_all, P_all), J)
+            qint = ca.SX.zeros(ph.n_integrals)
             if ph.integrand is not None:
                 qf = _fun("q", ph.integrand, nx, nu, npar, ph.n_integrals)
-                Q_all = qf.map(ntot)(Xc_all, U_all, T_all, P_all)
-            qint = ca.SX.zeros(ph.n_integrals)
-            col = 0
-            for r, (iv, (Xs, _U, h, _Xc, Xend, _tc)) in enumerate(zip(lay.intervals, per, strict=True)):
-                Fm = F_all[:, col : col + iv.n]
-                ordered.append(ca.vec((ca.mtimes(Xs, ca.DM(iv.D.T)) - h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)))
-                if method == "gauss":
-                    ordered.append((Xend - Xs[:, 0] - h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx)
-                if iv.g_link is not None:
-                    ordered.append((Xend - per[r + 1][0][:, 0]) / sx)
-                if G_all is not None:
-                    J = J + h / 2.0 * ca.mtimes(G_all[:, col : col + iv.n], ca.DM(iv.w))
-                if ph.integrand is not None:
-                    qint = qint + h / 2.0 * ca.mtimes(Q_all[:, col : col + iv.n], ca.DM(iv.w))
-                col += iv.n
+                qint = quadrature(lay.intervals, per, qf.map(ntot)(Xc_all, U_all, T_all, P_all), qint)
             if ph.n_path:
                 cf = _fun("C", ph.path, nx, nu, npar, ph.n_path)
                 ordered.append(ca.vec(cf.map(ntot)(Xc_all, U_all, T_all, P_all)))
             ordered.append((tf - t0) / st)
             if ph.n_integrals:
                 ordered.append(qint)
-            ends.append(Endpoint(x0=per[0][0][:, 0], t0=t0, xf=per[-1][4], tf=tf, q=qint))
+            ends.append(Endpoint(x0=per[0].Xs[:, 0], t0=t0, xf=per[-1].Xend, tf=tf, q=qint))
         for lk in problem.links:
             ea, eb = ends[lk.a], ends[lk.b]
             idx = list(range(problem.phases[lk.a].n_states)) if lk.states is None else list(lk.states)

@@ -52,6 +52,7 @@ from adcskit._validation import (
     check_positive,
 )
 from adcskit.errors import InputError, InputTypeError
+from adcskit.optimal_control._schemes import SCHEMES
 from adcskit.optimal_control.nodes import lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
 from adcskit.optimal_control.transcription import (
@@ -112,6 +113,7 @@ def _assemble(method: str, intervals, parts, times, lam_g: np.ndarray, cJ: float
     docstring. Returns ``(pieces, samples)`` with ``samples`` the solution's ``t, x,
     t_control, u, costate, hamiltonian, switching`` arrays.
     """
+    scheme = SCHEMES[method]
     nx = sx.size
     nu = parts[0][1].shape[1] if parts else 0
     pieces = []
@@ -120,23 +122,12 @@ def _assemble(method: str, intervals, parts, times, lam_g: np.ndarray, cJ: float
     for r, (iv, (xs, us, xe), (ts, tc, tend)) in enumerate(zip(intervals, parts, times, strict=True)):
         # Λ̃_k in physical units; CasADi's Lagrangian is J + λᵀg, Pontryagin's sign is the opposite
         lt = -lam_g[iv.g_def].reshape(iv.n, nx) * cJ / sx
-        if method == "gauss":
-            lf = -lam_g[iv.g_quad] * cJ / sx  # Λ̃_f
-            lam_c = lt / iv.w[:, None] + lf
-            lam_s = np.vstack([lf - iv.D[:, 0] @ lt, lam_c])
-            lam_end = lf
-            xc = xs[1:]
-            t_list.append(ts)
-            x_list.append(xs)
-            lam_t, lam_all = np.append(ts, tend), np.vstack([lam_s, lam_end[None, :]])
-        else:
-            lam_c = lt / iv.w[:, None]
-            lam_end = iv.D[:, -1] @ lt
-            lam_s = lam_c
-            xc = xs[:-1]
-            t_list.append(ts[:-1])
-            x_list.append(xs[:-1])
-            lam_t, lam_all = ts, np.vstack([lam_c, lam_end[None, :]])
+        lf = -lam_g[iv.g_quad] * cJ / sx if iv.g_quad is not None else None  # Gauss: Λ̃_f
+        lam_c, lam_s, lam_end = scheme.costates(lt, lf, iv)
+        xc = xs[scheme.collocated]
+        t_list.append(ts[scheme.sampled])
+        x_list.append(xs[scheme.sampled])
+        lam_t, lam_all = scheme.costate_times(ts, tend), np.vstack([lam_s, lam_end[None, :]])
         pieces.append(_Piece(ts=ts, xs=xs, tc=tc, uc=us, t_end=tend, x_end=xe, lam_t=lam_t, lam=lam_all))
         lam_list.append(lam_s)
         tc_list.append(tc)
@@ -681,11 +672,9 @@ def _defect_duals(lam_g, method, intervals, times, lamfun, sx, cJ) -> None:
     for iv, (_ts, tc, tend) in zip(intervals, times, strict=True):
         lc = lamfun(tc, "right")  # Radau's τ = −1 point: the estimate of the interval starting there
         le = lamfun(np.array([tend]), "left")[0]
-        if method == "gauss":
-            lt = iv.w[:, None] * (lc - le)
+        lt = SCHEMES[method].defect_multipliers(lc, le, iv.w)
+        if iv.g_quad is not None:
             lam_g[iv.g_quad] = -le * sx / cJ
-        else:
-            lt = iv.w[:, None] * lc
         lam_g[iv.g_def] = (-lt * sx / cJ).ravel()
         if iv.g_link is not None:
             lam_g[iv.g_link] = le * sx / cJ

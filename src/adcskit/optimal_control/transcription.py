@@ -37,15 +37,14 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from adcskit.optimal_control.nodes import gauss_differentiation_matrix, radau_differentiation_matrix
+from adcskit.optimal_control._schemes import SCHEMES
 from adcskit.optimal_control.problem import Mesh, OptimalControlProblem
 
 __all__ = ["METHODS", "DEFAULT_IPOPT_OPTIONS", "get_transcription"]
 
-METHODS: dict[str, str] = {
-    "gauss": "multi-interval Legendre-Gauss collocation (S2 eq. 17-34)",
-    "radau": "multi-interval Legendre-Gauss-Radau collocation",
-}
+#: The transcriptions by name, with a one-line description (the scheme objects behind them:
+#: ``adcskit.optimal_control._schemes.SCHEMES``).
+METHODS: dict[str, str] = {name: scheme.description for name, scheme in SCHEMES.items()}
 
 DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
     "print_level": 0,
@@ -92,26 +91,22 @@ def interval_layout(method: str, mesh: Mesh, nx: int, nu: int, iz: int, ig: int)
     """
     breaks = mesh.breaks
     P = mesh.n_intervals
+    scheme = SCHEMES[method]
     out: list[_Interval] = []
     for r, n in enumerate(mesh.nodes):
-        if method == "gauss":
-            D, tau, w = gauss_differentiation_matrix(n)
-            support = np.concatenate(([-1.0], tau))
-        else:
-            D, tau, w = radau_differentiation_matrix(n)
-            support = np.concatenate((tau, [1.0]))
+        D, tau, w, support = scheme.nodes(n)
         xs = slice(iz, iz + (n + 1) * nx)
         iz = xs.stop
         us = slice(iz, iz + n * nu)
         iz = us.stop
         xe = None
-        if method == "gauss":
+        if scheme.end_state_variable:
             xe = slice(iz, iz + nx)
             iz = xe.stop
         g_def = slice(ig, ig + n * nx)
         ig = g_def.stop
         g_quad = None
-        if method == "gauss":
+        if scheme.end_state_variable:
             g_quad = slice(ig, ig + nx)
             ig = g_quad.stop
         g_link = None
@@ -163,7 +158,7 @@ def interval_bounds(lbz, ubz, method: str, intervals: list[_Interval], phase, sx
     i0 = np.arange(first.xs.start, first.xs.start + nx)
     lbz[i0[fix0]] = ubz[i0[fix0]] = (phase.initial_state / sx)[fix0]
     fixf = np.isfinite(phase.final_state)
-    i_f = np.arange(last.xe.start, last.xe.stop) if method == "gauss" else np.arange(last.xs.stop - nx, last.xs.stop)
+    i_f = np.arange(last.xe.start, last.xe.stop) if last.xe is not None else np.arange(last.xs.stop - nx, last.xs.stop)
     lbz[i_f[fixf]] = ubz[i_f[fixf]] = (phase.final_state / sx)[fixf]
 
 
@@ -177,6 +172,62 @@ def pack_intervals(z: np.ndarray, intervals: list[_Interval], t0: float, tf: flo
             z[iv.us] = (ufun(tc) / su).ravel()
         if iv.xe is not None:
             z[iv.xe] = xfun(np.array([tend]))[0] / sx
+
+
+@dataclass(frozen=True, slots=True)
+class _Symbols:
+    """Symbolic states, controls and times of one interval (physical units)."""
+
+    Xs: Any  # (nx, n+1) support states
+    U: Any  # (nu, n) controls
+    h: Any  # interval length (s)
+    Xc: Any  # (nx, n) collocated states
+    Xend: Any  # (nx,) end state
+    tc: Any  # (1, n) collocation times
+
+
+def interval_symbols(method: str, intervals: list[_Interval], z, sx, su, t0, T, nx: int, nu: int, Sym) -> list[_Symbols]:
+    """Per-interval symbols of a phase on ``[t0, t0 + T]`` from the scaled decision vector ``z``.
+
+    The one collocation core shared by the single- and the multi-phase transcriptions.
+    """
+    scheme = SCHEMES[method]
+    per = []
+    for iv in intervals:
+        Xs = ca.reshape(z[iv.xs], nx, iv.n + 1) * ca.repmat(sx, 1, iv.n + 1)
+        U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else Sym(0, iv.n)
+        h = T * (iv.b - iv.a)
+        tc = t0 + T * iv.a + ca.DM((iv.tau[None, :] + 1.0) / 2.0) * h
+        Xend = z[iv.xe] * sx if scheme.end_state_variable else Xs[:, -1]
+        per.append(_Symbols(Xs, U, h, Xs[:, scheme.collocated], Xend, tc))
+    return per
+
+
+def collocation_rows(intervals: list[_Interval], per: list[_Symbols], F_all, sx) -> list:
+    """Constraint rows of a phase in NLP order, per interval: defects (S2 eq. 29), [Gauss:
+    end-state quadrature, eq. 30], linkage to the next interval (eq. 34); all rows of state
+    ``i`` divided by ``sx_i``. ``F_all``: the dynamics at every collocation point, ``(nx, ntot)``."""
+    rows: list[Any] = []
+    off = 0
+    for r, (iv, q) in enumerate(zip(intervals, per, strict=True)):
+        Fm = F_all[:, off : off + iv.n]
+        rows.append(ca.vec((ca.mtimes(q.Xs, ca.DM(iv.D.T)) - q.h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)))
+        if iv.g_quad is not None:
+            rows.append((q.Xend - q.Xs[:, 0] - q.h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx)
+        if iv.g_link is not None:
+            rows.append((q.Xend - per[r + 1].Xs[:, 0]) / sx)
+        off += iv.n
+    return rows
+
+
+def quadrature(intervals: list[_Interval], per: list[_Symbols], V_all, acc):
+    """``acc + Σ_r (h_r/2) Σ_k w_k V_k``: the quadrature of the values ``V_all`` at every
+    collocation point (Lagrange cost, integrals)."""
+    off = 0
+    for iv, q in zip(intervals, per, strict=True):
+        acc = acc + q.h / 2.0 * ca.mtimes(V_all[:, off : off + iv.n], ca.DM(iv.w))
+        off += iv.n
+    return acc
 
 
 class _Transcription:
@@ -221,43 +272,21 @@ class _Transcription:
         cJ = p[nx + nu + 2]
         T = tf - t0
         ntot = sum(mesh.nodes)
-        per = []
-        for iv in self.intervals:
-            Xs = ca.reshape(z[iv.xs], nx, iv.n + 1) * ca.repmat(sx, 1, iv.n + 1)
-            U = ca.reshape(z[iv.us], nu, iv.n) * ca.repmat(su, 1, iv.n) if nu else Sym(0, iv.n)
-            h = T * (iv.b - iv.a)
-            tstart = t0 + T * iv.a
-            if method == "gauss":
-                Xc, Xend = Xs[:, 1:], z[iv.xe] * sx
-            else:
-                Xc, Xend = Xs[:, :-1], Xs[:, -1]
-            tc = tstart + ca.DM((iv.tau[None, :] + 1.0) / 2.0) * h
-            per.append((Xs, U, h, Xc, Xend, tc))
-        Xc_all = ca.horzcat(*[q[3] for q in per])
-        U_all = ca.horzcat(*[q[1] for q in per])
-        T_all = ca.horzcat(*[q[5] for q in per])
+        per = interval_symbols(method, self.intervals, z, sx, su, t0, T, nx, nu, Sym)
+        Xc_all = ca.horzcat(*[q.Xc for q in per])
+        U_all = ca.horzcat(*[q.U for q in per])
+        T_all = ca.horzcat(*[q.tc for q in per])
         F_all = self.f_fun.map(ntot)(Xc_all, U_all, T_all)
-        G_all = self.g_fun.map(ntot)(Xc_all, U_all, T_all) if problem.lagrange is not None else None
-        ordered: list[Any] = []
+        ordered = collocation_rows(self.intervals, per, F_all, sx)
         lag = Sym(0)
-        off = 0
-        for r, (iv, (Xs, _U, h, _Xc, Xend, _tc)) in enumerate(zip(self.intervals, per, strict=True)):
-            Fm = F_all[:, off : off + iv.n]
-            defect = (ca.mtimes(Xs, ca.DM(iv.D.T)) - h / 2.0 * Fm) / ca.repmat(sx, 1, iv.n)
-            ordered.append(ca.vec(defect))  # rows: defects, [quadrature], linkage to the next interval
-            if method == "gauss":
-                ordered.append((Xend - Xs[:, 0] - h / 2.0 * ca.mtimes(Fm, ca.DM(iv.w))) / sx)
-            if iv.g_link is not None:
-                ordered.append((Xend - per[r + 1][0][:, 0]) / sx)
-            if G_all is not None:
-                lag = lag + h / 2.0 * ca.mtimes(G_all[:, off : off + iv.n], ca.DM(iv.w))
-            off += iv.n
+        if problem.lagrange is not None:
+            lag = quadrature(self.intervals, per, self.g_fun.map(ntot)(Xc_all, U_all, T_all), lag)
         if npath:
             ordered.append(ca.vec(self.c_fun.map(ntot)(Xc_all, U_all, T_all)))
         g = ca.vertcat(*ordered)
         J = lag
         if problem.mayer is not None:
-            J = J + _scalar(problem.mayer(per[0][0][:, 0], t0, per[-1][4], tf), "mayer")
+            J = J + _scalar(problem.mayer(per[0].Xs[:, 0], t0, per[-1].Xend, tf), "mayer")
         self.J_fun = ca.Function("J", [z, p], [J])
         nlp = {"x": z, "p": p, "f": J / cJ, "g": g}
         opts = {"print_time": False, "ipopt": dict(ipopt)}
