@@ -17,6 +17,7 @@ References
 S2 (Gauss pseudospectral method, eq. 17–37). Benson et al. 2006; Garg et al. 2010.
 """
 
+from adcskit.optimal_control._nlp import clear_cache
 from adcskit.optimal_control.adaptive import (
     AdaptiveSolution,
     ErrorCertificate,
@@ -67,7 +68,7 @@ from adcskit.optimal_control.solve import (
     solve,
     solve_mesh_sequence,
 )
-from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS, clear_cache
+from adcskit.optimal_control.transcription import DEFAULT_IPOPT_OPTIONS, METHODS
 
 __all__ = [
     "AdaptiveSolution",

@@ -1365,7 +1365,7 @@ def _join_phases(pr, msol, min_width: float) -> OptimalControlSolution:
 
 
 def _initial_meshes(mesh, n_phases: int, n_min: int) -> list[Mesh]:
-    from adcskit.optimal_control.solve import _as_mesh
+    from adcskit.optimal_control._nlp import _as_mesh
 
     if mesh is None:
         return [Mesh.uniform(10, n_min + 1) for _ in range(n_phases)]

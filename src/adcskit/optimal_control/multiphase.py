@@ -41,9 +41,7 @@ import numpy as np
 from adcskit._results import compact_repr
 from adcskit._validation import as_array, check_choice, check_flag, check_int
 from adcskit.errors import InputError, InputTypeError
-from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, _default_scale, _vec
-from adcskit.optimal_control.solve import (
-    OptimalControlSolution,
+from adcskit.optimal_control._nlp import (
     _as_mesh,
     _assemble,
     _bound_duals,
@@ -53,8 +51,10 @@ from adcskit.optimal_control.solve import (
     _resolve_options,
     _run_ipopt,
     _solution_funs,
-    ipopt_status_code,
+    cached_nlp,
 )
+from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem, _default_scale, _vec
+from adcskit.optimal_control.solve import OptimalControlSolution, ipopt_status_code
 from adcskit.optimal_control.transcription import (
     METHODS,
     _as_list,
@@ -710,19 +710,11 @@ def _fun(name, fn, nx, nu, npar, nout):
     return ca.Function(name, [x, u, t, p], [ca.vertcat(*_as_list(fn(x, u, t, p), nout, name))])
 
 
-_MCACHE: dict[tuple, _MultiTranscription] = {}
-
-
 def _get(problem, method, meshes, opts):
-    """The cached compiled NLP of this problem object on these meshes."""
-    key = (problem, method, meshes, tuple(sorted((k, repr(v)) for k, v in opts.items())))
-    tr = _MCACHE.get(key)
-    if tr is None:
-        tr = _MultiTranscription(problem, method, meshes, opts)
-        if len(_MCACHE) >= 16:
-            _MCACHE.pop(next(iter(_MCACHE)))
-        _MCACHE[key] = tr
-    return tr
+    """The cached compiled NLP of this problem object on these meshes (the one cache of
+    :mod:`adcskit.optimal_control._nlp`)."""
+    key = ("multi-phase", problem, method, meshes, tuple(sorted((k, repr(v)) for k, v in opts.items())))
+    return cached_nlp(key, lambda: _MultiTranscription(problem, method, meshes, opts))
 
 
 # ----------------------------------------------------------------------------- solution

@@ -30,13 +30,13 @@ S2, eq. 17–37. Benson et al., J. Guid. Control Dyn. 29(6), 2006. Garg et al., 
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
 import numpy as np
 
+from adcskit.optimal_control._nlp import DEFAULT_IPOPT_OPTIONS, cached_nlp
 from adcskit.optimal_control._schemes import SCHEMES
 from adcskit.optimal_control.problem import Mesh, OptimalControlProblem
 
@@ -46,24 +46,10 @@ __all__ = ["METHODS", "DEFAULT_IPOPT_OPTIONS", "get_transcription"]
 #: ``adcskit.optimal_control._schemes.SCHEMES``).
 METHODS: dict[str, str] = {name: scheme.description for name, scheme in SCHEMES.items()}
 
-DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
-    "print_level": 0,
-    "sb": "yes",
-    "linear_solver": "mumps",
-    "hessian_approximation": "exact",
-    "tol": 1e-9,
-    "acceptable_tol": 1e-7,
-    "max_iter": 500,
-    "mu_strategy": "adaptive",
-}
-
 # "sx": the whole NLP in SX (fast evaluation, slower build); "mx": MX graph calling the mapped
 # SX dynamics (fast build, derivatives of f computed once and mapped); "mx-expand": MX
 # expanded to SX by nlpsol. Chosen by measurement (docs/benchmarks.md).
 SYMBOLIC = "sx"
-
-_CACHE: OrderedDict[tuple, _Transcription] = OrderedDict()
-_CACHE_SIZE = 24
 
 
 @dataclass(slots=True)
@@ -353,9 +339,11 @@ def _scalar(expr, what: str):
 def get_transcription(
     problem: OptimalControlProblem, method: str, mesh: Mesh, ipopt: dict[str, Any], symbolic: str | None = None
 ) -> _Transcription:
-    """The cached compiled NLP for this problem structure (see module docstring)."""
+    """The cached compiled NLP for this problem structure (see module docstring; the one
+    cache of :mod:`adcskit.optimal_control._nlp`)."""
     symbolic = SYMBOLIC if symbolic is None else symbolic
     key = (
+        "single-phase",
         symbolic,
         problem.dynamics,
         problem.mayer,
@@ -368,26 +356,4 @@ def get_transcription(
         mesh,
         tuple(sorted((k, repr(v)) for k, v in ipopt.items())),
     )
-    tr = _CACHE.get(key)
-    if tr is None:
-        tr = _Transcription(problem, method, mesh, ipopt, symbolic)
-        _CACHE[key] = tr
-        while len(_CACHE) > _CACHE_SIZE:
-            _CACHE.popitem(last=False)
-    else:
-        _CACHE.move_to_end(key)
-    return tr
-
-
-def clear_cache() -> None:
-    """Forget every compiled NLP, single- and multi-phase (e.g. to time a cold build).
-
-    Examples
-    --------
-    >>> from adcskit.optimal_control import clear_cache
-    >>> clear_cache()                                     # the next solve rebuilds its NLP
-    """
-    from adcskit.optimal_control import multiphase  # imports this module: import here
-
-    _CACHE.clear()
-    multiphase._MCACHE.clear()
+    return cached_nlp(key, lambda: _Transcription(problem, method, mesh, ipopt, symbolic))
