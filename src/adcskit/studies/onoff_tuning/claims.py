@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec
 from adcskit.studies.onoff_tuning.config import Config
 from adcskit.studies.onoff_tuning.experiment import Measurements
@@ -26,11 +26,7 @@ R_T4 = "deterministic = S4 Table 4 gains"
 #: readings of the overshoot penalty (S4 prints none)
 R_PEN = {"mean": "penalty on E[overshoot]", "sample": "penalty per sample"}
 #: config keys that define S4's protocol for every claim
-PROTOCOL_KEYS = (
-    "ga_pop", "ga_max_gen", "ga_tol_deg", "ga_window", "n_lhs", "n_mc", "penalty_weight_deg_per_pct", "penalty_readings",
-    "overshoot_max_pct", "nsga_pop", "nsga_gen", "paper_scale", "u_on", "off_ratio", "inertia_kgm2", "torque_nm",
-    "delay_s", "disturbance_nm", "tau_thruster_s", "tau_deriv_s", "step_deg", "command_rate_hz", "dt_s", "t_final_s",
-    "t_window_s", "std_inertia_kgm2", "std_torque_nm", "std_disturbance_nm", "std_delay_s")
+PROTOCOL_KEYS = protocol_keys(Config, "s4-loop", "tuning")
 #: per case: (quantity, side, the paper's words) of the two robust-vs-deterministic claims
 _ROBUST_CLAIMS = (("std", "below", "a lower standard deviation"), ("mean", "above", "a (slightly) higher mean"))
 
@@ -80,7 +76,7 @@ def claims(config: Config, m: Measurements) -> list[Claim]:
             where="§5, Figs. 20-21",
             quantity=f"per seed, the smallest ratio {rates[0]:g} Hz / {rates[-1]:g} Hz over (mean, std) x "
                      f"(deterministic, robust gains), all four uncertainties, {config.n_mc_rate} runs; holds above 1",
-            value=_r, threshold=1.0, better="above", unit="-", protocol_keys=PROTOCOL_KEYS + ("command_rates_hz",),
+            value=_r, threshold=1.0, better="above", unit="-", protocol_keys=protocol_keys(Config, "s4-loop", "tuning", "command-rates"),
             describe=lambda r: "smallest ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
         ).evaluate({"default": [{"r": so.rate.ratio_min} for so in m.seeds]}))
     return out

@@ -25,7 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import ClaimSpec, FindingSpec
 from adcskit.studies.rendezvous.config import Config
 from adcskit.studies.rendezvous.experiment import Experiment, ReadingMeasure, identify, match_tol
@@ -79,7 +79,7 @@ def _tf_claim(cid: str, statement: str, where: str, i: int, cfg: Config, reading
         paper=value,
         stochastic=False,
         readings=readings,
-        protocol_keys=("rows_m", "method", "paper_mesh", "readings", "n_starts", "match_atol_s"),
+        protocol_keys=protocol_keys(Config, "claims", "multistart", "final-time"),
     )
 
 
@@ -101,7 +101,7 @@ def _tf_detail(meas: dict[str, ReadingMeasure], i: int, cfg: Config) -> str:
 
 def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) -> list[ClaimSpec]:
     """The main scenario's claims (S2 Sec. 6): tf, bang-bang, H = -1."""
-    proto = ("rows_m", "method", "paper_mesh", "readings")
+    proto = protocol_keys(Config, "claims")
     return [
         _tf_claim(
             "tf_main",
@@ -144,7 +144,7 @@ def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) ->
 def _gpops_specs(cfg: Config, rd: tuple[str, ...]) -> list[ClaimSpec]:
     """The claims on the GPOPS column (S2 Sec. 7-8), decidable only with all five rows."""
     same = cfg.same_rtol
-    proto = ("rows_m", "method", "paper_mesh", "readings", "n_starts")
+    proto = protocol_keys(Config, "claims", "multistart")
     return [
         ClaimSpec(
             id="agrees_with_gpops",
