@@ -4,8 +4,8 @@
 data, each reading one :class:`~.experiment.Replica` per seed; :func:`evaluate` hands them to
 :meth:`ClaimSpec.evaluate`, which decides the outcome. A claim with readings reads the
 :class:`~.experiment.Replica` field that :data:`READING_FIELDS` names for each reading.
-:data:`CHECKS` are small functions ``(config, measurements) -> Check``: the framework has no
-check spec to declare them as data. "Holds" for a claim means the measured factor reaches at
+:data:`CHECKS` are small factories ``(config, measurements) -> Check``, decided in order by the
+framework's ``decide_declared`` (the checks' declaration in every study). "Holds" for a claim means the measured factor reaches at
 least half the paper's factor.
 
 Examples
