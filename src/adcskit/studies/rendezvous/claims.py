@@ -26,12 +26,12 @@ from dataclasses import replace
 import numpy as np
 
 from adcskit.studies._base import Check, protocol_keys
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.studies._verdict import ClaimSpec, FindingSpec, decide_declared
 from adcskit.studies.rendezvous.config import Config
 from adcskit.studies.rendezvous.experiment import Experiment, ReadingMeasure, identify, match_tol
 from adcskit.studies.rendezvous.paper import GPM_DECIMALS, GPOPS_DECIMALS, PAPER_ROWS, READING_NAMES
 
-__all__ = ["claim_specs", "finding_specs", "check_list"]
+__all__ = ["CHECKS", "claim_specs", "finding_specs", "check_list"]
 
 _DIGITS, _OPTIMUM = "printed digits", "same optimum"
 
@@ -399,9 +399,45 @@ def _reading_checks(m: ReadingMeasure, reading: str, cfg: Config) -> list[Check]
     return out
 
 
+def _per_reading_checks(cfg: Config, exp: Experiment) -> list[Check]:
+    return [c for reading in cfg.readings for c in _reading_checks(exp.readings[reading], reading, cfg)]
+
+
+def _tf_main_tolerance(cfg: Config, exp: Experiment) -> Check | None:
+    mm = exp.readings[cfg.readings[0]].main
+    if mm is None or 0 not in exp.rows_present:
+        return None
+    d = abs(mm.tf_paper_mesh_s - mm.tf_converged_s)
+    tol0 = match_tol(GPM_DECIMALS, cfg)
+    return Check(
+        name="The tf_main tolerance separates the 20x3 value from the mesh-converged one",
+        passed=d > 2 * tol0,
+        detail=f"20x3 {mm.tf_paper_mesh_s:.6f} s vs converged {mm.tf_converged_s:.6f} s: "
+        f"{d:.2e} s apart; claim tolerance {tol0:.1e} s",
+        kind="check",
+    )
+
+
+def _resimulation_reaches_target(cfg: Config, exp: Experiment) -> Check:
+    misses = exp.terminal_misses
+    return Check(
+        name="Open-loop re-simulation (solve_ivp DOP853) of each row's best converged solution reaches "
+        "the final state",
+        passed=bool(misses) and max(misses) < 0.05,
+        detail=f"max terminal miss over rows {max(misses) if misses else float('nan'):.3g} state scales "
+        "(pass < 0.05; controls interpolated by the LG Lagrange polynomials)",
+        kind="check",
+    )
+
+
+#: Our consistency checks, in report order: factories ``(config, experiment) -> Check | list |
+#: None`` decided by the framework's ``decide_declared`` (as in every study).
+CHECKS = (_per_reading_checks, _tf_main_tolerance, _resimulation_reaches_target)
+
+
 def check_list(exp: Experiment, cfg: Config) -> list[Check]:
-    """Our consistency checks of one run: per reading (:func:`_reading_checks`), the tf_main
-    tolerance, and the open-loop re-simulation of every row's best converged solution.
+    """Our consistency checks of one run (:data:`CHECKS`): per reading (:func:`_reading_checks`),
+    the tf_main tolerance, and the open-loop re-simulation of every row's best converged solution.
 
     Examples
     --------
@@ -409,29 +445,4 @@ def check_list(exp: Experiment, cfg: Config) -> list[Check]:
     >>> [c.passed for c in check_list(_example_experiment(), Config(readings=("paper",)))]
     [True, True, True, True]
     """
-    checks = [c for reading in cfg.readings for c in _reading_checks(exp.readings[reading], reading, cfg)]
-    mm = exp.readings[cfg.readings[0]].main
-    if mm is not None and 0 in exp.rows_present:
-        d = abs(mm.tf_paper_mesh_s - mm.tf_converged_s)
-        tol0 = match_tol(GPM_DECIMALS, cfg)
-        checks.append(
-            Check(
-                name="The tf_main tolerance separates the 20x3 value from the mesh-converged one",
-                passed=d > 2 * tol0,
-                detail=f"20x3 {mm.tf_paper_mesh_s:.6f} s vs converged {mm.tf_converged_s:.6f} s: "
-                f"{d:.2e} s apart; claim tolerance {tol0:.1e} s",
-                kind="check",
-            )
-        )
-    misses = exp.terminal_misses
-    checks.append(
-        Check(
-            name="Open-loop re-simulation (solve_ivp DOP853) of each row's best converged solution reaches "
-            "the final state",
-            passed=bool(misses) and max(misses) < 0.05,
-            detail=f"max terminal miss over rows {max(misses) if misses else float('nan'):.3g} state scales "
-            "(pass < 0.05; controls interpolated by the LG Lagrange polynomials)",
-            kind="check",
-        )
-    )
-    return checks
+    return decide_declared(CHECKS, cfg, exp)
