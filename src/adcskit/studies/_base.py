@@ -271,6 +271,8 @@ class Study:
     doc : str
         Path of the study's documentation page in the repository.
 
+    Notes
+    -----
     The config keys that only add evidence or steer the execution are declared on
     ``config_cls``'s fields (``metadata=NEUTRAL``) and read by :attr:`neutral_keys`.
 
