@@ -2,42 +2,52 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies import (
+    Check,
+    Comparison,
+    Study,
+    StudyResult,
+    new_figure,
+    protocol,
+    protocol_keys,
+)
 from adcskit.studies._verdict import ClaimSpec, FindingSpec
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    n_tasks: int = field(default=8, metadata=protocol("near-zero", "small-spread"))
+    fail: bool = field(default=False, metadata=protocol("finite"))
+
+    def __post_init__(self) -> None:
+        if self.n_tasks < 1:
+            raise ValueError(f"n_tasks must be >= 1; got {self.n_tasks}")
+
 
 NEAR_ZERO = ClaimSpec(
     id="near-zero", statement="the mean is near zero", where="nowhere", quantity="|mean| < 0.2",
-    held=lambda m: abs(m["mean"]) < 0.2, protocol_keys=("n_tasks",),
+    held=lambda m: abs(m["mean"]) < 0.2, protocol_keys=protocol_keys(Config, "near-zero"),
 )
 
 #: Our own questions: one depends on the campaign size, one only on whether the study fails.
 SMALL_SPREAD = FindingSpec(
     id="small-spread", statement="the task means are within 0.5 of zero", quantity="max |mean| < 0.5",
-    value=lambda m: abs(m["mean"]), threshold=0.5, better="below", protocol_keys=("n_tasks",),
+    value=lambda m: abs(m["mean"]), threshold=0.5, better="below",
+    protocol_keys=protocol_keys(Config, "small-spread"),
 )
 FINITE = FindingSpec(
     id="finite", statement="every task mean is finite", quantity="finite", held=lambda m: np.isfinite(m["mean"]),
-    protocol_keys=("fail",),
+    protocol_keys=protocol_keys(Config, "finite"),
 )
 
 
 def draw(seed: np.random.SeedSequence) -> float:
     """One task of a toy campaign: the mean of 1000 normal draws."""
     return float(np.random.default_rng(seed).normal(size=1000).mean())
-
-
-@dataclass(frozen=True, kw_only=True)
-class Config:
-    n_tasks: int = 8
-    fail: bool = False
-
-    def __post_init__(self) -> None:
-        if self.n_tasks < 1:
-            raise ValueError(f"n_tasks must be >= 1; got {self.n_tasks}")
 
 
 def run(config: Config, *, quick=False, rng=None, executor=None) -> StudyResult:

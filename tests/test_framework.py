@@ -236,6 +236,53 @@ def test_execution_only_keys_are_neutral_in_the_studies_that_have_them():
         assert set(get_study(name).neutral_keys) <= fields, name
 
 
+def test_config_keys_are_declared_as_field_metadata():
+    # issue 20 item 1: protocol and neutral keys are read from the Config's fields, in field
+    # order; a tag no field declares is an error (a typo would make a claim always comparable)
+    from dataclasses import dataclass, field
+
+    from adcskit.studies import NEUTRAL, neutral_keys, protocol, protocol_keys
+
+    @dataclass(frozen=True, kw_only=True)
+    class Config:
+        n_seeds: int = field(default=5, metadata=NEUTRAL)
+        b: float = field(default=0.2, metadata=protocol("c1", "c2"))
+        plain: int = 3
+        a: float = field(default=0.1, metadata=protocol("c2"))
+
+    assert neutral_keys(Config) == ("n_seeds",)
+    assert protocol_keys(Config, "c1") == ("b",)
+    assert protocol_keys(Config, "c2") == protocol_keys(Config, "c1", "c2") == ("b", "a")  # field order
+    assert protocol_keys(Config) == ("b", "plain", "a")  # no tag: every key but the neutral ones
+    with pytest.raises(InputError, match="c3"):
+        protocol_keys(Config, "c3")
+    with pytest.raises(InputError, match="config dataclass"):
+        neutral_keys(dict)
+    with pytest.raises(InputError, match="non-empty"):
+        protocol()
+
+
+@pytest.mark.parametrize("study", ["wahba-table1", "wahba-orbit", "model-estimation", "rendezvous",
+                                   "thruster-layout", "onoff-schmitt", "onoff-tuning", "closed-loop"])
+def test_study_configs_declare_keys_one_way(study):
+    # a key is neutral or protocol, never both; the Study's neutral keys are its Config's; and
+    # no claims.py hand-lists protocol keys (they are read with protocol_keys)
+    import ast
+    from dataclasses import fields
+    from pathlib import Path
+
+    from adcskit.studies import get_study
+
+    s = get_study(study)
+    for f in fields(s.config_cls):
+        assert not (f.metadata.get("neutral") and "protocol" in f.metadata), f.name
+    assert s.neutral_keys == tuple(f.name for f in fields(s.config_cls) if f.metadata.get("neutral"))
+    claims = Path(adcskit.studies.__file__).parent / study.replace("-", "_") / "claims.py"
+    for node in ast.walk(ast.parse(claims.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.keyword) and node.arg == "protocol_keys":
+            assert not isinstance(node.value, ast.Tuple | ast.List), (study, node.lineno)
+
+
 def test_cli_announces_kernel_compilation_only_when_pending(fake, tmp_path, monkeypatch, capsys):
     # issue 23 item 6: a cold first run was silent for 106 s while numba compiled
     import adcskit.cli as cli

@@ -10,10 +10,22 @@ here, never from the private modules behind it:
 * verdict — :class:`ClaimSpec`, :class:`FindingSpec`, :class:`Claim`, :class:`Finding`,
   :class:`Reading`, :func:`decide`, :func:`tally`, :data:`OUTCOMES` (``_verdict``);
 * results — :class:`Study`, :class:`StudyResult`, :class:`Check`, :class:`Comparison`,
-  :func:`new_figure` (``_base``).
+  :func:`new_figure` (``_base``);
+* config keys — :data:`NEUTRAL`, :func:`protocol` (field metadata of a study's ``Config``),
+  :func:`neutral_keys`, :func:`protocol_keys` (``_base``).
 """
 
-from adcskit.studies._base import Check, Comparison, Study, StudyResult, new_figure
+from adcskit.studies._base import (
+    NEUTRAL,
+    Check,
+    Comparison,
+    Study,
+    StudyResult,
+    neutral_keys,
+    new_figure,
+    protocol,
+    protocol_keys,
+)
 from adcskit.studies._registry import (
     EXPECTED_WALL_S,
     PAPERS,
@@ -36,6 +48,7 @@ from adcskit.studies._verdict import (
 
 __all__ = [
     "EXPECTED_WALL_S",
+    "NEUTRAL",
     "PAPERS",
     "STUDIES",
     "Check",
@@ -51,7 +64,10 @@ __all__ = [
     "StudyResult",
     "get_study",
     "is_available",
+    "neutral_keys",
     "new_figure",
+    "protocol",
+    "protocol_keys",
     "resolve_config",
     "run_study",
     "study_names",

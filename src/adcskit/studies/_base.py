@@ -19,9 +19,89 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from adcskit._results import to_jsonable
+from adcskit.errors import InputError
 from adcskit.studies._verdict import DOES_NOT_HOLD, HOLDS, Claim, Finding
 
-__all__ = ["Check", "Comparison", "Study", "StudyResult", "figure_caption", "new_figure", "to_jsonable"]
+__all__ = ["Check", "Comparison", "NEUTRAL", "Study", "StudyResult", "figure_caption", "neutral_keys", "new_figure",
+           "protocol", "protocol_keys", "to_jsonable"]
+
+#: Field metadata of a config key that only adds evidence or steers the execution
+#: (``n_seeds``, a task size, a cache directory): ``field(default=5, metadata=NEUTRAL)``.
+NEUTRAL = {"neutral": True}
+
+
+def protocol(*tags: str) -> dict[str, tuple[str, ...]]:
+    """Field metadata of a config key that is part of the paper's protocol for ``tags``.
+
+    A tag names a claim, a finding or a group of them (``"design"``, ``"table1"``);
+    :func:`protocol_keys` collects the keys of a tag. Use as
+    ``field(default=0.2, metadata=protocol("accuracy", "sweep"))``.
+
+    Examples
+    --------
+    >>> protocol("accuracy", "sweep")
+    {'protocol': ('accuracy', 'sweep')}
+    """
+    bad = [t for t in tags if not isinstance(t, str) or not t]
+    if not tags or bad:
+        raise InputError(f"protocol tags must be non-empty strings; got {tags!r}")
+    return {"protocol": tuple(tags)}
+
+
+def _config_fields(config_cls: Any) -> tuple:
+    from dataclasses import fields, is_dataclass
+
+    if not is_dataclass(config_cls):
+        raise InputError(f"config_cls must be a config dataclass; got {config_cls!r}")
+    return fields(config_cls)
+
+
+def neutral_keys(config_cls: Any) -> tuple[str, ...]:
+    """The config keys declared neutral (``metadata=NEUTRAL``), in field order.
+
+    A change of a neutral key is recorded in ``config_changes`` but does not by itself make a
+    claim or finding "not comparable".
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass, field
+    >>> @dataclass(frozen=True)
+    ... class Config:
+    ...     n_seeds: int = field(default=5, metadata=NEUTRAL)
+    ...     noise_bound: float = field(default=0.2, metadata=protocol("accuracy"))
+    >>> neutral_keys(Config)
+    ('n_seeds',)
+    """
+    return tuple(f.name for f in _config_fields(config_cls) if f.metadata.get("neutral", False))
+
+
+def protocol_keys(config_cls: Any, *tags: str) -> tuple[str, ...]:
+    """The config keys that define the paper's protocol for any of ``tags``, in field order.
+
+    Without tags: every key that is not neutral. A tag that no field declares is an error (a
+    typo would otherwise make a claim comparable under any change).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass, field
+    >>> @dataclass(frozen=True)
+    ... class Config:
+    ...     n_seeds: int = field(default=5, metadata=NEUTRAL)
+    ...     n_trials: int = field(default=100, metadata=protocol("accuracy"))
+    ...     noise_bound: float = field(default=0.2, metadata=protocol("accuracy", "sweep"))
+    >>> protocol_keys(Config, "sweep"), protocol_keys(Config)
+    (('noise_bound',), ('n_trials', 'noise_bound'))
+    """
+    fs = _config_fields(config_cls)
+    if not tags:
+        return tuple(f.name for f in fs if not f.metadata.get("neutral", False))
+    declared = {t for f in fs for t in f.metadata.get("protocol", ())}
+    unknown = [t for t in tags if t not in declared]
+    if unknown:
+        raise InputError(f"protocol tags {unknown} are declared by no field of {config_cls.__qualname__}; "
+                         f"declared: {sorted(declared)}")
+    return tuple(f.name for f in fs if set(f.metadata.get("protocol", ())) & set(tags))
+
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -190,10 +270,11 @@ class Study:
         Config overrides for ``--quick``.
     doc : str
         Path of the study's documentation page in the repository.
-    neutral_keys : tuple of str
-        Config keys that only add evidence or steer the execution (``n_seeds``, a task size,
-        a cache directory): a change is recorded in ``config_changes`` but does not by itself
-        make a claim or finding with ``protocol_keys=None`` "not comparable".
+
+    Notes
+    -----
+    The config keys that only add evidence or steer the execution are declared on
+    ``config_cls``'s fields (``metadata=NEUTRAL``) and read by :attr:`neutral_keys`.
 
     Examples
     --------
@@ -210,7 +291,11 @@ class Study:
     run: Callable[..., StudyResult]
     quick: Mapping[str, Any] = field(default_factory=dict)
     doc: str = ""
-    neutral_keys: tuple[str, ...] = ("n_seeds",)
+
+    @property
+    def neutral_keys(self) -> tuple[str, ...]:
+        """The config keys declared neutral on :attr:`config_cls` (see :func:`neutral_keys`)."""
+        return neutral_keys(self.config_cls)
 
 
 def figure_caption(fig: Any, name: str = "") -> str:

@@ -68,6 +68,4 @@ STUDY = Study(
     quick={"n_seeds": 2, "n_samples": 48, "layout_pop": 16, "layout_gens": 25, "record_samples": 8,
            "geo_t_final_s": 40.0, "leo_t_final_s": 40.0, "leo_window_s": 20.0, "s4_t_final_s": 20.0},
     doc="docs/studies/closed-loop.md",
-    # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
-    neutral_keys=("n_seeds", "record_samples"),
 )

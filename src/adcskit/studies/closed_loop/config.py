@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from adcskit.config import ConfigError
+from adcskit.studies._base import NEUTRAL
 
 __all__ = ["Config"]
 
@@ -52,7 +53,7 @@ class Config:
         Samples whose time histories are kept for the figures.
     """
 
-    n_seeds: int = 5
+    n_seeds: int = field(default=5, metadata=NEUTRAL)
     n_samples: int = 1000
     geo_dt_s: float = 0.02
     geo_t_final_s: float = 45.0
@@ -70,7 +71,8 @@ class Config:
     command_period_s: float = 0.02
     slew_deg: float = 20.0
     slew_accel_fraction: float = 0.7
-    record_samples: int = 32
+    # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
+    record_samples: int = field(default=32, metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
         if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:

@@ -15,7 +15,7 @@ rather than constants because the quantities name the configured methods and cas
 
 from __future__ import annotations
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.model_estimation.config import FINDING_KEYS, PRIOR_BASELINES, Config
 from adcskit.studies.model_estimation.experiment import Measurements
@@ -23,9 +23,10 @@ from adcskit.studies.model_estimation.paper import PAPER_METHODS, STANDARD, TABL
 
 __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
 
-#: Protocol of the S1 claims (``alpha0`` added where the adaptive variants decide).
-_CLAIM_KEYS = ("n_steps", "dt_s", "cases", "noise_std", "inertia_kgm2", "inertia_error", "model_3dof",
-               "gyroscopic", "step_level_nm")
+#: Protocol of the S1 claims (``alpha0`` added where the adaptive variants decide), declared on
+#: :class:`~.config.Config`'s fields.
+_CLAIM_KEYS = protocol_keys(Config, "claims")
+_ADAPTIVE_KEYS = protocol_keys(Config, "claims", "adaptive")
 _ON = "adaptive-gmres-online"
 
 
@@ -58,7 +59,7 @@ def _adaptive_10x(cfg: Config, m: Measurements) -> Declared | None:
         quantity="min over cases and over both adaptive variants of (best standard-solver error / "
         "adaptive error), one seed; >= 10",
         value=lambda s: min(_best(s, std, c) / max(s.err[a][c], 1e-12) for c in cases for a in adaptive),
-        threshold=10.0, paper=">= 10", readings=_readings(m), protocol_keys=(*_CLAIM_KEYS, "alpha0"),
+        threshold=10.0, paper=">= 10", readings=_readings(m), protocol_keys=_ADAPTIVE_KEYS,
     ), m.per_seed)
 
 
@@ -89,7 +90,7 @@ def _online_most_accurate(cfg: Config, m: Measurements) -> Declared | None:
         quantity="online adaptive GMRES has the smallest final error of S1's seven methods on every case, "
         "one seed",
         held=lambda s: all(s.err[_ON][c] <= _best(s, paper_ms, c) + 1e-12 for c in cases),
-        readings=_readings(m), protocol_keys=(*_CLAIM_KEYS, "alpha0"),
+        readings=_readings(m), protocol_keys=_ADAPTIVE_KEYS,
     ), m.per_seed)
 
 

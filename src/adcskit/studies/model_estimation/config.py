@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field
 from typing import Literal
 
+from adcskit.studies._base import NEUTRAL, protocol, protocol_keys
 from adcskit.studies.model_estimation.paper import CASES
 
 __all__ = ["Config", "METHODS", "PRIOR_BASELINES", "READINGS", "FINDING_KEYS"]
@@ -102,25 +103,25 @@ class Config:
         (``noise_std = noise_std_low``).
     """
 
-    n_seeds: int = 10
-    n_steps: int = 200
-    dt_s: float = 1.0
-    cases: tuple[str, ...] = CASES
+    n_seeds: int = field(default=10, metadata=NEUTRAL)
+    n_steps: int = field(default=200, metadata=protocol("claims"))
+    dt_s: float = field(default=1.0, metadata=protocol("claims"))
+    cases: tuple[str, ...] = field(default=CASES, metadata=protocol("claims"))
     methods: tuple[str, ...] = METHODS
-    noise_std: float = 1.0
+    noise_std: float = field(default=1.0, metadata=protocol("claims"))
     noise_std_low: float = 0.01
-    inertia_kgm2: tuple[float, float, float] = (82.0, 80.0, 4.0)
+    inertia_kgm2: tuple[float, float, float] = field(default=(82.0, 80.0, 4.0), metadata=protocol("claims"))
     altitude_km: float = 500.0
-    inertia_error: float = 0.5
-    model_3dof: Literal["physics", "printed"] = "physics"
-    gyroscopic: Literal["derived", "printed"] = "derived"
+    inertia_error: float = field(default=0.5, metadata=protocol("claims"))
+    model_3dof: Literal["physics", "printed"] = field(default="physics", metadata=protocol("claims"))
+    gyroscopic: Literal["derived", "printed"] = field(default="derived", metadata=protocol("claims"))
     kalman_q: float = 1e-4
     krylov_rtol: float = 1e-8
-    alpha0: float = 0.5
+    alpha0: float = field(default=0.5, metadata=protocol("adaptive"))
     rls_forgetting: float = 0.99
     rls_delta: float = 100.0
     ridge_rule: Literal["gcv", "discrepancy"] = "gcv"
-    step_level_nm: float = 1.0
+    step_level_nm: float = field(default=1.0, metadata=protocol("claims"))
     sine_amplitude_nm: float = 1.0
     sine_omega_rad_s: tuple[float, float, float] = (0.05, 0.08, 0.13)
     ekf_q_param: float = 1e-6
@@ -170,4 +171,4 @@ class Config:
 #: Protocol of our findings (the doc page's answers): every key but ``n_seeds``, which only adds
 #: evidence. A finding compares estimators on the documented scenario, so a changed estimator
 #: setting, case list or reading changes the question.
-FINDING_KEYS = tuple(f.name for f in fields(Config) if f.name != "n_seeds")
+FINDING_KEYS = protocol_keys(Config)

@@ -13,24 +13,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from adcskit.studies._base import Check
-from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec
+from adcskit.studies._base import Check, protocol_keys
+from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec, decide_declared
 from adcskit.studies.onoff_tuning.config import Config
 from adcskit.studies.onoff_tuning.experiment import Measurements
 from adcskit.studies.onoff_tuning.paper import CASES, CLAIM_FIGURES
 
-__all__ = ["PROTOCOL_KEYS", "R_T4", "R_PEN", "claims", "findings", "checks"]
+__all__ = ["CHECKS", "PROTOCOL_KEYS", "R_T4", "R_PEN", "claims", "findings", "checks"]
 
 #: reading: S4's own Table 4 gains as the deterministic reference
 R_T4 = "deterministic = S4 Table 4 gains"
 #: readings of the overshoot penalty (S4 prints none)
 R_PEN = {"mean": "penalty on E[overshoot]", "sample": "penalty per sample"}
 #: config keys that define S4's protocol for every claim
-PROTOCOL_KEYS = (
-    "ga_pop", "ga_max_gen", "ga_tol_deg", "ga_window", "n_lhs", "n_mc", "penalty_weight_deg_per_pct", "penalty_readings",
-    "overshoot_max_pct", "nsga_pop", "nsga_gen", "paper_scale", "u_on", "off_ratio", "inertia_kgm2", "torque_nm",
-    "delay_s", "disturbance_nm", "tau_thruster_s", "tau_deriv_s", "step_deg", "command_rate_hz", "dt_s", "t_final_s",
-    "t_window_s", "std_inertia_kgm2", "std_torque_nm", "std_disturbance_nm", "std_delay_s")
+PROTOCOL_KEYS = protocol_keys(Config, "s4-loop", "tuning")
 #: per case: (quantity, side, the paper's words) of the two robust-vs-deterministic claims
 _ROBUST_CLAIMS = (("std", "below", "a lower standard deviation"), ("mean", "above", "a (slightly) higher mean"))
 
@@ -80,7 +76,7 @@ def claims(config: Config, m: Measurements) -> list[Claim]:
             where="§5, Figs. 20-21",
             quantity=f"per seed, the smallest ratio {rates[0]:g} Hz / {rates[-1]:g} Hz over (mean, std) x "
                      f"(deterministic, robust gains), all four uncertainties, {config.n_mc_rate} runs; holds above 1",
-            value=_r, threshold=1.0, better="above", unit="-", protocol_keys=PROTOCOL_KEYS + ("command_rates_hz",),
+            value=_r, threshold=1.0, better="above", unit="-", protocol_keys=protocol_keys(Config, "s4-loop", "tuning", "command-rates"),
             describe=lambda r: "smallest ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
         ).evaluate({"default": [{"r": so.rate.ratio_min} for so in m.seeds]}))
     return out
@@ -114,33 +110,48 @@ def findings(config: Config, m: Measurements) -> list[Finding]:
     return out
 
 
-def checks(config: Config, m: Measurements) -> list[Check]:
-    """Our consistency checks: one gain-order reading is feasible, the front is feasible and
-    trades error against fuel, every seed trained on its own draw."""
-    feasible, order, pareto = m.feasible, m.consistent_order, m.pareto
+def _gain_order_feasible(config: Config, m: Measurements) -> Check:
+    feasible, order = m.feasible, m.consistent_order
     n_entries = len(m.order_rows) // 2
+    return Check(
+        name="printed gain order: exactly one reading of Tables 4 and 6 meets the 10 % overshoot constraint",
+        passed=feasible[order] == n_entries and min(feasible.values()) < n_entries,
+        detail=f"feasible entries (of {n_entries}): (K_p, K_d, K_i) {feasible['kp_kd_ki']}, "
+        f"(K_p, K_i, K_d) {feasible['kp_ki_kd']}; consistent reading: {order}",
+        kind="check",
+    )
+
+
+def _pareto_feasible(config: Config, m: Measurements) -> Check:
+    pareto = m.pareto
+    return Check(
+        name="Pareto front is feasible (overshoot ≤ 10 %) and trades error against fuel",
+        passed=bool(pareto.success and np.all(pareto.overshoot_pct <= config.overshoot_max_pct + 1e-9)
+                    and pareto.F[0, 1] >= pareto.F[-1, 1]),
+        detail=f"{pareto.x.shape[0]} points; error {pareto.F[0, 0]:.4f}..{pareto.F[-1, 0]:.4f}°, "
+        f"fuel {pareto.F[:, 1].min():.2f}..{pareto.F[:, 1].max():.2f} N m s" if pareto.success else pareto.message,
+        kind="check",
+    )
+
+
+def _independent_training(config: Config, m: Measurements) -> Check:
     alls = m.case_flats("all")
-    return [
-        Check(
-            name="printed gain order: exactly one reading of Tables 4 and 6 meets the 10 % overshoot constraint",
-            passed=feasible[order] == n_entries and min(feasible.values()) < n_entries,
-            detail=f"feasible entries (of {n_entries}): (K_p, K_d, K_i) {feasible['kp_kd_ki']}, "
-            f"(K_p, K_i, K_d) {feasible['kp_ki_kd']}; consistent reading: {order}",
-            kind="check",
-        ),
-        Check(
-            name="Pareto front is feasible (overshoot ≤ 10 %) and trades error against fuel",
-            passed=bool(pareto.success and np.all(pareto.overshoot_pct <= config.overshoot_max_pct + 1e-9)
-                        and pareto.F[0, 1] >= pareto.F[-1, 1]),
-            detail=f"{pareto.x.shape[0]} points; error {pareto.F[0, 0]:.4f}..{pareto.F[-1, 0]:.4f}°, "
-            f"fuel {pareto.F[:, 1].min():.2f}..{pareto.F[:, 1].max():.2f} N m s" if pareto.success else pareto.message,
-            kind="check",
-        ),
-        Check(
-            name="every seed's GA trained on its own LHS draw (independent training samples)",
-            passed=len({tuple(np.round(c["gains_robust"], 9)) for c in alls}) == config.n_seeds,
-            detail="distinct robust 'all four' gains per seed: "
-                   + "; ".join(str(np.round(c["gains_robust"], 3).tolist()) for c in alls),
-            kind="check",
-        ),
-    ]
+    return Check(
+        name="every seed's GA trained on its own LHS draw (independent training samples)",
+        passed=len({tuple(np.round(c["gains_robust"], 9)) for c in alls}) == config.n_seeds,
+        detail="distinct robust 'all four' gains per seed: "
+               + "; ".join(str(np.round(c["gains_robust"], 3).tolist()) for c in alls),
+        kind="check",
+    )
+
+
+#: Our consistency checks, in report order: one gain-order reading is feasible, the front is
+#: feasible and trades error against fuel, every seed trained on its own draw. Each is a factory
+#: ``(config, measurements) -> Check`` decided by :func:`checks` (the framework's
+#: ``decide_declared``, as in every study).
+CHECKS = (_gain_order_feasible, _pareto_feasible, _independent_training)
+
+
+def checks(config: Config, m: Measurements) -> list[Check]:
+    """Our consistency checks (:data:`CHECKS`), decided in order."""
+    return decide_declared(CHECKS, config, m)

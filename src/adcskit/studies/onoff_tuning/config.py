@@ -7,9 +7,10 @@ S4, Tables 3, 5 and 6; §4 (GA settings).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
+from adcskit.studies._base import NEUTRAL, protocol
 from adcskit.studies._s4 import S4Loop
 from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian
 
@@ -137,23 +138,23 @@ class Config(S4Loop):
     """
 
     # loop: S4 Table 3, the 13 keys of S4Loop (first, in its order)
-    overshoot_max_pct: float = 10.0
+    overshoot_max_pct: float = field(default=10.0, metadata=protocol("tuning"))
     gain_max: float = 100.0
     # uncertainty (S4 Table 5)
-    std_inertia_kgm2: float = 2.0
-    std_torque_nm: float = 0.2
-    std_disturbance_nm: float = 0.05
-    std_delay_s: float = 0.01
+    std_inertia_kgm2: float = field(default=2.0, metadata=protocol("tuning"))
+    std_torque_nm: float = field(default=0.2, metadata=protocol("tuning"))
+    std_disturbance_nm: float = field(default=0.05, metadata=protocol("tuning"))
+    std_delay_s: float = field(default=0.01, metadata=protocol("tuning"))
     # deterministic NSGA-II (S4 prints no population/generations)
-    nsga_pop: int = 60
-    nsga_gen: int = 60
+    nsga_pop: int = field(default=60, metadata=protocol("tuning"))
+    nsga_gen: int = field(default=60, metadata=protocol("tuning"))
     # robust GA (S4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10)
-    ga_pop: int = 70
-    ga_max_gen: int = 30
-    ga_tol_deg: float = 1e-7
-    ga_window: int = 10
-    n_lhs: int = 40
-    penalty_weight_deg_per_pct: float = 1.0
+    ga_pop: int = field(default=70, metadata=protocol("tuning"))
+    ga_max_gen: int = field(default=30, metadata=protocol("tuning"))
+    ga_tol_deg: float = field(default=1e-7, metadata=protocol("tuning"))
+    ga_window: int = field(default=10, metadata=protocol("tuning"))
+    n_lhs: int = field(default=40, metadata=protocol("tuning"))
+    penalty_weight_deg_per_pct: float = field(default=1.0, metadata=protocol("tuning"))
     ratio_inertia: float = 25.0
     ratio_thrust: float = 22.0
     ratio_disturbance: float = 15.0
@@ -167,19 +168,22 @@ class Config(S4Loop):
     sweep_cases_n_lhs: int = 20
     n_mc_ratio_cases: int = 1000
     # evaluation
-    n_mc: int = 2000
+    n_mc: int = field(default=2000, metadata=protocol("tuning"))
     std_factors: tuple[float, ...] = (0.25, 0.5, 1.0, 1.5, 2.0)
     n_mc_sweep: int = 1000
-    command_rates_hz: tuple[float, ...] = (50.0, 200.0, 1000.0)
+    command_rates_hz: tuple[float, ...] = field(default=(50.0, 200.0, 1000.0), metadata=protocol("command-rates"))
     n_mc_rate: int = 1000
     n_mc_order: int = 1000
-    task_size: int = 1000
-    campaign_dir: str = ""
+    # execution only (NEUTRAL): the campaigns draw their samples once and tasks carry index ranges, so
+    # task_size and campaign_dir leave every number unchanged; backend changes where the kernel
+    # runs (CUDA: continuous metrics within ~1e-9 relative, identical firings), not the protocol
+    task_size: int = field(default=1000, metadata=NEUTRAL)
+    campaign_dir: str = field(default="", metadata=NEUTRAL)
     # verdicts: independent repetitions of the whole pipeline, readings, paper-scale setting
-    n_seeds: int = 5
-    penalty_readings: tuple[str, ...] = ("sample", "mean")
-    paper_scale: bool = False
-    backend: str = "cpu"
+    n_seeds: int = field(default=5, metadata=NEUTRAL)
+    penalty_readings: tuple[str, ...] = field(default=("sample", "mean"), metadata=protocol("tuning"))
+    paper_scale: bool = field(default=False, metadata=protocol("tuning"))
+    backend: str = field(default="cpu", metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
         super().__post_init__()  # the S4 Table 3 loop keys

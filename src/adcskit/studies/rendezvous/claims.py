@@ -25,13 +25,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from adcskit.studies._base import Check
-from adcskit.studies._verdict import ClaimSpec, FindingSpec
+from adcskit.studies._base import Check, protocol_keys
+from adcskit.studies._verdict import ClaimSpec, FindingSpec, decide_declared
 from adcskit.studies.rendezvous.config import Config
 from adcskit.studies.rendezvous.experiment import Experiment, ReadingMeasure, identify, match_tol
 from adcskit.studies.rendezvous.paper import GPM_DECIMALS, GPOPS_DECIMALS, PAPER_ROWS, READING_NAMES
 
-__all__ = ["claim_specs", "finding_specs", "check_list"]
+__all__ = ["CHECKS", "claim_specs", "finding_specs", "check_list"]
 
 _DIGITS, _OPTIMUM = "printed digits", "same optimum"
 
@@ -79,7 +79,7 @@ def _tf_claim(cid: str, statement: str, where: str, i: int, cfg: Config, reading
         paper=value,
         stochastic=False,
         readings=readings,
-        protocol_keys=("rows_m", "method", "paper_mesh", "readings", "n_starts", "match_atol_s"),
+        protocol_keys=protocol_keys(Config, "claims", "multistart", "final-time"),
     )
 
 
@@ -101,7 +101,7 @@ def _tf_detail(meas: dict[str, ReadingMeasure], i: int, cfg: Config) -> str:
 
 def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) -> list[ClaimSpec]:
     """The main scenario's claims (S2 Sec. 6): tf, bang-bang, H = -1."""
-    proto = ("rows_m", "method", "paper_mesh", "readings")
+    proto = protocol_keys(Config, "claims")
     return [
         _tf_claim(
             "tf_main",
@@ -144,7 +144,7 @@ def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) ->
 def _gpops_specs(cfg: Config, rd: tuple[str, ...]) -> list[ClaimSpec]:
     """The claims on the GPOPS column (S2 Sec. 7-8), decidable only with all five rows."""
     same = cfg.same_rtol
-    proto = ("rows_m", "method", "paper_mesh", "readings", "n_starts")
+    proto = protocol_keys(Config, "claims", "multistart")
     return [
         ClaimSpec(
             id="agrees_with_gpops",
@@ -399,9 +399,45 @@ def _reading_checks(m: ReadingMeasure, reading: str, cfg: Config) -> list[Check]
     return out
 
 
+def _per_reading_checks(cfg: Config, exp: Experiment) -> list[Check]:
+    return [c for reading in cfg.readings for c in _reading_checks(exp.readings[reading], reading, cfg)]
+
+
+def _tf_main_tolerance(cfg: Config, exp: Experiment) -> Check | None:
+    mm = exp.readings[cfg.readings[0]].main
+    if mm is None or 0 not in exp.rows_present:
+        return None
+    d = abs(mm.tf_paper_mesh_s - mm.tf_converged_s)
+    tol0 = match_tol(GPM_DECIMALS, cfg)
+    return Check(
+        name="The tf_main tolerance separates the 20x3 value from the mesh-converged one",
+        passed=d > 2 * tol0,
+        detail=f"20x3 {mm.tf_paper_mesh_s:.6f} s vs converged {mm.tf_converged_s:.6f} s: "
+        f"{d:.2e} s apart; claim tolerance {tol0:.1e} s",
+        kind="check",
+    )
+
+
+def _resimulation_reaches_target(cfg: Config, exp: Experiment) -> Check:
+    misses = exp.terminal_misses
+    return Check(
+        name="Open-loop re-simulation (solve_ivp DOP853) of each row's best converged solution reaches "
+        "the final state",
+        passed=bool(misses) and max(misses) < 0.05,
+        detail=f"max terminal miss over rows {max(misses) if misses else float('nan'):.3g} state scales "
+        "(pass < 0.05; controls interpolated by the LG Lagrange polynomials)",
+        kind="check",
+    )
+
+
+#: Our consistency checks, in report order: factories ``(config, experiment) -> Check | list |
+#: None`` decided by the framework's ``decide_declared`` (as in every study).
+CHECKS = (_per_reading_checks, _tf_main_tolerance, _resimulation_reaches_target)
+
+
 def check_list(exp: Experiment, cfg: Config) -> list[Check]:
-    """Our consistency checks of one run: per reading (:func:`_reading_checks`), the tf_main
-    tolerance, and the open-loop re-simulation of every row's best converged solution.
+    """Our consistency checks of one run (:data:`CHECKS`): per reading (:func:`_reading_checks`),
+    the tf_main tolerance, and the open-loop re-simulation of every row's best converged solution.
 
     Examples
     --------
@@ -409,29 +445,4 @@ def check_list(exp: Experiment, cfg: Config) -> list[Check]:
     >>> [c.passed for c in check_list(_example_experiment(), Config(readings=("paper",)))]
     [True, True, True, True]
     """
-    checks = [c for reading in cfg.readings for c in _reading_checks(exp.readings[reading], reading, cfg)]
-    mm = exp.readings[cfg.readings[0]].main
-    if mm is not None and 0 in exp.rows_present:
-        d = abs(mm.tf_paper_mesh_s - mm.tf_converged_s)
-        tol0 = match_tol(GPM_DECIMALS, cfg)
-        checks.append(
-            Check(
-                name="The tf_main tolerance separates the 20x3 value from the mesh-converged one",
-                passed=d > 2 * tol0,
-                detail=f"20x3 {mm.tf_paper_mesh_s:.6f} s vs converged {mm.tf_converged_s:.6f} s: "
-                f"{d:.2e} s apart; claim tolerance {tol0:.1e} s",
-                kind="check",
-            )
-        )
-    misses = exp.terminal_misses
-    checks.append(
-        Check(
-            name="Open-loop re-simulation (solve_ivp DOP853) of each row's best converged solution reaches "
-            "the final state",
-            passed=bool(misses) and max(misses) < 0.05,
-            detail=f"max terminal miss over rows {max(misses) if misses else float('nan'):.3g} state scales "
-            "(pass < 0.05; controls interpolated by the LG Lagrange polynomials)",
-            kind="check",
-        )
-    )
-    return checks
+    return decide_declared(CHECKS, cfg, exp)

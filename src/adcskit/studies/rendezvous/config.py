@@ -8,8 +8,9 @@ S2 Sec. 6 (20 sub-intervals x 3 LG points) and Table 4 (initial positions).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from adcskit.studies._base import protocol
 from adcskit.studies.rendezvous.paper import PAPER_ROWS, READING_NAMES
 
 __all__ = ["Config"]
@@ -59,17 +60,17 @@ class Config:
         this (s): the solver's accuracy on ``tf`` (re-solves agree to ~1e-6 s).
     """
 
-    rows_m: tuple[tuple[float, float, float], ...] = tuple(r[0] for r in PAPER_ROWS)
-    readings: tuple[str, ...] = ("paper", "full")
-    method: str = "gauss"
-    paper_mesh: tuple[int, int] = (20, 3)
+    rows_m: tuple[tuple[float, float, float], ...] = field(default=tuple(r[0] for r in PAPER_ROWS), metadata=protocol("claims"))
+    readings: tuple[str, ...] = field(default=("paper", "full"), metadata=protocol("claims"))
+    method: str = field(default="gauss", metadata=protocol("claims"))
+    paper_mesh: tuple[int, int] = field(default=(20, 3), metadata=protocol("claims"))
     adaptive_tol: float = 1e-3
     adaptive_max_iterations: int = 7
     other_readings_start: str = "refined_mesh"
     jump_factor: float = 1.0
-    n_starts: int = 16
+    n_starts: int = field(default=16, metadata=protocol("multistart"))
     distinct_rtol: float = 1e-4
-    match_atol_s: float = 1e-5
+    match_atol_s: float = field(default=1e-5, metadata=protocol("final-time"))
 
     def __post_init__(self) -> None:
         if not self.rows_m:

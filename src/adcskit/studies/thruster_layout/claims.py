@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.thruster_layout.config import Config
 from adcskit.studies.thruster_layout.experiment import FUEL_DEFAULT, Measurements
@@ -30,8 +30,6 @@ from adcskit.studies.thruster_layout.paper import PAPER
 
 __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
 
-#: Config keys S3's design protocol fixes (the fuel, accuracy and Table 8 claims add theirs).
-_DESIGN_KEYS = ("n_thrusters", "algorithms", "n_gen", "pop_size", "weights")
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,8 +70,7 @@ def _de_more_accurate(cfg: Config, m: Measurements) -> Declared | None:
         quantity="per seed, the largest DE/GA ratio of F_best over n in "
                  f"{list(cfg.n_thrusters)}; holds below 1 (DE lower at every n)",
         value=lambda r: r.value, threshold=1.0, better="below", unit="-",
-        protocol_keys=(*_DESIGN_KEYS, "de_strategy", "de_F", "de_CR", "correction_deg", "faces", "max_cant_deg",
-                       "f_max_n", "t_min_s", "t_s_s", "gain_nm_per_rad", "box_half_size_m"),
+        protocol_keys=protocol_keys(Config, "de-more-accurate"),
         describe=_per_seed("DE/GA F_best ratio (worst n) per seed: "),
     ), {"default": _ratios(cfg, m, "f_best", cfg.n_thrusters)})
 
@@ -88,7 +85,7 @@ def _de_faster(cfg: Config, m: Measurements) -> Declared | None:
         quantity="per seed, the largest DE/GA ratio of CPU time per optimisation over n (equal "
                  f"evaluations: {cfg.n_gen} generations x {cfg.pop_size}); holds below 1",
         value=lambda r: r.value, threshold=1.0, better="below", unit="-",
-        protocol_keys=("n_thrusters", "algorithms", "n_gen", "pop_size"),
+        protocol_keys=protocol_keys(Config, "de-faster"),
         describe=lambda r: "DE/GA CPU-time ratio (worst n) per seed: " + ", ".join(f"{v:.2f}" for v in r.values)
         + " (same number of evaluations: the difference is pymoo's per-generation overhead)",
     ), {"default": _ratios(cfg, m, "cpu_s", cfg.n_thrusters)})
@@ -107,7 +104,7 @@ def _six_thrusters_best(cfg: Config, m: Measurements) -> Declared | None:
         quantity="per seed and algorithm, F_best(6) / min over the other n of F_best; the largest over "
                  "the algorithms; holds below 1",
         value=lambda r: r.value, threshold=1.0, better="below", unit="-",
-        protocol_keys=(*_DESIGN_KEYS, "correction_deg"),
+        protocol_keys=protocol_keys(Config, "six-thrusters-best"),
         describe=_per_seed("F_best(6)/best other n per seed: "),
     ), {"default": runs})
 
@@ -128,7 +125,7 @@ def _optimal_layout_less_fuel(cfg: Config, m: Measurements) -> Declared | None:
         value=lambda r: r.ratio, threshold=1.0, better="below",
         held=lambda r: r.opt_error_nm <= r.ref_error_nm + 1e-6, unit="-",
         readings=tuple(k for k in runs if k != FUEL_DEFAULT),
-        protocol_keys=(*_DESIGN_KEYS, "correction_deg", "n_fuel_demands", "faces", "max_cant_deg"),
+        protocol_keys=protocol_keys(Config, "optimal-layout-less-fuel"),
         describe=lambda r: "optimal/reference on-time per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
     ), runs, FUEL_DEFAULT)
 
@@ -145,8 +142,7 @@ def _table8_e_min(cfg: Config, m: Measurements) -> Declared | None:
                  f"below {cfg.e_min_tolerance:g}",
         value=lambda r: r.rel_dev, threshold=cfg.e_min_tolerance, better="below", unit="-",
         paper=PAPER["table8_e_min_rad"], readings=tuple(cfg.e_min_readings[1:]),
-        protocol_keys=(*_DESIGN_KEYS, "f_max_n", "t_min_s", "t_s_s", "gain_nm_per_rad", "box_half_size_m",
-                       "e_min_tolerance"),
+        protocol_keys=protocol_keys(Config, "table8-e-min"),
         describe=lambda r: "largest relative deviation per seed: " + ", ".join(f"{v:.2f}" for v in r.values),
     ), m.e_min, cfg.e_min_readings[0])
 

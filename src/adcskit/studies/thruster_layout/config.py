@@ -9,7 +9,9 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from adcskit.studies._base import NEUTRAL, protocol
 
 __all__ = ["Config", "parse_de"]
 
@@ -78,30 +80,30 @@ class Config:
         (Table 8 prints two significant digits; 0.1 is generous).
     """
 
-    n_thrusters: tuple[int, ...] = (4, 6, 8, 12)
-    algorithms: tuple[str, ...] = ("ga", "de")
-    n_seeds: int = 5
-    n_gen: int = 400
-    pop_size: int = 50
-    box_half_size_m: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    n_thrusters: tuple[int, ...] = field(default=(4, 6, 8, 12), metadata=protocol("de-more-accurate", "de-faster", "six-thrusters-best", "optimal-layout-less-fuel", "table8-e-min"))
+    algorithms: tuple[str, ...] = field(default=("ga", "de"), metadata=protocol("de-more-accurate", "de-faster", "six-thrusters-best", "optimal-layout-less-fuel", "table8-e-min"))
+    n_seeds: int = field(default=5, metadata=NEUTRAL)
+    n_gen: int = field(default=400, metadata=protocol("de-more-accurate", "de-faster", "six-thrusters-best", "optimal-layout-less-fuel", "table8-e-min"))
+    pop_size: int = field(default=50, metadata=protocol("de-more-accurate", "de-faster", "six-thrusters-best", "optimal-layout-less-fuel", "table8-e-min"))
+    box_half_size_m: tuple[float, float, float] = field(default=(1.0, 1.0, 1.0), metadata=protocol("de-more-accurate", "table8-e-min"))
     inertia_kgm2: tuple[float, float, float] = (1218.6, 442.2, 1429.4)
-    f_max_n: float = 10.0
-    t_min_s: float = 3e-3
+    f_max_n: float = field(default=10.0, metadata=protocol("de-more-accurate", "table8-e-min"))
+    t_min_s: float = field(default=3e-3, metadata=protocol("de-more-accurate", "table8-e-min"))
     mdot_kg_s: float = 3.5e-3
-    t_s_s: float = 0.2
-    gain_nm_per_rad: float = 600.0
-    weights: tuple[float, float, float] = (100.0, -99.0, 12.0)
-    correction_deg: float = 0.5
-    faces: tuple[str, ...] = _FACE_NAMES
-    max_cant_deg: float = 90.0
-    de_strategy: str = "current-to-best/1/bin"
-    de_F: float = 0.8
-    de_CR: float = 0.9
+    t_s_s: float = field(default=0.2, metadata=protocol("de-more-accurate", "table8-e-min"))
+    gain_nm_per_rad: float = field(default=600.0, metadata=protocol("de-more-accurate", "table8-e-min"))
+    weights: tuple[float, float, float] = field(default=(100.0, -99.0, 12.0), metadata=protocol("de-more-accurate", "six-thrusters-best", "optimal-layout-less-fuel", "table8-e-min"))
+    correction_deg: float = field(default=0.5, metadata=protocol("de-more-accurate", "six-thrusters-best", "optimal-layout-less-fuel"))
+    faces: tuple[str, ...] = field(default=_FACE_NAMES, metadata=protocol("de-more-accurate", "optimal-layout-less-fuel"))
+    max_cant_deg: float = field(default=90.0, metadata=protocol("de-more-accurate", "optimal-layout-less-fuel"))
+    de_strategy: str = field(default="current-to-best/1/bin", metadata=protocol("de-more-accurate"))
+    de_F: float = field(default=0.8, metadata=protocol("de-more-accurate"))
+    de_CR: float = field(default=0.9, metadata=protocol("de-more-accurate"))
     n_random_layouts: int = 200
     de_sensitivity: tuple[str, ...] = ("rand/1/bin:0.5:0.9", "current-to-best/1/bin:0.5:0.2")
-    n_fuel_demands: int = 200
+    n_fuel_demands: int = field(default=200, metadata=protocol("optimal-layout-less-fuel"))
     e_min_readings: tuple[str, ...] = ("single thruster", "paired couple")
-    e_min_tolerance: float = 0.1
+    e_min_tolerance: float = field(default=0.1, metadata=protocol("table8-e-min"))
 
     def __post_init__(self) -> None:
         from adcskit.errors import ConfigError

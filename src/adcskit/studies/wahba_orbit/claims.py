@@ -11,15 +11,16 @@ statements, in report order, as in ``thruster_layout.claims``. Each takes the co
 
 A factory returns a list (possibly empty) because the findings are one per configured case
 and solver. S0's one claim is module data (:data:`CLAIM`); its readings are the configured
-weightings. Protocol keys are hand-listed tuples (:data:`CLAIM_KEYS`, :data:`FINDING_KEYS`,
-:data:`NSGA2_KEYS`), which is what the runner reads today.
+weightings. Protocol keys are declared on :class:`~.config.Config`'s fields (tags ``claim``,
+``finding``, ``nsga2``); :data:`CLAIM_KEYS`, :data:`FINDING_KEYS` and :data:`NSGA2_KEYS` are read
+from them.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.wahba_orbit.config import Config
 from adcskit.studies.wahba_orbit.experiment import Measurements
@@ -28,14 +29,12 @@ __all__ = ["CHECKS", "CLAIM", "CLAIMS", "CLAIM_KEYS", "FINDINGS", "FINDING_KEYS"
            "evaluate"]
 
 #: Config keys S0's protocol fixes for its claim.
-CLAIM_KEYS = ("altitude_km", "inclination_deg", "raan_deg", "duration_s", "inertia_kgm2", "euler0_deg",
-              "sun_bound_deg", "mag_bound_deg", "cases", "weighting", "gravity_gradient")
+CLAIM_KEYS = protocol_keys(Config, "claim")
 #: Keys that define the scenario of our findings (the doc page's answers); ``n_seeds`` only adds
 #: evidence and ``cases`` only selects which findings run, so neither makes one not comparable.
-FINDING_KEYS = ("altitude_km", "inclination_deg", "raan_deg", "duration_s", "dt_s", "inertia_kgm2", "euler0_deg",
-                "gravity_gradient", "sun_bound_deg", "mag_bound_deg", "weighting", "epoch")
+FINDING_KEYS = protocol_keys(Config, "finding")
 #: Keys that also fix the NSGA-II findings.
-NSGA2_KEYS = ("nsga2_every", "pop_size", "n_gen")
+NSGA2_KEYS = protocol_keys(Config, "nsga2")
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +79,7 @@ def _solver_variants(cfg: Config, m: Measurements) -> list[Declared]:
                     f" on the NSGA-II samples (every {cfg.nsga2_every}th)" if meth == "nsga2-knee" else "")
                 + "; > 0.5",
                 value=lambda r: r.value, threshold=0.5, unit="fraction",
-                protocol_keys=FINDING_KEYS + (NSGA2_KEYS if meth == "nsga2-knee" else ()),
+                protocol_keys=protocol_keys(Config, "finding", *(("nsga2",) if meth == "nsga2-knee" else ())),
             )
             out.append(Declared(spec, {"default": [_Value(o.reduction(meth)) for o in m.by[(case, cfg.weighting)]]}))
     return out

@@ -5,7 +5,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from adcskit.studies._base import NEUTRAL, protocol
 
 __all__ = ["CASES", "Config"]
 
@@ -58,24 +60,24 @@ class Config:
         NSGA-II settings.
     """
 
-    altitude_km: float = 800.0
-    inclination_deg: float = 75.0
-    raan_deg: float = 0.0
-    duration_s: float = 1200.0
-    dt_s: float = 10.0
-    inertia_kgm2: tuple[float, float, float] = (80.0, 80.0, 4.0)
-    euler0_deg: tuple[float, float, float] = (0.0, 0.0, 5.0)
-    gravity_gradient: bool = True
-    sun_bound_deg: float = 0.005
-    mag_bound_deg: float = 0.5
-    weighting: str = "equal"
-    cases: tuple[str, ...] = CASES
-    epoch: str = "2024-03-20T12:00:00"
-    n_seeds: int = 5
+    altitude_km: float = field(default=800.0, metadata=protocol("claim", "finding"))
+    inclination_deg: float = field(default=75.0, metadata=protocol("claim", "finding"))
+    raan_deg: float = field(default=0.0, metadata=protocol("claim", "finding"))
+    duration_s: float = field(default=1200.0, metadata=protocol("claim", "finding"))
+    dt_s: float = field(default=10.0, metadata=protocol("finding"))
+    inertia_kgm2: tuple[float, float, float] = field(default=(80.0, 80.0, 4.0), metadata=protocol("claim", "finding"))
+    euler0_deg: tuple[float, float, float] = field(default=(0.0, 0.0, 5.0), metadata=protocol("claim", "finding"))
+    gravity_gradient: bool = field(default=True, metadata=protocol("claim", "finding"))
+    sun_bound_deg: float = field(default=0.005, metadata=protocol("claim", "finding"))
+    mag_bound_deg: float = field(default=0.5, metadata=protocol("claim", "finding"))
+    weighting: str = field(default="equal", metadata=protocol("claim", "finding"))
+    cases: tuple[str, ...] = field(default=CASES, metadata=protocol("claim"))
+    epoch: str = field(default="2024-03-20T12:00:00", metadata=protocol("finding"))
+    n_seeds: int = field(default=5, metadata=NEUTRAL)
     readings_weighting: tuple[str, ...] = ("equal", "inverse-variance")
-    nsga2_every: int = 6
-    pop_size: int = 40
-    n_gen: int = 40
+    nsga2_every: int = field(default=6, metadata=protocol("nsga2"))
+    pop_size: int = field(default=40, metadata=protocol("nsga2"))
+    n_gen: int = field(default=40, metadata=protocol("nsga2"))
 
     def __post_init__(self) -> None:
         from adcskit.errors import ConfigError

@@ -21,6 +21,7 @@ from dataclasses import asdict
 from typing import Any
 
 from adcskit.studies._base import Study, StudyResult
+from adcskit.studies._verdict import decide_declared
 from adcskit.studies.wahba_table1 import claims, figures, report
 from adcskit.studies.wahba_table1.config import Config
 from adcskit.studies.wahba_table1.experiment import (
@@ -61,7 +62,7 @@ def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any =
         config=asdict(cfg),
         paper=PAPER,
         measured=report.measured(cfg, m),
-        checks=[check(cfg, m) for check in claims.CHECKS],
+        checks=decide_declared(claims.CHECKS, cfg, m),
         claims=decided_claims,
         findings=claims.evaluate(claims.FINDINGS, m),
         comparison=report.comparison(cfg, m),

@@ -4,8 +4,8 @@
 data, each reading one :class:`~.experiment.Replica` per seed; :func:`evaluate` hands them to
 :meth:`ClaimSpec.evaluate`, which decides the outcome. A claim with readings reads the
 :class:`~.experiment.Replica` field that :data:`READING_FIELDS` names for each reading.
-:data:`CHECKS` are small functions ``(config, measurements) -> Check``: the framework has no
-check spec to declare them as data. "Holds" for a claim means the measured factor reaches at
+:data:`CHECKS` are small factories ``(config, measurements) -> Check``, decided in order by the
+framework's ``decide_declared`` (the checks' declaration in every study). "Holds" for a claim means the measured factor reaches at
 least half the paper's factor.
 
 Examples
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec
 from adcskit.studies.wahba_table1.config import Config
 from adcskit.studies.wahba_table1.experiment import Measurements
@@ -39,7 +39,7 @@ CLAIMS = (
         where="S0 abstract; Table 1 (15.1352 vs 2.2025 deg)",
         quantity="mean δθ q-method / mean δθ min-max over one replica's trials (>= 3.5: half the claimed factor)",
         value=lambda m: m.err_ratio, threshold=3.5, paper=round(paper_ratio("q-method", "minmax", "mean_deg"), 3),
-        protocol_keys=("noise_bound", "search_range", "n_trials"),
+        protocol_keys=protocol_keys(Config, "error-7x"),
     ),
     ClaimSpec(
         id="nsga2-error",
@@ -49,7 +49,7 @@ CLAIMS = (
         "attitude) on the same trials (>= 13: half the table's factor)",
         value=lambda m: m.nsga_truth_ratio, threshold=13.0,
         paper=round(paper_ratio("q-method", "nsga2-truth-pick", "mean_deg"), 3),
-        protocol_keys=("noise_bound", "search_range", "pop_size", "n_gen"),
+        protocol_keys=protocol_keys(Config, "nsga2-error"),
     ),
     ClaimSpec(
         id="sensitivity-200x",
@@ -59,7 +59,7 @@ CLAIMS = (
         "mean δθ vs noise bound over the sweep (slope reading); >= 100 (half the claimed factor)",
         value=float, threshold=100.0, paper=round(paper_ratio("q-method", "minmax", "var_deg2"), 1),
         readings=("variance ratio", "slope ratio"),
-        protocol_keys=("noise_bound", "search_range", "sweep_bounds", "n_trials"),
+        protocol_keys=protocol_keys(Config, "sensitivity-200x"),
     ),
     ClaimSpec(
         id="speed-600x",
@@ -70,7 +70,7 @@ CLAIMS = (
         "(q, α, β, γ) from TRIAD, the paper's kind of solver), same trials and machine; >= 300 (half of 600)",
         value=lambda m: m.speed_ratio, threshold=300.0,
         paper=round(paper_ratio("nsga2-truth-pick", "minmax", "runtime_s"), 1),
-        protocol_keys=("pop_size", "n_gen", "search_range"),
+        protocol_keys=protocol_keys(Config, "speed-600x"),
     ),
 )
 

@@ -9,7 +9,9 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from adcskit.studies._base import NEUTRAL, protocol
 
 __all__ = ["Config"]
 
@@ -39,14 +41,14 @@ class Config:
         Trials per sweep point and replica.
     """
 
-    n_seeds: int = 5
-    n_trials: int = 100
+    n_seeds: int = field(default=5, metadata=NEUTRAL)
+    n_trials: int = field(default=100, metadata=protocol("error-7x", "sensitivity-200x"))
     n_iterative: int = 20
-    noise_bound: float = 0.2
-    search_range: float = 0.1
-    pop_size: int = 100
-    n_gen: int = 100
-    sweep_bounds: tuple[float, ...] = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3)
+    noise_bound: float = field(default=0.2, metadata=protocol("error-7x", "nsga2-error", "sensitivity-200x"))
+    search_range: float = field(default=0.1, metadata=protocol("error-7x", "nsga2-error", "sensitivity-200x", "speed-600x"))
+    pop_size: int = field(default=100, metadata=protocol("nsga2-error", "speed-600x"))
+    n_gen: int = field(default=100, metadata=protocol("nsga2-error", "speed-600x"))
+    sweep_bounds: tuple[float, ...] = field(default=(0.01, 0.02, 0.05, 0.1, 0.2, 0.3), metadata=protocol("sensitivity-200x"))
     sweep_trials: int = 30
 
     def __post_init__(self) -> None:
