@@ -837,6 +837,18 @@ case("cli.main", kinds={"argv": "skip"}, exit_ok=True,
 case("studies.get_study", aliases={"name": ("study",)})(lambda: dict(name="wahba-table1"))
 case("studies.is_available", aliases={"name": ("study",)})(lambda: dict(name="wahba-table1"))
 case("studies.resolve_config", kinds={"config": "skip"}, aliases={"name": ("study",)})(lambda: dict(name="wahba-table1", quick=True))
+
+
+def _study_config_cls() -> Any:
+    from adcskit.studies.wahba_table1.config import Config
+
+    return Config
+
+
+case("studies.neutral_keys")(lambda: dict(config_cls=_study_config_cls()))
+case("studies.protocol_keys")(lambda: dict(config_cls=_study_config_cls()))
+exempt("takes only *tags (no keyword to mutate); its checks (non-empty strings, at least one) are tested in "
+       "tests/test_framework.py::test_config_keys_are_declared_as_field_metadata", "studies.protocol")
 exempt(
     "runs or writes a whole study (minutes); its argument checks are exercised end to end by "
     "tests/test_framework.py with the fake study",
