@@ -13,10 +13,8 @@ the exhaustive variant (all mutations of the expensive entries and more hypothes
 
 from __future__ import annotations
 
-import importlib
 import inspect
 import math
-import pkgutil
 
 import numpy as np
 import pytest
@@ -24,33 +22,6 @@ from cases import CASES, EXEMPT
 from harness import Mutation, call_with_timeout, check_outcome, record, run_case
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-import adcskit
-
-
-#: Modules whose ``__all__`` is enumerated: every subpackage plus the public top-level modules.
-def public_modules() -> list[str]:
-    mods = []
-    for info in pkgutil.walk_packages(adcskit.__path__, "adcskit."):
-        if any(part.startswith("_") for part in info.name.split(".")[1:]):
-            continue
-        if info.ispkg or info.name.count(".") == 1:
-            mods.append(info.name)
-    return sorted(mods)
-
-
-def public_names() -> dict[str, object]:
-    out = {}
-    for mod_name in public_modules():
-        mod = importlib.import_module(mod_name)
-        for name in getattr(mod, "__all__", ()):
-            obj = getattr(mod, name)
-            if not callable(obj):
-                continue  # constants and registries: data, not entry points
-            if inspect.isclass(obj) and issubclass(obj, BaseException):
-                continue  # exception types
-            out[f"{mod_name.removeprefix('adcskit.')}.{name}"] = obj
-    return out
 
 
 def test_every_public_name_has_an_entry():
@@ -63,7 +34,7 @@ def test_every_public_name_has_an_entry():
         "public names without a robustness entry (add one to tests/robustness/cases.py, "
         f"or an EXEMPT reason): {missing}"
     )
-    names = public_names()
+    names = public_gap.public_callables()
     known = set(names) | {m for n, obj in names.items() if inspect.isclass(obj)
                           for m in public_gap.public_methods(n, obj, {})}
     stale = sorted(n for n in EXEMPT if n not in known)
