@@ -44,8 +44,24 @@ otherwise; an explicit ``"cuda"`` without numba-cuda or without a visible device
 GPU driver in numba's CUDA simulator (pure Python, slow: for tests of a handful of short
 samples).
 
-Users: :mod:`adcskit.control._onoff_kernels` (the on-off loop); the closed-loop simulator
-of :mod:`adcskit.simulation` follows the same pattern.
+Helpers that a per-sample function calls (a quaternion product, the Schmitt trigger) are
+declared with :func:`device`: a plain function that numba compiles into whichever kernel calls
+it, on either target (numba's generic-target ``register_jitable``), and that stays a plain
+Python function for the reference paths. Shared helpers live once, next to the model they
+belong to (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`).
+
+Users:
+
+* :mod:`adcskit.control._onoff_kernels` (the on-off loop): CPU and GPU drivers, the GPU one
+  tested under the CUDA simulator;
+* :mod:`adcskit.simulation._kernels` (the closed-loop simulator): its per-sample function
+  ``sample_loop`` is declared as a :class:`PerSample` and its CPU driver calls
+  ``SAMPLE.cpu``; it has **no GPU driver yet**. ``SAMPLE.cuda()`` cannot compile it today:
+  the loop calls the Wahba / min-max solvers and the MEKF steps through their CPU-only
+  ``njit`` dispatchers (the determination kernels are ``numba.njit`` functions, some with
+  NumPy linear algebra), and its scratch is allocated by the Python driver as whole-batch
+  arrays rather than per-thread local arrays. Those are the pieces a CUDA driver must bind to
+  device compilations of the same sources.
 
 Hand-written here: only the thin compile/dispatch helper; the compilers are numba's.
 """
@@ -65,6 +81,7 @@ __all__ = [
     "GPU_EXTRA_HINT",
     "PerSample",
     "LazyKernels",
+    "device",
     "import_cuda",
     "cuda_status",
     "cuda_usable",
@@ -212,14 +229,18 @@ class PerSample:
         The per-sample function (see the module docstring for its rules).
     cache : bool
         Cache the CPU compilation on disk (numba ``cache=True``).
+    inline : {"always", "never"}
+        numba's inlining of the CPU compilation into its callers. ``"always"`` (default)
+        gives the drivers the single-thread speed of a hand-inlined loop; ``"never"`` keeps a
+        long per-sample function (the closed-loop simulator's) one compiled function, which
+        compiles several times faster and computes the same numbers.
 
     Attributes
     ----------
     py : callable
         The plain Python function (reference; slow).
     cpu : numba dispatcher
-        ``numba.njit(inline="always")`` compilation, inlined into the njit drivers that
-        call it.
+        ``numba.njit(inline=inline)`` compilation, called by the njit drivers.
 
     Examples
     --------
@@ -233,9 +254,11 @@ class PerSample:
     6.0
     """
 
-    def __init__(self, fn: Callable[..., Any], *, cache: bool = True) -> None:
+    def __init__(self, fn: Callable[..., Any], *, cache: bool = True, inline: str = "always") -> None:
+        if inline not in ("always", "never"):
+            raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
         self.py = fn
-        self.cpu = numba.njit(cache=cache, nogil=True, inline="always")(fn)
+        self.cpu = numba.njit(cache=cache, nogil=True, inline=inline)(fn)
         self._cuda: Any = None
         self._lock = threading.Lock()
 
@@ -245,6 +268,47 @@ class PerSample:
             if self._cuda is None:
                 self._cuda = import_cuda().jit(device=True)(self.py)
             return self._cuda
+
+
+def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> Any:
+    """Declare a device helper: a plain function callable from per-sample kernels on both targets.
+
+    The function is returned unchanged (plain Python calls it as Python: the reference
+    paths), and registered with numba's generic target (``numba.extending.register_jitable``)
+    so that code compiled by ``numba.njit`` or ``numba.cuda.jit`` compiles it into the caller.
+    The same rules as for a per-sample function hold (see the module docstring).
+
+    Parameters
+    ----------
+    fn : callable, optional
+        The helper; without it, ``device(inline=...)`` returns the decorator.
+    inline : {"never", "always"}
+        numba's IR inlining into the caller (LLVM may still inline a small helper). Either
+        choice computes the same floating-point operations in the same order.
+
+    Returns
+    -------
+    callable
+        ``fn`` itself (or the decorator).
+
+    Examples
+    --------
+    >>> import numba
+    >>> @device
+    ... def half(x):
+    ...     return 0.5 * x
+    >>> @numba.njit(cache=False)
+    ... def quarter(x):
+    ...     return half(half(x))
+    >>> half(3.0), quarter(3.0)
+    (1.5, 0.75)
+    """
+    if inline not in ("always", "never"):
+        raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
+    from numba.extending import register_jitable
+
+    wrap = register_jitable(inline=inline)
+    return wrap if fn is None else wrap(fn)
 
 
 class LazyKernels:

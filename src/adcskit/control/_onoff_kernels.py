@@ -20,7 +20,9 @@ threshold. numba's CUDA simulator executes the device function as Python (no FMA
 there the GPU driver reproduces the CPU kernel bit for bit.
 
 Per-sample parameter columns (``P[i, col]``) and shared coefficients (``C[col]``) are
-listed below; :mod:`adcskit.control.onoff` builds both.
+listed below; :mod:`adcskit.control.onoff` builds both. The actuator pieces (Schmitt
+trigger, delay interpolation, thruster lags) are the device helpers of
+:mod:`adcskit.control._actuator`, shared with the closed-loop simulator.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ import numba
 import numpy as np
 
 from adcskit._targets import LazyKernels, PerSample, import_cuda
+from adcskit.control._actuator import delay_mix, lag_step, schmitt
 
 # --- per-sample parameter columns ---------------------------------------------------------
 KP, KI, KD, UON, UOFF, INERTIA, TORQUE, DELAY, D0, DAMP, DOMEGA, THREF, TH0, OM0 = range(14)
@@ -150,21 +153,7 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
             cnt = hold
             u = kp * e + ki * integ + kd * ((e - xf) * inv_td)
             prev = s
-            if s == 0.0:
-                if u >= u_on:
-                    s = 1.0
-                elif u <= -u_on:
-                    s = -1.0
-            elif s == 1.0:
-                if u <= -u_on:
-                    s = -1.0
-                elif u < u_off:
-                    s = 0.0
-            else:
-                if u >= u_on:
-                    s = 1.0
-                elif u > -u_off:
-                    s = 0.0
+            s = schmitt(s, u, u_on, u_off)
             if s != 0.0 and s != prev:
                 firings += 1.0
         cnt -= 1
@@ -178,17 +167,15 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
             ub = 1.0 * buf[(k - nd - 1) & mask]
         else:
             ub = 0.0
-        ud = (1.0 - frac) * ua + frac * ub
+        ud = delay_mix(ua, ub, frac)
         # disturbance (held over the step, evaluated at its midpoint)
         if d_amp != 0.0:
             td = d0 + d_amp * math.sin(d_omega * ((k + 0.5) * dt))
         else:
             td = d0
         # thruster lag and rigid body, exact for a command held over the step
-        v = v1 * x1 + v2 * x2 + vu * ud
         p = p1 * x1 + p2 * x2 + pu * ud
-        x2 = a21 * x1 + a22 * x2 + b2 * ud
-        x1 = a11 * x1 + b1 * ud
+        v, x1, x2 = lag_step(x1, x2, ud, a11, b1, a21, a22, b2, v1, v2, vu)
         theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
         omega = omega + g * v + (td * inv_j) * dt
         fuel += abs_torque * abs(v)
@@ -407,10 +394,8 @@ def simulate_numpy(P, C, n_steps, hold, n_win, buf_len, rec):
             td = np.where(varying, d0 + d_amp * np.sin(d_omega * ((k + 0.5) * dt)), d0)
         else:
             td = d0
-        v = v1 * x1 + v2 * x2 + vu * ud
         p = p1 * x1 + p2 * x2 + pu * ud
-        x2 = a21 * x1 + a22 * x2 + b2 * ud
-        x1 = a11 * x1 + b1 * ud
+        v, x1, x2 = lag_step(x1, x2, ud, a11, b1, a21, a22, b2, v1, v2, vu)
         theta = theta + omega * dt + g * p + (td * inv_j) * half_dt2
         omega = omega + g * v + (td * inv_j) * dt
         fuel += abs_torque * np.abs(v)

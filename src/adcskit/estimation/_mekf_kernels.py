@@ -117,6 +117,8 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
+from adcskit.attitude._device import compose_rotvec as _compose_rotvec
+from adcskit.attitude._device import rotate as _rotate
 from adcskit.sensors._gyro_kernels import gyro_step, gyro_step_jit  # noqa: F401 (re-export)
 
 #: Length of the ``work`` scratch array every kernel takes.
@@ -156,34 +158,6 @@ def _g(n, x):
     if n == 4:
         return (0.5 * x * x - 1.0 + math.cos(x)) / (x * x * x * x)
     return (x * x * x / 6.0 - x + math.sin(x)) / (x * x * x * x * x)
-
-
-@register_jitable
-def _compose_rotvec(q, r0, r1, r2):
-    """``q ← δq(r) ⊗ q`` (Markley's product, ``A(p ⊗ q) = A(p) A(q)``), renormalised, q4 >= 0."""
-    ang = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
-    h = 0.5 * ang
-    if h < 1e-4:
-        s = 0.5 * (1.0 - h * h / 6.0)  # sin(h)/h / 2 to O(h⁴) ~ 1e-17
-    else:
-        s = 0.5 * math.sin(h) / h
-    p0 = s * r0
-    p1 = s * r1
-    p2 = s * r2
-    p3 = math.cos(h)
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    # p ⊗ q = [p4 q_v + q4 p_v − p_v × q_v ; p4 q4 − p_v · q_v]
-    n0 = p3 * q0 + q3 * p0 - (p1 * q2 - p2 * q1)
-    n1 = p3 * q1 + q3 * p1 - (p2 * q0 - p0 * q2)
-    n2 = p3 * q2 + q3 * p2 - (p0 * q1 - p1 * q0)
-    n3 = p3 * q3 - (p0 * q0 + p1 * q1 + p2 * q2)
-    nrm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
-    if n3 < 0.0:
-        nrm = -nrm
-    q[0] = n0 / nrm
-    q[1] = n1 / nrm
-    q[2] = n2 / nrm
-    q[3] = n3 / nrm
 
 
 @register_jitable
@@ -357,13 +331,8 @@ def mekf_update_vector(q, b, P, v_body_meas, v_ref, sigma, underweight, work):
     r0 = v_ref[0] * nr
     r1 = v_ref[1] * nr
     r2 = v_ref[2] * nr
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
     # bhat = A(q) r, A(q) = (q4² − |e|²) I + 2 e eᵀ − 2 q4 [e×]
-    c = q3 * q3 - (q0 * q0 + q1 * q1 + q2 * q2)
-    er = q0 * r0 + q1 * r1 + q2 * r2
-    bh0 = c * r0 + 2.0 * q0 * er - 2.0 * q3 * (q1 * r2 - q2 * r1)
-    bh1 = c * r1 + 2.0 * q1 * er - 2.0 * q3 * (q2 * r0 - q0 * r2)
-    bh2 = c * r2 + 2.0 * q2 * er - 2.0 * q3 * (q0 * r1 - q1 * r0)
+    bh0, bh1, bh2 = _rotate(q[0], q[1], q[2], q[3], r0, r1, r2)
     work[_Y] = v_body_meas[0] * nb - bh0
     work[_Y + 1] = v_body_meas[1] * nb - bh1
     work[_Y + 2] = v_body_meas[2] * nb - bh2

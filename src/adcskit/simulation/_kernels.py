@@ -2,11 +2,15 @@
 
 The per-sample step is written as plain functions (design.md "one source, two targets"):
 scalars, ``math`` functions and indexing of arrays passed in; no allocation, no NumPy calls,
-no Python objects inside :func:`sample_loop` and its helpers. Every helper is registered with
-:func:`numba.extending.register_jitable`, so an ``njit`` driver (``prange`` over samples,
-:func:`run_parallel`) or a ``numba.cuda.jit`` kernel can call the same source; the scratch
+no Python objects inside :func:`sample_loop` and its helpers. :func:`sample_loop` is declared
+as a :class:`adcskit._targets.PerSample` (``SAMPLE``) and the CPU driver
+:func:`run_parallel` (``prange`` over samples) calls ``SAMPLE.cpu``; the helpers are
+``register_jitable`` / :func:`adcskit._targets.device` functions, the quaternion ones and the
+S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
+kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The scratch
 memory of a lane is passed in by the driver (:mod:`adcskit.simulation.core` allocates it).
-Only the CPU driver is built here.
+Only the CPU driver is built here; why ``SAMPLE.cuda()`` cannot compile the loop yet is
+said in :mod:`adcskit._targets`.
 
 Randomness is a counter-free per-sample stream (SplitMix64, Steele, Lea & Flood 2014) seeded
 with one 64-bit integer per sample: a sample's noise depends only on its seed, never on the
@@ -36,6 +40,9 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
+from adcskit._targets import PerSample
+from adcskit.attitude._device import compose_rotvec, qerr, rotate
+from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
 from adcskit.determination._kernels import _solve_one
 from adcskit.estimation import _mekf_kernels as _mk
@@ -49,7 +56,7 @@ mekf_update_vector = _mk.mekf_update_vector_jit
 mekf_update_quaternion = _mk.mekf_update_quaternion_jit
 mekf_nees = _mk.mekf_nees_jit
 gyro_step = _mk.gyro_step_jit
-_compose_rotvec = njit(cache=True, nogil=True)(_mk._compose_rotvec)
+_compose_rotvec = njit(cache=True, nogil=True)(compose_rotvec)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -140,36 +147,6 @@ def _noise(s, uniform):
         s, u = _uniform(s)
         return s, 2.0 * u - 1.0
     return _normal(s)
-
-
-@register_jitable
-def _rotate(q0, q1, q2, q3, r0, r1, r2):
-    """``A(q) r`` (reference -> body)."""
-    c = q3 * q3 - (q0 * q0 + q1 * q1 + q2 * q2)
-    er = q0 * r0 + q1 * r1 + q2 * r2
-    b0 = c * r0 + 2.0 * q0 * er - 2.0 * q3 * (q1 * r2 - q2 * r1)
-    b1 = c * r1 + 2.0 * q1 * er - 2.0 * q3 * (q2 * r0 - q0 * r2)
-    b2 = c * r2 + 2.0 * q2 * er - 2.0 * q3 * (q0 * r1 - q1 * r0)
-    return b0, b1, b2
-
-
-@register_jitable
-def _qerr(a0, a1, a2, a3, b0, b1, b2, b3):
-    """Rotation vector (rad, body frame) of ``qa (x) qb^-1`` and its angle."""
-    c0, c1, c2, c3 = -b0, -b1, -b2, b3
-    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
-    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
-    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
-    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
-    if d3 < 0.0:
-        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
-    ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-    ang = 2.0 * math.atan2(ev, d3)
-    if ev > 0.0:
-        f = ang / ev
-    else:
-        f = 2.0
-    return f * d0, f * d1, f * d2, ang
 
 
 @register_jitable
@@ -469,28 +446,6 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
     return nit
 
 
-@register_jitable
-def _schmitt(s, u, u_on, u_off):
-    """Three-level Schmitt trigger with memory (S4 Fig. 1)."""
-    if s == 0.0:
-        if u >= u_on:
-            return 1.0
-        if u <= -u_on:
-            return -1.0
-        return 0.0
-    if s == 1.0:
-        if u <= -u_on:
-            return -1.0
-        if u < u_off:
-            return 0.0
-        return 1.0
-    if u >= u_on:
-        return 1.0
-    if u > -u_off:
-        return 0.0
-    return -1.0
-
-
 def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                 FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
                 SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
@@ -639,8 +594,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     qf1 = QREF[n_steps, 1]
     qf2 = QREF[n_steps, 2]
     qf3 = QREF[n_steps, 3]
-    ex, ey, ez, err = _qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
-    _, _, _, errf = _qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
+    ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+    _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
     if errf > band:
         last_out = 0
     for j in range(n):
@@ -695,7 +650,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             # vector sensors at this epoch
             nobs = 0
             if h_sun > 0 and k % h_sun == 0 and lit:
-                b0, b1_, b2_ = _rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
+                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
                 s, n0 = _noise(s, uni)
                 s, n1 = _noise(s, uni)
                 s, n2 = _noise(s, uni)
@@ -710,7 +665,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 if est_mode == EST_MEKF:
                     mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
             if h_mag > 0 and k % h_mag == 0:
-                b0, b1_, b2_ = _rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
+                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
                 s, n0 = _noise(s, uni)
                 s, n1 = _noise(s, uni)
                 s, n2 = _noise(s, uni)
@@ -771,7 +726,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 we1 = gy[1]
                 we2 = gy[2]
         if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
-            _, _, _, kerr = _qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
+            _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
             kacc2 += kerr * kerr
             nkw += 1
         if k == n_steps:
@@ -779,7 +734,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         # ---------------------------------------------------------------- control
         if k % h_ctrl == 0:
             kc = k
-            cx, cy, cz, _ = _qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+            cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
                                   QREF[k, 3])
             exk = -cx
             eyk = -cy
@@ -794,9 +749,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             iy += eyk * t_s
             iz += ezk * t_s
             if ctrl_mode == CTRL_SCHMITT:
-                sx = _schmitt(sx, ux, u_on, u_off)
-                sy = _schmitt(sy, uy, u_on, u_off)
-                sz = _schmitt(sz, uz, u_on, u_off)
+                sx = schmitt(sx, ux, u_on, u_off)
+                sy = schmitt(sy, uy, u_on, u_off)
+                sz = schmitt(sz, uz, u_on, u_off)
                 row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
                 for j in range(n):
                     F[j] = ATAB[row, j]
@@ -850,12 +805,10 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 ub = buf[(k - nd - 1) & bmask, j]
             else:
                 ub = 0.0
-            ud = (1.0 - dfrac) * ua + dfrac * ub
-            x1 = ts[x1o + j]
-            x2 = ts[x2o + j]
-            v = v1 * x1 + v2 * x2 + vu * ud
-            ts[x2o + j] = a21 * x1 + a22 * x2 + b2 * ud
-            ts[x1o + j] = a11 * x1 + b1 * ud
+            ud = delay_mix(ua, ub, dfrac)
+            v, x1, x2 = lag_step(ts[x1o + j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
+            ts[x2o + j] = x2
+            ts[x1o + j] = x1
             fav = FLEV[i, j] * v / dt  # mean force over the step (N)
             prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
             d0 = DIRS[i, j, 0]
@@ -873,7 +826,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         t1 += P[i, P_D0 + 1] + P[i, P_DAMP + 1] * math.sin(d_omega * tk + P[i, P_DPH + 1])
         t2 += P[i, P_D0 + 2] + P[i, P_DAMP + 2] * math.sin(d_omega * tk + P[i, P_DPH + 2])
         if n2orb > 0.0:
-            c0, c1, c2 = _rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
+            c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
             h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
             h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
             h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
@@ -891,8 +844,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         w2 = w2n
         # ---------------------------------------------------------------- metrics at t_{k+1}
         kk = k + 1
-        ex, ey, ez, err = _qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
-        _, _, _, errf = _qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
+        ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
+        _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
         if errf > band:
             last_out = kk
         wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
@@ -950,7 +903,7 @@ def _record(REC, i, r, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, nees, pr
     REC[i, r, R_EY] = ey
     REC[i, r, R_EZ] = ez
     REC[i, r, R_ERR] = err
-    _, _, _, kerr = _qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
+    _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
     REC[i, r, R_KNOW] = kerr
     REC[i, r, R_WX] = w0
     REC[i, r, R_WY] = w1
@@ -961,7 +914,11 @@ def _record(REC, i, r, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, nees, pr
         REC[i, r, N_REC_FIXED + j] = ts[x2o + j]
 
 
-sample_loop_jit = njit(cache=True, nogil=True)(sample_loop)
+#: The per-sample function, declared through :mod:`adcskit._targets` (one source for the CPU
+#: and, later, the GPU driver). ``inline="never"``: the loop stays one compiled function
+#: called by :func:`run_parallel` (as before the declaration: same code, same numbers).
+SAMPLE = PerSample(sample_loop, inline="never")
+sample_loop_jit = SAMPLE.cpu
 
 
 @njit(parallel=True, cache=True, nogil=True)
