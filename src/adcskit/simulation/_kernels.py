@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
-from adcskit._targets import PerSample
+from adcskit._targets import PerSample, device
 from adcskit.attitude._device import compose_rotvec, qerr, rotate
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -106,9 +106,20 @@ METRIC_NAMES = (
 N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 
 # ----------------------------------------------------------------- per-sample scratch TS
-# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3), idx (3)
+# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3), idx (3),
+# then the loop's scalar state X (N_X)
 N_TS_PER_THR = 6
-N_TS_EXTRA = 18
+N_TS_BASE = 18
+
+# ----------------------------------------------------------------- the loop's state X
+# plant q (4), omega (3), summed rate for the gyro (3); estimated rate (3); Schmitt outputs
+# (3), PID integrals (3), last command step; metric accumulators (counters as exact floats);
+# the last pointing error (ex, ey, ez, angle)
+X_Q, X_W, X_WS, X_WE, X_S, X_I, X_KC = 0, 4, 7, 10, 13, 16, 19
+(X_ACC, X_ACC2, X_AX2, X_AY2, X_AZ2, X_EMAX, X_KACC2, X_NKW, X_NWIN, X_LAST, X_PROP, X_FIR,
+ X_ONT, X_NEES_SUM, X_NEES_N, X_NEES_LAST, X_WMAX, X_NDET, X_NBOX, X_ERR) = range(20, 40)
+N_X = 43
+N_TS_EXTRA = N_TS_BASE + N_X
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 _MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -446,98 +457,30 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
     return nit
 
 
-def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
-                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
-                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
-    """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
+# ----------------------------------------------------------------- the per-sample step functions
+# Each works on the lane's own rows (``TS[i]``, ``QE[i]``...) and on the loop's scalar state
+# ``X`` (``TS[i]`` after the thruster and allocation scratch; layout ``X_*`` above). They
+# perform the operations of the former single-function loop in the same order.
 
-    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
-    this lane's own memory.
-    """
-    n = POS.shape[0]
-    dt = C[DT]
-    n_steps = int(C[N_STEPS])
-    h_ctrl = int(C[H_CTRL])
-    h_gyro = int(C[H_GYRO])
-    h_sun = int(C[H_SUN])
-    h_mag = int(C[H_MAG])
-    h_st = int(C[H_ST])
-    a11 = C[A11]
-    b1 = C[B1]
-    a21 = C[A21]
-    a22 = C[A22]
-    b2 = C[B2]
-    v1 = C[V1]
-    v2 = C[V2]
-    vu = C[VU]
-    n2orb = C[N2ORB]
-    d_omega = C[D_OMEGA]
-    sig_sun = C[SIG_SUN]
-    sig_mag = C[SIG_MAG]
-    sig_st = C[SIG_ST]
-    uni = C[NOISE_UNIFORM] > 0.0
-    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
-    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
-    sig_v = C[SIG_V]
-    sig_u = C[SIG_U]
-    uw = C[UNDERWEIGHT]
-    est_mode = int(C[EST_MODE])
-    wmethod = int(C[WAHBA_METHOD])
-    ctrl_mode = int(C[CTRL_MODE])
-    u_on = C[U_ON]
-    u_off = C[U_OFF]
-    t_s = C[T_S]
-    t_min = C[T_MIN]
-    pround = C[PULSE_ROUND] > 0.0
-    k_win = int(C[K_WIN])
-    band = C[SETTLE_BAND]
-    rec_every = int(C[REC_EVERY])
-    k_nees = int(C[K_NEES])
-    bmask = int(C[BUF_MASK])
-    eps = C[RPI_EPS]
-    alloc_mode = int(C[ALLOC_MODE])
-    search_range = C[SEARCH_RANGE]
-    dt_g = h_gyro * dt
-    record = REC.shape[0] > 0
-    J = P[i, P_J:P_J + 9]
-    Ji = P[i, P_JI:P_JI + 9]
-    buf = BUF[i]
+
+@device
+def _init(i, P, C, TS, BUF, QE, BE, PE, GY, BIAS, QREF, TOT, REC, n):
+    """Zero the lane's scratch; initial plant, estimator and metric state; first trace row."""
     ts = TS[i]
-    x1o = 0
-    x2o = n
-    tpo = 2 * n
-    tppo = 3 * n
-    fo = 4 * n
-    freeo = 5 * n
-    so = 6 * n
-    F = ts[fo:fo + n]
-    free = ts[freeo:freeo + n]
-    Ssc = ts[so:so + 9]
-    rsc = ts[so + 9:so + 12]
-    ysc = ts[so + 12:so + 15]
-    isc = ts[so + 15:so + 18]
+    buf = BUF[i]
     for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
     for a in range(buf.shape[0]):
         for j in range(n):
             buf[a, j] = 0.0
-    # plant state
-    q0 = P[i, P_Q0]
-    q1 = P[i, P_Q0 + 1]
-    q2 = P[i, P_Q0 + 2]
-    q3 = P[i, P_Q0 + 3]
-    w0 = P[i, P_W0]
-    w1 = P[i, P_W0 + 1]
-    w2 = P[i, P_W0 + 2]
-    delay_steps = P[i, P_DELAY] / dt
-    nd = int(math.floor(delay_steps))
-    dfrac = delay_steps - nd
-    s = SEEDS[i]
-    # estimator state
+    X = ts[N_TS_PER_THR * n + N_TS_BASE:]
+    for a in range(4):
+        X[X_Q + a] = P[i, P_Q0 + a]
+    for a in range(3):
+        X[X_W + a] = P[i, P_W0 + a]
     qe = QE[i]
     be = BE[i]
     Pe = PE[i]
-    wk = WK[i]
     gy = GY[i]
     bias = BIAS[i]
     for a in range(4):
@@ -556,335 +499,451 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     for a in range(3):
         Pe[a, a] = sa2
         Pe[3 + a, 3 + a] = sb2
-    we0 = 0.0
-    we1 = 0.0
-    we2 = 0.0
-    ws0 = 0.0
-    ws1 = 0.0
-    ws2 = 0.0
-    # controller state
-    sx = 0.0
-    sy = 0.0
-    sz = 0.0
-    ix = 0.0
-    iy = 0.0
-    iz = 0.0
-    kc = 0
-    # metrics
-    acc = 0.0
-    acc2 = 0.0
-    ax2 = 0.0
-    ay2 = 0.0
-    az2 = 0.0
-    emax = 0.0
-    kacc2 = 0.0
-    nkw = 0
-    nwin = 0
-    last_out = -1
-    prop = 0.0
-    firings = 0.0
-    ontime = 0.0
-    nees_sum = 0.0
-    nees_n = 0
-    nees_last = math.nan
-    wmax = 0.0
-    n_det = 0
-    n_box = 0
-    qf0 = QREF[n_steps, 0]
-    qf1 = QREF[n_steps, 1]
-    qf2 = QREF[n_steps, 2]
-    qf3 = QREF[n_steps, 3]
+    X[X_LAST] = -1.0
+    X[X_NEES_LAST] = math.nan
+    n_steps = int(C[N_STEPS])
+    q0, q1, q2, q3 = X[X_Q], X[X_Q + 1], X[X_Q + 2], X[X_Q + 3]
     ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
-    _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
-    if errf > band:
-        last_out = 0
+    _, _, _, errf = qerr(q0, q1, q2, q3, QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2],
+                         QREF[n_steps, 3])
+    if errf > C[SETTLE_BAND]:
+        X[X_LAST] = 0.0
+    X[X_ERR] = ex
+    X[X_ERR + 1] = ey
+    X[X_ERR + 2] = ez
+    X[X_ERR + 3] = err
     for j in range(n):
         TOT[i, j] = 0.0
-    if record:
-        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
-                x2o, n)
-    for k in range(n_steps + 1):
-        lit = ENV[k, 9] > 0.5
-        # ---------------------------------------------------------------- sensors + estimation
-        if est_mode == EST_TRUTH:
-            qe[0] = q0
-            qe[1] = q1
-            qe[2] = q2
-            qe[3] = q3
-            we0 = w0
-            we1 = w1
-            we2 = w2
-        elif k % h_gyro == 0:
-            # gyro reading at t_k: Farrenkopf model on the mean true rate over the last
-            # interval (a rate-integrating gyro's delta-angle / dt); the attitude is then
-            # propagated over that interval with it
-            if k > 0:
-                gy[3] = ws0 / h_gyro
-                gy[4] = ws1 / h_gyro
-                gy[5] = ws2 / h_gyro
-            else:
-                gy[3] = w0
-                gy[4] = w1
-                gy[5] = w2
-            ws0 = 0.0
-            ws1 = 0.0
-            ws2 = 0.0
-            s, z0 = _normal(s)
-            s, z1 = _normal(s)
-            s, z2 = _normal(s)
-            gy[6] = z0
-            gy[7] = z1
-            gy[8] = z2
-            s, z0 = _normal(s)
-            s, z1 = _normal(s)
-            s, z2 = _normal(s)
-            gy[9] = z0
-            gy[10] = z1
-            gy[11] = z2
-            gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
-            if k > 0:
-                if est_mode == EST_MEKF:
-                    mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
-                else:
-                    _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
-            # vector sensors at this epoch
-            nobs = 0
-            if h_sun > 0 and k % h_sun == 0 and lit:
-                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
-                s, n0 = _noise(s, uni)
-                s, n1 = _noise(s, uni)
-                s, n2 = _noise(s, uni)
-                VB[i, nobs, 0] = b0 + sig_sun * n0
-                VB[i, nobs, 1] = b1_ + sig_sun * n1
-                VB[i, nobs, 2] = b2_ + sig_sun * n2
-                VR[i, nobs, 0] = ENV[k, 3]
-                VR[i, nobs, 1] = ENV[k, 4]
-                VR[i, nobs, 2] = ENV[k, 5]
-                WW[i, nobs] = C[W_SUN]
-                nobs += 1
-                if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
-            if h_mag > 0 and k % h_mag == 0:
-                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
-                s, n0 = _noise(s, uni)
-                s, n1 = _noise(s, uni)
-                s, n2 = _noise(s, uni)
-                VB[i, nobs, 0] = b0 + sig_mag * n0
-                VB[i, nobs, 1] = b1_ + sig_mag * n1
-                VB[i, nobs, 2] = b2_ + sig_mag * n2
-                VR[i, nobs, 0] = ENV[k, 6]
-                VR[i, nobs, 1] = ENV[k, 7]
-                VR[i, nobs, 2] = ENV[k, 8]
-                WW[i, nobs] = C[W_MAG]
-                if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
-                nobs += 1
-            if h_st > 0 and k % h_st == 0:
-                s, n0 = _normal(s)
-                s, n1 = _normal(s)
-                s, n2 = _normal(s)
-                for a in range(4):
-                    SQ[i, a] = 0.0
-                SQ[i, 0] = q0
-                SQ[i, 1] = q1
-                SQ[i, 2] = q2
-                SQ[i, 3] = q3
-                _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
-                if est_mode == EST_MEKF:
-                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
-                else:
-                    for a in range(4):
-                        qe[a] = SQ[i, a]
-            if est_mode == EST_WAHBA and nobs == 2:
-                st = wahba_one(VB, VR, WW, i, wmethod, WQ, WO, WC, SB[i], SR[i], SQP[i, 0:4],
-                               SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
-                if st == 0:
-                    for a in range(4):
-                        qe[a] = WQ[i, a]
-            elif est_mode == EST_MINMAX and nobs == 2:
-                st, active = minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, SB[i], SR[i],
-                                        SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
-                                        SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12],
-                                        RS[i, 12:16])
-                n_det += 1
-                if active:
-                    n_box += 1
-                if st == 0:
-                    for a in range(4):
-                        qe[a] = WQ[i, a]
-            if est_mode == EST_MEKF:
-                we0 = gy[0] - be[0]
-                we1 = gy[1] - be[1]
-                we2 = gy[2] - be[2]
-                if k >= k_nees:
-                    nees_last = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
-                    if nees_last == nees_last:
-                        nees_sum += nees_last
-                        nees_n += 1
-            else:
-                we0 = gy[0]
-                we1 = gy[1]
-                we2 = gy[2]
-        if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
-            _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
-            kacc2 += kerr * kerr
-            nkw += 1
-        if k == n_steps:
-            break
-        # ---------------------------------------------------------------- control
-        if k % h_ctrl == 0:
-            kc = k
-            cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
-                                  QREF[k, 3])
-            exk = -cx
-            eyk = -cy
-            ezk = -cz
-            dx = WREF[k, 0] - we0
-            dy = WREF[k, 1] - we1
-            dz = WREF[k, 2] - we2
-            ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
-            uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
-            uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
-            ix += exk * t_s
-            iy += eyk * t_s
-            iz += ezk * t_s
-            if ctrl_mode == CTRL_SCHMITT:
-                sx = schmitt(sx, ux, u_on, u_off)
-                sy = schmitt(sy, uy, u_on, u_off)
-                sz = schmitt(sz, uz, u_on, u_off)
-                row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
-                for j in range(n):
-                    F[j] = ATAB[row, j]
-            elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
-                row = k // h_ctrl
-                for j in range(n):
-                    F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
-            elif alloc_mode == ALLOC_BVLS:
-                bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                              Ssc, rsc, ysc, isc, eps)
-            else:
-                rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                             Ssc, rsc, ysc, eps)
-            for j in range(n):
-                tp = F[j] / FNOM[j] * t_s
-                if tp > t_s:
-                    tp = t_s
-                if tp < t_min:
-                    if pround and tp >= 0.5 * t_min:
-                        tp = t_min
-                    else:
-                        tp = 0.0
-                if AMASK[j] <= 0.0:
-                    tp = 0.0
-                # a new pulse unless the previous one ran to the end of its period
-                if tp > 0.0 and ts[tppo + j] < t_s:
-                    firings += 1.0
-                ts[tppo + j] = tp
-                ts[tpo + j] = tp
-                TOT[i, j] += tp
-                ontime += tp
-        # ---------------------------------------------------------------- thrusters
-        m = k - kc
-        t0 = 0.0
-        t1 = 0.0
-        t2 = 0.0
+    if REC.shape[0] > 0:
+        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, X[X_W], X[X_W + 1], X[X_W + 2],
+                math.nan, 0.0, ts, n, n)
+
+
+@device
+def _sense_estimate(i, k, s, C, ENV, X, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
+                    SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS):
+    """Sensors and estimation at step ``k``: gyro, sun, magnetometer, star tracker; MEKF,
+    Wahba or min-max; the estimated rate. Returns the lane's new noise state ``s``."""
+    est_mode = int(C[EST_MODE])
+    h_gyro = int(C[H_GYRO])
+    q0, q1, q2, q3 = X[X_Q], X[X_Q + 1], X[X_Q + 2], X[X_Q + 3]
+    qe = QE[i]
+    if est_mode == EST_TRUTH:
+        qe[0] = q0
+        qe[1] = q1
+        qe[2] = q2
+        qe[3] = q3
+        for a in range(3):
+            X[X_WE + a] = X[X_W + a]
+        return s
+    if k % h_gyro != 0:
+        return s
+    dt_g = h_gyro * C[DT]
+    sig_v = C[SIG_V]
+    sig_u = C[SIG_U]
+    sig_sun = C[SIG_SUN]
+    sig_mag = C[SIG_MAG]
+    sig_st = C[SIG_ST]
+    h_sun = int(C[H_SUN])
+    h_mag = int(C[H_MAG])
+    h_st = int(C[H_ST])
+    uni = C[NOISE_UNIFORM] > 0.0
+    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
+    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
+    uw = C[UNDERWEIGHT]
+    lit = ENV[k, 9] > 0.5
+    be = BE[i]
+    Pe = PE[i]
+    wk = WK[i]
+    gy = GY[i]
+    bias = BIAS[i]
+    # gyro reading at t_k: Farrenkopf model on the mean true rate over the last interval (a
+    # rate-integrating gyro's delta-angle / dt); the attitude is then propagated over that
+    # interval with it
+    if k > 0:
+        gy[3] = X[X_WS] / h_gyro
+        gy[4] = X[X_WS + 1] / h_gyro
+        gy[5] = X[X_WS + 2] / h_gyro
+    else:
+        gy[3] = X[X_W]
+        gy[4] = X[X_W + 1]
+        gy[5] = X[X_W + 2]
+    X[X_WS] = 0.0
+    X[X_WS + 1] = 0.0
+    X[X_WS + 2] = 0.0
+    s, z0 = _normal(s)
+    s, z1 = _normal(s)
+    s, z2 = _normal(s)
+    gy[6] = z0
+    gy[7] = z1
+    gy[8] = z2
+    s, z0 = _normal(s)
+    s, z1 = _normal(s)
+    s, z2 = _normal(s)
+    gy[9] = z0
+    gy[10] = z1
+    gy[11] = z2
+    gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
+    if k > 0:
+        if est_mode == EST_MEKF:
+            mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
+        else:
+            _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
+    # vector sensors at this epoch
+    nobs = 0
+    if h_sun > 0 and k % h_sun == 0 and lit:
+        b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
+        s, n0 = _noise(s, uni)
+        s, n1 = _noise(s, uni)
+        s, n2 = _noise(s, uni)
+        VB[i, nobs, 0] = b0 + sig_sun * n0
+        VB[i, nobs, 1] = b1_ + sig_sun * n1
+        VB[i, nobs, 2] = b2_ + sig_sun * n2
+        VR[i, nobs, 0] = ENV[k, 3]
+        VR[i, nobs, 1] = ENV[k, 4]
+        VR[i, nobs, 2] = ENV[k, 5]
+        WW[i, nobs] = C[W_SUN]
+        nobs += 1
+        if est_mode == EST_MEKF:
+            mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
+    if h_mag > 0 and k % h_mag == 0:
+        b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
+        s, n0 = _noise(s, uni)
+        s, n1 = _noise(s, uni)
+        s, n2 = _noise(s, uni)
+        VB[i, nobs, 0] = b0 + sig_mag * n0
+        VB[i, nobs, 1] = b1_ + sig_mag * n1
+        VB[i, nobs, 2] = b2_ + sig_mag * n2
+        VR[i, nobs, 0] = ENV[k, 6]
+        VR[i, nobs, 1] = ENV[k, 7]
+        VR[i, nobs, 2] = ENV[k, 8]
+        WW[i, nobs] = C[W_MAG]
+        if est_mode == EST_MEKF:
+            mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
+        nobs += 1
+    if h_st > 0 and k % h_st == 0:
+        s, n0 = _normal(s)
+        s, n1 = _normal(s)
+        s, n2 = _normal(s)
+        for a in range(4):
+            SQ[i, a] = 0.0
+        SQ[i, 0] = q0
+        SQ[i, 1] = q1
+        SQ[i, 2] = q2
+        SQ[i, 3] = q3
+        _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
+        if est_mode == EST_MEKF:
+            mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
+        else:
+            for a in range(4):
+                qe[a] = SQ[i, a]
+    if est_mode == EST_WAHBA and nobs == 2:
+        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, SB[i], SR[i],
+                       SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
+        if st == 0:
+            for a in range(4):
+                qe[a] = WQ[i, a]
+    elif est_mode == EST_MINMAX and nobs == 2:
+        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, SB[i], SR[i],
+                                SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
+                                SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12], RS[i, 12:16])
+        X[X_NDET] += 1.0
+        if active:
+            X[X_NBOX] += 1.0
+        if st == 0:
+            for a in range(4):
+                qe[a] = WQ[i, a]
+    if est_mode == EST_MEKF:
+        X[X_WE] = gy[0] - be[0]
+        X[X_WE + 1] = gy[1] - be[1]
+        X[X_WE + 2] = gy[2] - be[2]
+        if k >= int(C[K_NEES]):
+            nees = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
+            X[X_NEES_LAST] = nees
+            if nees == nees:
+                X[X_NEES_SUM] += nees
+                X[X_NEES_N] += 1.0
+    else:
+        X[X_WE] = gy[0]
+        X[X_WE + 1] = gy[1]
+        X[X_WE + 2] = gy[2]
+    return s
+
+
+@device
+def _knowledge(k, C, X, qe):
+    """Knowledge error at t_k, after this epoch's estimation (inside the metric window)."""
+    if k >= int(C[K_WIN]):
+        _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], X[X_Q], X[X_Q + 1], X[X_Q + 2],
+                             X[X_Q + 3])
+        X[X_KACC2] += kerr * kerr
+        X[X_NKW] += 1.0
+
+
+@device
+def _control(i, k, C, X, qe, QREF, WREF, ATAB, ANOM, FNOM, AMASK, ts, TOT, n):
+    """Command instant ``k``: PID on the estimate, then Schmitt + allocation table, open-loop
+    table, or PWM through the in-kernel allocation; pulse widths into ``ts``."""
+    t_s = C[T_S]
+    X[X_KC] = k
+    cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+                         QREF[k, 3])
+    exk = -cx
+    eyk = -cy
+    ezk = -cz
+    dx = WREF[k, 0] - X[X_WE]
+    dy = WREF[k, 1] - X[X_WE + 1]
+    dz = WREF[k, 2] - X[X_WE + 2]
+    ix = X[X_I]
+    iy = X[X_I + 1]
+    iz = X[X_I + 2]
+    ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
+    uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
+    uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
+    X[X_I] = ix + exk * t_s
+    X[X_I + 1] = iy + eyk * t_s
+    X[X_I + 2] = iz + ezk * t_s
+    ctrl_mode = int(C[CTRL_MODE])
+    F = ts[4 * n:5 * n]
+    free = ts[5 * n:6 * n]
+    so = 6 * n
+    if ctrl_mode == CTRL_SCHMITT:
+        sx = schmitt(X[X_S], ux, C[U_ON], C[U_OFF])
+        sy = schmitt(X[X_S + 1], uy, C[U_ON], C[U_OFF])
+        sz = schmitt(X[X_S + 2], uz, C[U_ON], C[U_OFF])
+        X[X_S] = sx
+        X[X_S + 1] = sy
+        X[X_S + 2] = sz
+        row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
         for j in range(n):
-            c = ts[tpo + j] / dt - m
-            if c > 1.0:
-                c = 1.0
-            elif c < 0.0:
-                c = 0.0
-            if FAILED[j] > 0.0:
-                c = 0.0
-            buf[k & bmask, j] = c
-            if k - nd >= 0:
-                ua = buf[(k - nd) & bmask, j]
+            F[j] = ATAB[row, j]
+    elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
+        row = k // int(C[H_CTRL])
+        for j in range(n):
+            F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
+    elif int(C[ALLOC_MODE]) == ALLOC_BVLS:
+        bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                      ts[so:so + 9], ts[so + 9:so + 12], ts[so + 12:so + 15], ts[so + 15:so + 18],
+                      C[RPI_EPS])
+    else:
+        rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                     ts[so:so + 9], ts[so + 9:so + 12], ts[so + 12:so + 15], C[RPI_EPS])
+    t_min = C[T_MIN]
+    pround = C[PULSE_ROUND] > 0.0
+    for j in range(n):
+        tp = F[j] / FNOM[j] * t_s
+        if tp > t_s:
+            tp = t_s
+        if tp < t_min:
+            if pround and tp >= 0.5 * t_min:
+                tp = t_min
             else:
-                ua = 0.0
-            if k - nd - 1 >= 0:
-                ub = buf[(k - nd - 1) & bmask, j]
-            else:
-                ub = 0.0
-            ud = delay_mix(ua, ub, dfrac)
-            v, x1, x2 = lag_step(ts[x1o + j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
-            ts[x2o + j] = x2
-            ts[x1o + j] = x1
-            fav = FLEV[i, j] * v / dt  # mean force over the step (N)
-            prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
-            d0 = DIRS[i, j, 0]
-            d1 = DIRS[i, j, 1]
-            d2 = DIRS[i, j, 2]
-            r0 = POS[j, 0]
-            r1 = POS[j, 1]
-            r2 = POS[j, 2]
-            t0 += fav * (r1 * d2 - r2 * d1)
-            t1 += fav * (r2 * d0 - r0 * d2)
-            t2 += fav * (r0 * d1 - r1 * d0)
-        # ---------------------------------------------------------------- environment torques
-        tk = k * dt
-        t0 += P[i, P_D0] + P[i, P_DAMP] * math.sin(d_omega * tk + P[i, P_DPH])
-        t1 += P[i, P_D0 + 1] + P[i, P_DAMP + 1] * math.sin(d_omega * tk + P[i, P_DPH + 1])
-        t2 += P[i, P_D0 + 2] + P[i, P_DAMP + 2] * math.sin(d_omega * tk + P[i, P_DPH + 2])
-        if n2orb > 0.0:
-            c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
-            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
-            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
-            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
-            t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
-            t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
-            t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-        # ---------------------------------------------------------------- dynamics
-        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt)
-        # mean rate over the step (trapezoid) for the rate-integrating gyro
-        ws0 += 0.5 * (w0 + w0n)
-        ws1 += 0.5 * (w1 + w1n)
-        ws2 += 0.5 * (w2 + w2n)
-        w0 = w0n
-        w1 = w1n
-        w2 = w2n
-        # ---------------------------------------------------------------- metrics at t_{k+1}
-        kk = k + 1
-        ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
-        _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
-        if errf > band:
-            last_out = kk
-        wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-        if wn > wmax:
-            wmax = wn
-        if kk >= k_win:
-            acc += err
-            acc2 += err * err
-            ax2 += ex * ex
-            ay2 += ey * ey
-            az2 += ez * ez
-            if err > emax:
-                emax = err
-            nwin += 1
-        if record and kk % rec_every == 0:
-            _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
-                    nees_last, prop, ts, x2o, n)
+                tp = 0.0
+        if AMASK[j] <= 0.0:
+            tp = 0.0
+        # a new pulse unless the previous one ran to the end of its period
+        if tp > 0.0 and ts[3 * n + j] < t_s:
+            X[X_FIR] += 1.0
+        ts[3 * n + j] = tp
+        ts[2 * n + j] = tp
+        TOT[i, j] += tp
+        X[X_ONT] += tp
+
+
+@device
+def _actuate(i, k, C, P, X, ts, buf, FAILED, FLEV, MDOT, DIRS, POS, n):
+    """Thrusters over step ``k``: pulse -> delay -> two lags (S4 actuator) -> mean forces;
+    returns the thruster torque (N m) and adds the step's propellant to ``X``."""
+    dt = C[DT]
+    bmask = int(C[BUF_MASK])
+    delay_steps = P[i, P_DELAY] / dt
+    nd = int(math.floor(delay_steps))
+    dfrac = delay_steps - nd
+    m = k - int(X[X_KC])
+    prop = X[X_PROP]
+    t0 = 0.0
+    t1 = 0.0
+    t2 = 0.0
+    for j in range(n):
+        c = ts[2 * n + j] / dt - m
+        if c > 1.0:
+            c = 1.0
+        elif c < 0.0:
+            c = 0.0
+        if FAILED[j] > 0.0:
+            c = 0.0
+        buf[k & bmask, j] = c
+        if k - nd >= 0:
+            ua = buf[(k - nd) & bmask, j]
+        else:
+            ua = 0.0
+        if k - nd - 1 >= 0:
+            ub = buf[(k - nd - 1) & bmask, j]
+        else:
+            ub = 0.0
+        ud = delay_mix(ua, ub, dfrac)
+        v, x1, x2 = lag_step(ts[j], ts[n + j], ud, C[A11], C[B1], C[A21], C[A22], C[B2], C[V1],
+                             C[V2], C[VU])
+        ts[n + j] = x2
+        ts[j] = x1
+        fav = FLEV[i, j] * v / dt  # mean force over the step (N)
+        prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
+        d0 = DIRS[i, j, 0]
+        d1 = DIRS[i, j, 1]
+        d2 = DIRS[i, j, 2]
+        r0 = POS[j, 0]
+        r1 = POS[j, 1]
+        r2 = POS[j, 2]
+        t0 += fav * (r1 * d2 - r2 * d1)
+        t1 += fav * (r2 * d0 - r0 * d2)
+        t2 += fav * (r0 * d1 - r1 * d0)
+    X[X_PROP] = prop
+    return t0, t1, t2
+
+
+@device
+def _environment_torque(i, k, C, P, ENV, X, J, t0, t1, t2):
+    """Add the disturbance (bias + sine, dispersed) and gravity-gradient torques (N m)."""
+    tk = k * C[DT]
+    d_omega = C[D_OMEGA]
+    t0 += P[i, P_D0] + P[i, P_DAMP] * math.sin(d_omega * tk + P[i, P_DPH])
+    t1 += P[i, P_D0 + 1] + P[i, P_DAMP + 1] * math.sin(d_omega * tk + P[i, P_DPH + 1])
+    t2 += P[i, P_D0 + 2] + P[i, P_DAMP + 2] * math.sin(d_omega * tk + P[i, P_DPH + 2])
+    n2orb = C[N2ORB]
+    if n2orb > 0.0:
+        c0, c1, c2 = rotate(X[X_Q], X[X_Q + 1], X[X_Q + 2], X[X_Q + 3], ENV[k, 0], ENV[k, 1],
+                            ENV[k, 2])
+        h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
+        h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
+        h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+        t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+        t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+        t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+    return t0, t1, t2
+
+
+@device
+def _integrate(X, J, Ji, t0, t1, t2, dt):
+    """One RK4 step of the rigid body; accumulates the mean rate for the gyro."""
+    w0 = X[X_W]
+    w1 = X[X_W + 1]
+    w2 = X[X_W + 2]
+    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(X[X_Q], X[X_Q + 1], X[X_Q + 2], X[X_Q + 3], w0, w1,
+                                             w2, J, Ji, t0, t1, t2, dt)
+    # mean rate over the step (trapezoid) for the rate-integrating gyro
+    X[X_WS] += 0.5 * (w0 + w0n)
+    X[X_WS + 1] += 0.5 * (w1 + w1n)
+    X[X_WS + 2] += 0.5 * (w2 + w2n)
+    X[X_Q] = q0
+    X[X_Q + 1] = q1
+    X[X_Q + 2] = q2
+    X[X_Q + 3] = q3
+    X[X_W] = w0n
+    X[X_W + 1] = w1n
+    X[X_W + 2] = w2n
+
+
+@device
+def _metrics(i, kk, C, X, QREF, qe, REC, ts, n):
+    """Pointing metrics at t_kk (after the step); the trace row when one is due."""
+    n_steps = int(C[N_STEPS])
+    q0, q1, q2, q3 = X[X_Q], X[X_Q + 1], X[X_Q + 2], X[X_Q + 3]
+    w0, w1, w2 = X[X_W], X[X_W + 1], X[X_W + 2]
+    ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
+    _, _, _, errf = qerr(q0, q1, q2, q3, QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2],
+                         QREF[n_steps, 3])
+    if errf > C[SETTLE_BAND]:
+        X[X_LAST] = kk
+    wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    if wn > X[X_WMAX]:
+        X[X_WMAX] = wn
+    if kk >= int(C[K_WIN]):
+        X[X_ACC] += err
+        X[X_ACC2] += err * err
+        X[X_AX2] += ex * ex
+        X[X_AY2] += ey * ey
+        X[X_AZ2] += ez * ez
+        if err > X[X_EMAX]:
+            X[X_EMAX] = err
+        X[X_NWIN] += 1.0
+    X[X_ERR] = ex
+    X[X_ERR + 1] = ey
+    X[X_ERR + 2] = ez
+    X[X_ERR + 3] = err
+    rec_every = int(C[REC_EVERY])
+    if REC.shape[0] > 0 and kk % rec_every == 0:
+        _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
+                X[X_NEES_LAST], X[X_PROP], ts, n, n)
+
+
+@device
+def _finish(i, C, X, OUT):
+    """Write the sample's metrics ``OUT[i]`` from the accumulators."""
+    n_steps = int(C[N_STEPS])
+    nwin = int(X[X_NWIN])
     fw = 1.0 / nwin if nwin > 0 else math.nan
-    OUT[i, M_MEAN_ERR] = acc * fw
-    OUT[i, M_RMS_ERR] = math.sqrt(acc2 * fw)
-    OUT[i, M_MAX_ERR] = emax if nwin > 0 else math.nan
-    OUT[i, M_RMS_X] = math.sqrt(ax2 * fw)
-    OUT[i, M_RMS_Y] = math.sqrt(ay2 * fw)
-    OUT[i, M_RMS_Z] = math.sqrt(az2 * fw)
+    OUT[i, M_MEAN_ERR] = X[X_ACC] * fw
+    OUT[i, M_RMS_ERR] = math.sqrt(X[X_ACC2] * fw)
+    OUT[i, M_MAX_ERR] = X[X_EMAX] if nwin > 0 else math.nan
+    OUT[i, M_RMS_X] = math.sqrt(X[X_AX2] * fw)
+    OUT[i, M_RMS_Y] = math.sqrt(X[X_AY2] * fw)
+    OUT[i, M_RMS_Z] = math.sqrt(X[X_AZ2] * fw)
+    last_out = int(X[X_LAST])
     if last_out < 0:
         OUT[i, M_SETTLE] = 0.0
     elif last_out >= n_steps:
         OUT[i, M_SETTLE] = math.nan
     else:
-        OUT[i, M_SETTLE] = (last_out + 1) * dt
-    OUT[i, M_FINAL_ERR] = err
-    OUT[i, M_PROP] = prop
-    OUT[i, M_FIRINGS] = firings
-    OUT[i, M_ONTIME] = ontime
-    OUT[i, M_KNOW_RMS] = math.sqrt(kacc2 / nkw) if nkw > 0 else math.nan
-    OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
+        OUT[i, M_SETTLE] = (last_out + 1) * C[DT]
+    OUT[i, M_FINAL_ERR] = X[X_ERR + 3]
+    OUT[i, M_PROP] = X[X_PROP]
+    OUT[i, M_FIRINGS] = X[X_FIR]
+    OUT[i, M_ONTIME] = X[X_ONT]
+    nkw = int(X[X_NKW])
+    OUT[i, M_KNOW_RMS] = math.sqrt(X[X_KACC2] / nkw) if nkw > 0 else math.nan
+    nees_n = int(X[X_NEES_N])
+    OUT[i, M_NEES] = X[X_NEES_SUM] / nees_n if nees_n > 0 else math.nan
     OUT[i, M_NEES_N] = nees_n
-    OUT[i, M_MAX_RATE] = wmax
-    OUT[i, M_BOX_ACTIVE] = n_box / n_det if n_det > 0 else math.nan
+    OUT[i, M_MAX_RATE] = X[X_WMAX]
+    n_det = int(X[X_NDET])
+    OUT[i, M_BOX_ACTIVE] = int(X[X_NBOX]) / n_det if n_det > 0 else math.nan
+
+
+def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
+                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
+    """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
+
+    The per-sample function (:class:`adcskit._targets.PerSample`): per step, sense and
+    estimate, control (at the command instants), actuate, environment torques, integrate,
+    metrics; the scalar state lives in ``X`` (a view of ``TS[i]``). See
+    :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is this
+    lane's own memory.
+    """
+    n = POS.shape[0]
+    n_steps = int(C[N_STEPS])
+    h_ctrl = int(C[H_CTRL])
+    dt = C[DT]
+    J = P[i, P_J:P_J + 9]
+    Ji = P[i, P_JI:P_JI + 9]
+    ts = TS[i]
+    X = ts[N_TS_PER_THR * n + N_TS_BASE:N_TS_PER_THR * n + N_TS_EXTRA]
+    qe = QE[i]
+    _init(i, P, C, TS, BUF, QE, BE, PE, GY, BIAS, QREF, TOT, REC, n)
+    s = SEEDS[i]
+    for k in range(n_steps + 1):
+        s = _sense_estimate(i, k, s, C, ENV, X, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO,
+                            WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS)
+        _knowledge(k, C, X, qe)
+        if k == n_steps:
+            break
+        if k % h_ctrl == 0:
+            _control(i, k, C, X, qe, QREF, WREF, ATAB, ANOM, FNOM, AMASK, ts, TOT, n)
+        t0, t1, t2 = _actuate(i, k, C, P, X, ts, BUF[i], FAILED, FLEV, MDOT, DIRS, POS, n)
+        t0, t1, t2 = _environment_torque(i, k, C, P, ENV, X, J, t0, t1, t2)
+        _integrate(X, J, Ji, t0, t1, t2, dt)
+        _metrics(i, k + 1, C, X, QREF, qe, REC, ts, n)
+    _finish(i, C, X, OUT)
 
 
 @register_jitable
