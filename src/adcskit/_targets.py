@@ -55,12 +55,16 @@ Users:
 * :mod:`adcskit.control._onoff_kernels` (the on-off loop): CPU and GPU drivers, the GPU one
   tested under the CUDA simulator;
 * :mod:`adcskit.simulation._kernels` (the closed-loop simulator): its per-sample function
-  ``sample_loop`` is declared as a :class:`PerSample` and its CPU driver calls
-  ``SAMPLE.cpu``; it has **no GPU driver yet**. ``SAMPLE.cuda()`` cannot compile it today:
-  the loop calls the Wahba / min-max solvers and the MEKF steps through their CPU-only
-  ``njit`` dispatchers (the determination kernels are ``numba.njit`` functions, some with
-  NumPy linear algebra), and its scratch is allocated by the Python driver as whole-batch
-  arrays rather than per-thread local arrays. Those are the pieces a CUDA driver must bind to
+  ``sample_loop`` (short: step functions declared with :func:`device`) is declared as a
+  :class:`PerSample` and its CPU driver calls ``SAMPLE.cpu``; it has **no GPU driver yet**.
+  ``SAMPLE.cuda()`` cannot compile it for a device today: the loop calls the gyro model, the
+  MEKF steps and the Wahba / min-max solvers through their CPU-only ``njit`` dispatchers
+  (the determination kernels are ``numba.njit`` functions, some with NumPy linear algebra),
+  and its scratch is allocated by the Python driver as whole-batch arrays rather than
+  per-thread local arrays. Under the CUDA simulator a throwaway one-thread-per-sample driver
+  runs it with the ``truth`` estimator (no dispatcher on that path) and reproduces the CPU
+  metrics bit for bit; with any other estimator the first dispatcher call (``gyro_step``)
+  fails to type the simulator's array. Those dispatchers are what a CUDA driver must bind to
   device compilations of the same sources.
 
 Hand-written here: only the thin compile/dispatch helper; the compilers are numba's.
