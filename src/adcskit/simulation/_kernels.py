@@ -463,7 +463,7 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
 # perform the operations of the former single-function loop in the same order.
 
 
-@device
+@device(inline="always")
 def _init(i, P, C, TS, BUF, QE, BE, PE, GY, BIAS, QREF, TOT, REC, n):
     """Zero the lane's scratch; initial plant, estimator and metric state; first trace row."""
     ts = TS[i]
@@ -519,7 +519,7 @@ def _init(i, P, C, TS, BUF, QE, BE, PE, GY, BIAS, QREF, TOT, REC, n):
                 math.nan, 0.0, ts, n, n)
 
 
-@device
+@device(inline="always")
 def _sense_estimate(i, k, s, C, ENV, X, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
                     SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS):
     """Sensors and estimation at step ``k``: gyro, sun, magnetometer, star tracker; MEKF,
@@ -670,7 +670,7 @@ def _sense_estimate(i, k, s, C, ENV, X, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ
     return s
 
 
-@device
+@device(inline="always")
 def _knowledge(k, C, X, qe):
     """Knowledge error at t_k, after this epoch's estimation (inside the metric window)."""
     if k >= int(C[K_WIN]):
@@ -680,7 +680,7 @@ def _knowledge(k, C, X, qe):
         X[X_NKW] += 1.0
 
 
-@device
+@device(inline="always")
 def _control(i, k, C, X, qe, QREF, WREF, ATAB, ANOM, FNOM, AMASK, ts, TOT, n):
     """Command instant ``k``: PID on the estimate, then Schmitt + allocation table, open-loop
     table, or PWM through the in-kernel allocation; pulse widths into ``ts``."""
@@ -750,7 +750,7 @@ def _control(i, k, C, X, qe, QREF, WREF, ATAB, ANOM, FNOM, AMASK, ts, TOT, n):
         X[X_ONT] += tp
 
 
-@device
+@device(inline="always")
 def _actuate(i, k, C, P, X, ts, buf, FAILED, FLEV, MDOT, DIRS, POS, n):
     """Thrusters over step ``k``: pulse -> delay -> two lags (S4 actuator) -> mean forces;
     returns the thruster torque (N m) and adds the step's propellant to ``X``."""
@@ -801,7 +801,7 @@ def _actuate(i, k, C, P, X, ts, buf, FAILED, FLEV, MDOT, DIRS, POS, n):
     return t0, t1, t2
 
 
-@device
+@device(inline="always")
 def _environment_torque(i, k, C, P, ENV, X, J, t0, t1, t2):
     """Add the disturbance (bias + sine, dispersed) and gravity-gradient torques (N m)."""
     tk = k * C[DT]
@@ -822,7 +822,7 @@ def _environment_torque(i, k, C, P, ENV, X, J, t0, t1, t2):
     return t0, t1, t2
 
 
-@device
+@device(inline="always")
 def _integrate(X, J, Ji, t0, t1, t2, dt):
     """One RK4 step of the rigid body; accumulates the mean rate for the gyro."""
     w0 = X[X_W]
@@ -843,7 +843,7 @@ def _integrate(X, J, Ji, t0, t1, t2, dt):
     X[X_W + 2] = w2n
 
 
-@device
+@device(inline="always")
 def _metrics(i, kk, C, X, QREF, qe, REC, ts, n):
     """Pointing metrics at t_kk (after the step); the trace row when one is due."""
     n_steps = int(C[N_STEPS])
@@ -876,7 +876,7 @@ def _metrics(i, kk, C, X, QREF, qe, REC, ts, n):
                 X[X_NEES_LAST], X[X_PROP], ts, n, n)
 
 
-@device
+@device(inline="always")
 def _finish(i, C, X, OUT):
     """Write the sample's metrics ``OUT[i]`` from the accumulators."""
     n_steps = int(C[N_STEPS])
