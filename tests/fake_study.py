@@ -20,8 +20,8 @@ from adcskit.studies._verdict import ClaimSpec, FindingSpec
 
 @dataclass(frozen=True, kw_only=True)
 class Config:
-    n_tasks: int = field(default=8, metadata=protocol("near-zero", "small-spread"))
-    fail: bool = field(default=False, metadata=protocol("finite"))
+    n_tasks: int = field(default=8, metadata=protocol("near-zero", "small-spread", paper=8))
+    fail: bool = field(default=False, metadata=protocol("finite", paper=False))
 
     def __post_init__(self) -> None:
         if self.n_tasks < 1:

@@ -159,16 +159,30 @@ def test_every_available_study_default_config_roundtrips(tmp_path):
 
 def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
     """Issue 16 §2: a user's settings are labelled, and claims on changed protocol keys are not judged."""
-    paper = run_study("fake", quick=True, out=tmp_path / "a")
-    assert paper.config_changes == {}
+    paper = run_study("fake", out=tmp_path / "a")
+    assert paper.config_changes == {} and paper.protocol_differences == {}
     assert all(c.comparable for c in paper.claims)
+    assert [c.protocol for c in paper.claims] == ["paper protocol"]
+    # issue 21: a quick run (3 tasks, the paper's 8) is below the paper's protocol and, with
+    # fewer than 5 seeds, indicative: never comparable, never a red verdict
+    quick = run_study("fake", quick=True, out=tmp_path / "q")
+    assert quick.config_changes == {}
+    assert quick.protocol_differences == {"n_tasks": {"value": 3, "paper": 8}}
+    (c,) = quick.claims
+    assert (c.protocol, c.indicative, c.comparable) == ("reduced protocol", True, False)
+    assert c.display_outcome == "indicative (3 seeds)"
+    assert c.protocol_differences == ("n_tasks: ours 3, paper 8",)
     custom = run_study("fake", quick=True, config={"n_tasks": 5}, out=tmp_path / "b")
-    assert custom.config_changes == {"n_tasks": {"value": 5, "paper": 3}}
+    # the study's setting is recorded as "default", the paper's printed value as "paper"
+    assert custom.config_changes == {"n_tasks": {"value": 5, "default": 3, "paper": 8}}
     assert [c.comparable for c in custom.claims] == [False]
+    assert [c.protocol for c in custom.claims] == ["custom settings"]
     # findings get the same treatment: the one on the changed key is not comparable with the
     # documented answer, the one whose protocol does not include n_tasks still is
     assert all(f.comparable for f in paper.findings)
     assert {f.id: f.comparable for f in custom.findings} == {"small-spread": False, "finite": True}
+    assert {f.id: f.protocol for f in custom.findings} == {"small-spread": "custom settings",
+                                                           "finite": "paper protocol"}
     assert [f.display_outcome for f in custom.findings][0] == "not comparable"
     data = json.loads((tmp_path / "b" / "fake" / "result.json").read_text())
     assert data["config_changes"]["n_tasks"]["value"] == 5
@@ -193,11 +207,18 @@ def test_mark_comparable_rule_for_claims_and_findings():
     def comparable(changes):
         return {c.id: c.comparable for c in _mark_comparable(items, changes, ("n_seeds",))}
 
-    ch = {"value": 1, "paper": 2}
+    ch = {"value": 1, "default": 2, "paper": "not declared"}
     assert comparable({}) == {"any": True, "f-any": True, "f-mesh": True}
     assert comparable({"n_seeds": ch}) == {"any": True, "f-any": True, "f-mesh": True}
     assert comparable({"mesh.size": ch}) == {"any": False, "f-any": False, "f-mesh": False}
     assert comparable({"noise": ch}) == {"any": False, "f-any": False, "f-mesh": True}
+    # a protocol key that differs from the paper's printed value: "reduced protocol"
+    diff = {"mesh": {"value": 10, "paper": 40}}
+    marked = {c.id: c for c in _mark_comparable(items, {}, ("n_seeds",), diff)}
+    assert {k: (c.protocol, c.comparable) for k, c in marked.items()} == {
+        "any": ("reduced protocol", False), "f-any": ("reduced protocol", False), "f-mesh": ("reduced protocol", False)}
+    assert marked["f-mesh"].display_outcome == "holds (reduced protocol)"
+    assert marked["any"].protocol_differences == ("mesh: ours 10, paper 40",)
 
 
 

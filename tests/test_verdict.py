@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from adcskit.errors import InputError
 from adcskit.studies import Claim, ClaimSpec, Finding, FindingSpec, StudyResult, decide
 from adcskit.studies._verdict import (
     DEPENDS_ON_READING,
     OUTCOMES,
+    Reading,
     combine_readings,
     mean_interval,
     tally,
@@ -111,3 +114,88 @@ def test_combine_and_tally():
     assert tally(["holds", "not comparable"])["not comparable"] == 1
     lo, hi = mean_interval([2.0])
     assert lo == hi == 2.0
+
+
+# ---- issue 21: a symmetric rule that states its evidence -------------------------------
+
+
+def _r(outcome: str) -> Reading:
+    return Reading(reading=outcome, outcome=outcome, n_seeds=5, fraction_held=1.0, interval=(0.0, 1.0))
+
+
+@pytest.mark.parametrize(
+    ("outcomes", "expected"),
+    [
+        (["holds", "holds"], "holds"),
+        (["does not hold", "does not hold"], "does not hold"),
+        (["holds", "does not hold"], "depends on reading"),
+        (["holds", "does not hold", "inconclusive"], "depends on reading"),
+        # no reading holds: never "depends on reading" (was: S1 standard-37-195)
+        (["does not hold", "inconclusive"], "inconclusive"),
+        # a decided outcome beside inconclusive readings is not rescued either
+        (["holds", "inconclusive"], "inconclusive"),
+        (["inconclusive", "inconclusive"], "inconclusive"),
+    ],
+)
+def test_combine_readings_is_symmetric(outcomes, expected):
+    assert combine_readings([_r(o) for o in outcomes]) == expected
+
+
+def test_fewer_than_five_seeds_is_indicative_and_never_comparable():
+    spec = ClaimSpec(id="c", statement="s", where="w", quantity="q", held=lambda m: m)
+    two = spec.evaluate({"default": [True, True]})
+    assert two.outcome == "holds" and two.indicative and "indicative" in two.detail
+    assert two.display_outcome == "indicative (2 seeds)"
+    five = spec.evaluate({"default": [True] * 5})
+    assert not five.indicative and five.display_outcome == "holds"
+    # a deterministic claim is never indicative: one run decides it
+    det = ClaimSpec(id="d", statement="s", where="w", quantity="q", held=lambda m: m, stochastic=False)
+    assert not det.evaluate({"default": [True]}).indicative
+
+
+def test_failed_seeds_give_inconclusive_with_the_reason():
+    r = decide(values=[math.nan, math.nan, math.nan], threshold=1.0)
+    assert r.outcome == "inconclusive" and "3/3 seeds failed" in r.detail
+    r = decide(values=[0.2, math.nan, 0.3, 0.2, 0.1], threshold=1.0, better="below")
+    assert r.outcome == "inconclusive" and "1/5 seeds failed" in r.detail
+
+
+def test_added_condition_cannot_contradict_the_interval():
+    with pytest.raises(InputError, match="not both"):
+        decide([True, False], values=[0.5, 0.6], threshold=1.0)
+    with pytest.raises(InputError, match="value or held, not both"):
+        ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m, threshold=1.0,
+                  held=lambda m: True)
+
+
+def test_deterministic_comparison_declares_a_margin_and_ties_are_inconclusive():
+    with pytest.raises(InputError, match="equivalence margin"):
+        ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m, threshold=4.54,
+                  stochastic=False)
+    spec = ClaimSpec(id="c", statement="s", where="w", quantity="fuel", value=lambda m: m, threshold=4.54,
+                     better="above", stochastic=False, margin=0.05, margin_reason="grid step 0.05")
+    tie = spec.evaluate({"default": [4.56]})  # the S4 Table 2 box (issue 21 rule 5)
+    assert tie.outcome == "inconclusive" and "equivalence margin" in tie.detail
+    assert tie.to_dict()["margin_reason"] == "grid step 0.05"
+    assert spec.evaluate({"default": [4.70]}).outcome == "holds"
+    assert spec.evaluate({"default": [4.40]}).outcome == "does not hold"
+    # a stochastic interval that reaches into threshold ± margin is inconclusive too
+    assert decide(values=[1.06, 1.07, 1.08, 1.06, 1.07], threshold=1.0, margin=0.1).outcome == "inconclusive"
+    assert decide(values=[1.06, 1.07, 1.08, 1.06, 1.07], threshold=1.0).outcome == "holds"
+
+
+def test_check_is_never_a_claim():
+    from adcskit.studies import Check
+
+    assert Check(name="n", passed=True, detail="").kind == "check"
+    with pytest.raises(InputError, match="must be 'check'"):
+        Check(name="n", passed=True, detail="", kind="claim")
+
+
+@given(st.lists(st.floats(-10, 10), min_size=5, max_size=12), st.floats(-5, 5))
+def test_rule_is_mirror_symmetric(values, thr):
+    """Flipping the side that supports the claim swaps holds and does not hold, nothing else."""
+    a = decide(values=values, threshold=thr, better="above").outcome
+    b = decide(values=values, threshold=thr, better="below").outcome
+    swap = {"holds": "does not hold", "does not hold": "holds", "inconclusive": "inconclusive"}
+    assert b == swap[a]

@@ -12,17 +12,19 @@ here, never from the private modules behind it:
 * results — :class:`Study`, :class:`StudyResult`, :class:`Check`, :class:`Comparison`,
   :func:`new_figure` (``_base``);
 * config keys — :data:`NEUTRAL`, :func:`protocol` (field metadata of a study's ``Config``),
-  :func:`neutral_keys`, :func:`protocol_keys` (``_base``).
+  :func:`neutral_keys`, :func:`protocol_keys`, :data:`NOT_PRINTED`, :func:`paper_protocol` (``_base``).
 """
 
 from adcskit.studies._base import (
     NEUTRAL,
+    NOT_PRINTED,
     Check,
     Comparison,
     Study,
     StudyResult,
     neutral_keys,
     new_figure,
+    paper_protocol,
     protocol,
     protocol_keys,
 )
@@ -49,6 +51,7 @@ from adcskit.studies._verdict import (
 __all__ = [
     "EXPECTED_WALL_S",
     "NEUTRAL",
+    "NOT_PRINTED",
     "PAPERS",
     "STUDIES",
     "Check",
@@ -66,6 +69,7 @@ __all__ = [
     "is_available",
     "neutral_keys",
     "new_figure",
+    "paper_protocol",
     "protocol",
     "protocol_keys",
     "resolve_config",

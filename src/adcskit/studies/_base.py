@@ -20,32 +20,64 @@ from typing import Any
 
 from adcskit._results import to_jsonable
 from adcskit.errors import InputError
-from adcskit.studies._verdict import DOES_NOT_HOLD, HOLDS, Claim, Finding
+from adcskit.studies._verdict import Claim, Finding
 
-__all__ = ["Check", "Comparison", "NEUTRAL", "Study", "StudyResult", "figure_caption", "neutral_keys", "new_figure",
-           "protocol", "protocol_keys", "to_jsonable"]
+__all__ = ["Check", "Comparison", "NEUTRAL", "NOT_PRINTED", "Study", "StudyResult", "figure_caption", "neutral_keys",
+           "new_figure", "paper_protocol", "protocol", "protocol_keys", "to_jsonable"]
 
 #: Field metadata of a config key that only adds evidence or steers the execution
 #: (``n_seeds``, a task size, a cache directory): ``field(default=5, metadata=NEUTRAL)``.
 NEUTRAL = {"neutral": True}
 
+#: The paper's value of a protocol key when the paper does not print it:
+#: ``protocol("claims", paper=NOT_PRINTED)``. Our default is then our reading, never "the paper's".
+NOT_PRINTED = "not printed"
 
-def protocol(*tags: str) -> dict[str, tuple[str, ...]]:
+_MISSING = object()
+
+
+def protocol(*tags: str, paper: Any = _MISSING) -> dict[str, Any]:
     """Field metadata of a config key that is part of the paper's protocol for ``tags``.
 
     A tag names a claim, a finding or a group of them (``"design"``, ``"table1"``);
-    :func:`protocol_keys` collects the keys of a tag. Use as
-    ``field(default=0.2, metadata=protocol("accuracy", "sweep"))``.
+    :func:`protocol_keys` collects the keys of a tag. ``paper`` is the value the paper prints
+    for this key (in the config's units), or :data:`NOT_PRINTED`; the runner marks a claim
+    "reduced protocol" when a key of its protocol differs from a printed value. Use as
+    ``field(default=0.2, metadata=protocol("accuracy", "sweep", paper=0.2))``.
 
     Examples
     --------
-    >>> protocol("accuracy", "sweep")
-    {'protocol': ('accuracy', 'sweep')}
+    >>> protocol("accuracy", "sweep", paper=0.2)
+    {'protocol': ('accuracy', 'sweep'), 'paper': 0.2}
+    >>> protocol("accuracy", paper=NOT_PRINTED)["paper"]
+    'not printed'
     """
     bad = [t for t in tags if not isinstance(t, str) or not t]
     if not tags or bad:
         raise InputError(f"protocol tags must be non-empty strings; got {tags!r}")
-    return {"protocol": tuple(tags)}
+    if paper is _MISSING:
+        return {"protocol": tuple(tags)}
+    return {"protocol": tuple(tags), "paper": paper}
+
+
+def paper_protocol(config_cls: Any) -> dict[str, Any]:
+    """The paper's value of each protocol key that declares one (``protocol(..., paper=...)``).
+
+    Values are the paper's printed value or :data:`NOT_PRINTED`; keys that declare nothing are
+    absent (``tests/studies/test_package_shapes.py`` requires every study to declare all).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass, field
+    >>> @dataclass(frozen=True)
+    ... class Config:
+    ...     n_seeds: int = field(default=5, metadata=NEUTRAL)
+    ...     n_gen: int = field(default=30, metadata=protocol("robust", paper=1000))
+    ...     pop: int = field(default=70, metadata=protocol("robust", paper=NOT_PRINTED))
+    >>> paper_protocol(Config)
+    {'n_gen': 1000, 'pop': 'not printed'}
+    """
+    return {f.name: f.metadata["paper"] for f in _config_fields(config_cls) if "paper" in f.metadata}
 
 
 def _config_fields(config_cls: Any) -> tuple:
@@ -109,34 +141,33 @@ class Check:
     """A consistency check of ours (pass / fail).
 
     The paper's claims are :class:`adcskit.studies._verdict.Claim` objects, decided over
-    seeds and readings. ``kind="claim"`` is kept only for studies not yet converted: such a
-    check is reported as a single-run claim (outcome ``holds`` / ``does not hold``).
+    seeds and readings; a check is never a claim.
 
     Attributes
     ----------
     name : str
         The claim in the paper's words, or what the check verifies.
     passed : bool
-        For a claim: it held in our measurement. For a check: it passed.
+        The check passed.
     detail : str
         The evidence: numbers, with units, and how they were obtained.
-    kind : {"claim", "check"}
-        Claims are the paper's statements; checks are our own consistency tests.
+    kind : {"check"}
+        Always ``"check"`` (kept in ``result.json`` for readers of older files).
 
     Examples
     --------
-    >>> Check(name="quaternions are unit", passed=True, detail="max |q| - 1 = 2e-16", kind="check").to_dict()["passed"]
+    >>> Check(name="quaternions are unit", passed=True, detail="max |q| - 1 = 2e-16").to_dict()["passed"]
     True
     """
 
     name: str
     passed: bool
     detail: str
-    kind: str = "claim"
+    kind: str = "check"
 
     def __post_init__(self) -> None:
-        if self.kind not in ("claim", "check"):
-            raise ValueError(f"Check.kind must be 'claim' or 'check'; got {self.kind!r}")
+        if self.kind != "check":
+            raise InputError(f"Check.kind must be 'check' (a paper's claim is a ClaimSpec); got {self.kind!r}")
         object.__setattr__(self, "passed", bool(self.passed))
 
     def to_dict(self) -> dict[str, Any]:
@@ -194,6 +225,7 @@ class StudyResult:
     claims: Sequence[Claim] = ()
     findings: Sequence[Finding] = ()
     config_changes: Mapping[str, Any] = field(default_factory=dict)
+    protocol_differences: Mapping[str, Any] = field(default_factory=dict)
     comparison: Sequence[Comparison] = ()
     differences: Sequence[str] = ()
     figures: Mapping[str, Any] = field(default_factory=dict)
@@ -206,20 +238,8 @@ class StudyResult:
     executor: str = "serial"
 
     def all_claims(self) -> list[Claim]:
-        """The paper's claims, including legacy ``Check(kind="claim")`` entries."""
-        legacy = [
-            Claim(
-                id=f"legacy-{i}",
-                statement=c.name,
-                outcome=HOLDS if c.passed else DOES_NOT_HOLD,
-                n_seeds=1,
-                fraction_held=1.0 if c.passed else 0.0,
-                detail=c.detail + " (single-run verdict)",
-            )
-            for i, c in enumerate(self.checks)
-            if c.kind == "claim"
-        ]
-        return [*self.claims, *legacy]
+        """The paper's claims (a list copy of :attr:`claims`)."""
+        return list(self.claims)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``result.json`` document (schema of ``design.md`` plus report fields)."""
@@ -238,9 +258,10 @@ class StudyResult:
             "paper": to_jsonable(self.paper),
             "measured": to_jsonable(self.measured),
             "claims": [c.to_dict() for c in self.all_claims()],
-            "checks": [c.to_dict() for c in self.checks if c.kind == "check"],
+            "checks": [c.to_dict() for c in self.checks],
             "findings": [f.to_dict() for f in self.findings],
             "config_changes": to_jsonable(self.config_changes),
+            "protocol_differences": to_jsonable(self.protocol_differences),
             "comparison": [c.to_dict() for c in self.comparison],
             "differences": list(self.differences),
             "figures": [f"{name}.png" for name in self.figures],

@@ -30,7 +30,7 @@ from adcskit.studies._registry import get_study
 #: Resolution of every written figure (issue 16: >= 150 dpi, readable when zoomed).
 FIGURE_DPI = 150
 
-__all__ = ["config_changes", "resolve_config", "run_study", "write_result", "write_json_atomic"]
+__all__ = ["config_changes", "protocol_differences", "resolve_config", "run_study", "write_result", "write_json_atomic"]
 
 
 def resolve_config(name: str, config: Mapping[str, Any] | str | Path | None = None, *, quick: bool = False):
@@ -55,40 +55,90 @@ def _flat(prefix: str, value: Any, out: dict[str, Any]) -> None:
 
 
 def config_changes(name: str, config: Any, *, quick: bool = False) -> dict[str, dict[str, Any]]:
-    """Config keys of ``config`` that differ from the paper's settings of study ``name``.
+    """Config keys of ``config`` that differ from the study's settings of study ``name``.
 
-    The reference is the study's defaults (the paper's settings) with the ``--quick``
-    overrides applied when ``quick`` is true (a quick run is reduced, not custom). Returns
-    ``{dotted.key: {"value": ours, "paper": default}}``; empty for the paper's settings.
+    The reference is the study's defaults with the ``--quick`` overrides applied when
+    ``quick`` is true (a quick run is reduced, not custom). Returns ``{dotted.key: {"value":
+    ours, "default": the study's setting, "paper": the paper's value}}``, where "paper" is the
+    printed value the top-level key declares (``protocol(..., paper=...)``), ``"not printed"``,
+    or ``"not declared"`` (a neutral key, or one that declares nothing). Our defaults are never
+    recorded as the paper's. Empty for the study's settings.
     """
+    from adcskit.studies._base import paper_protocol
+
     ref, ours = {}, {}
     _flat("", config_to_dict(resolve_config(name, None, quick=quick)), ref)
     _flat("", config_to_dict(config), ours)
-    return {
-        k: {"value": to_jsonable(v), "paper": to_jsonable(ref.get(k))}
-        for k, v in ours.items()
-        if to_jsonable(v) != to_jsonable(ref.get(k))
-    }
+    printed = paper_protocol(get_study(name).config_cls)
+    out = {}
+    for k, v in ours.items():
+        if to_jsonable(v) == to_jsonable(ref.get(k)):
+            continue
+        top = k.split(".", 1)[0]
+        paper = printed.get(top, "not declared")
+        if "." in k and isinstance(paper, Mapping):
+            _sub: dict[str, Any] = {}
+            _flat(top, paper, _sub)
+            paper = _sub.get(k, "not declared")
+        out[k] = {"value": to_jsonable(v), "default": to_jsonable(ref.get(k)), "paper": to_jsonable(paper)}
+    return out
 
 
-def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...] = ()):
-    """``claims`` (or findings) with ``comparable`` false where a changed key is one of their protocol keys.
+def protocol_differences(config_cls: Any, config: Any) -> dict[str, dict[str, Any]]:
+    """Protocol keys whose value in ``config`` differs from the value the paper prints.
 
-    A claim is compared with the paper; a finding with the answer at the study's documented
-    settings (the doc page's full run). Both are judged by the same rule: ``protocol_keys``
-    None means that any changed key but the study's ``neutral`` ones (more seeds, execution
-    settings) makes it not comparable.
+    Returns ``{key: {"value": ours, "paper": printed}}``; keys whose paper value is
+    ``"not printed"`` (or undeclared) never differ.
+    """
+    from adcskit.studies._base import NOT_PRINTED, paper_protocol
+
+    ours = config_to_dict(config)
+    out = {}
+    for k, p in paper_protocol(config_cls).items():
+        if isinstance(p, str) and p == NOT_PRINTED:
+            continue
+        if to_jsonable(ours.get(k)) != to_jsonable(p):
+            out[k] = {"value": to_jsonable(ours.get(k)), "paper": to_jsonable(p)}
+    return out
+
+
+def _in(key: str, names) -> bool:
+    return any(key == n or key.startswith(n + ".") for n in names)
+
+
+def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...] = (),
+                     differences: Mapping[str, Any] | None = None):
+    """``claims`` (or findings) with ``protocol``, ``protocol_differences`` and ``comparable`` set.
+
+    A claim's protocol keys are its ``protocol_keys`` (None: every key but the study's
+    ``neutral`` ones). It is ``"custom settings"`` when the run changed one of them against
+    the study's settings (``changes``), else ``"reduced protocol"`` when one differs from the
+    paper's printed value (``differences``), else ``"paper protocol"``. It is comparable only
+    at the paper's protocol and when not indicative (fewer than ``MIN_SEEDS`` seeds).
     """
     from dataclasses import replace
 
-    changed = set(changes)
+    from adcskit.studies._verdict import CUSTOM_SETTINGS, PAPER_PROTOCOL, REDUCED_PROTOCOL
+
+    differences = differences or {}
     out = []
     for c in claims:
         if c.protocol_keys is None:
-            keys = {k for k in changed if not any(k == n or k.startswith(n + ".") for n in neutral)}
+            changed = [k for k in changes if not _in(k, neutral)]
+            differ = [k for k in differences if not _in(k, neutral)]
         else:
-            keys = {k for k in changed if any(k == p or k.startswith(p + ".") for p in c.protocol_keys)}
-        out.append(replace(c, comparable=not keys))
+            changed = [k for k in changes if _in(k, c.protocol_keys)]
+            differ = [k for k in differences if _in(k, c.protocol_keys)]
+        if changed:
+            status = CUSTOM_SETTINGS
+            what = [f"{k}: ours {changes[k]['value']!r}, study setting {changes[k]['default']!r}" for k in changed]
+        elif differ:
+            status = REDUCED_PROTOCOL
+            what = [f"{k}: ours {differences[k]['value']!r}, paper {differences[k]['paper']!r}" for k in differ]
+        else:
+            status, what = PAPER_PROTOCOL, []
+        out.append(replace(c, protocol=status, protocol_differences=tuple(what),
+                           comparable=status == PAPER_PROTOCOL and not c.indicative))
     return tuple(out)
 
 
@@ -240,11 +290,14 @@ def run_study(
     from dataclasses import replace
 
     changes = config_changes(name, cfg, quick=quick)
+    differ = protocol_differences(study.config_cls, cfg)
     result = replace(
         result,
         config=config_to_dict(cfg),
         config_changes=changes,
-        claims=_mark_comparable(result.claims, changes, study.neutral_keys),
+        protocol_differences=differ,
+        claims=_mark_comparable(result.claims, changes, study.neutral_keys, differ),
+        # a finding is our question, compared with our documented settings, not with the paper
         findings=_mark_comparable(result.findings, changes, study.neutral_keys),
         seed=seed,
         quick=quick,

@@ -17,11 +17,18 @@ A claim or finding has exactly one of four outcomes (:data:`OUTCOMES`):
     the mirror image: no seed supports it and the interval lies on the other side;
 ``"inconclusive"``
     the evidence does not separate the two: seeds disagree, the interval straddles the
-    threshold, or a stochastic claim was run on a single seed ("a single-seed pass is not
-    holds");
+    threshold, a seed failed (non-finite value), a deterministic value lies within its
+    declared equivalence margin of the threshold (a tie), a stochastic claim was run on a
+    single seed ("a single-seed pass is not holds"), or one reading is decided while the
+    others are inconclusive;
 ``"depends on reading"``
-    the outcome differs between documented readings of an ambiguity of the paper; every
-    reading is listed with its own outcome.
+    at least one documented reading of an ambiguity of the paper holds and at least one does
+    not hold; every reading is listed with its own outcome.
+
+The rule is symmetric: nothing rescues a claim that nothing could also sink. A stochastic
+outcome on fewer than :data:`MIN_SEEDS` seeds is *indicative* (``Claim.indicative``) and never
+"comparable" with the paper; the runner also marks a claim whose protocol keys differ from the
+paper's printed values as ``"reduced protocol"`` (``Claim.protocol``).
 
 A study module declares its claims as :class:`ClaimSpec` objects (statement, location,
 deciding quantity, threshold) and hands per-seed measurements, keyed by reading, to
@@ -63,6 +70,11 @@ __all__ = [
     "DOES_NOT_HOLD",
     "INCONCLUSIVE",
     "DEPENDS_ON_READING",
+    "MIN_SEEDS",
+    "PAPER_PROTOCOL",
+    "REDUCED_PROTOCOL",
+    "CUSTOM_SETTINGS",
+    "PROTOCOLS",
     "Reading",
     "Claim",
     "Finding",
@@ -83,6 +95,13 @@ OUTCOMES = (HOLDS, DOES_NOT_HOLD, INCONCLUSIVE, DEPENDS_ON_READING)
 
 #: Seeds a stochastic verdict needs at full settings (issue: "at least 5 independent seeds").
 MIN_SEEDS = 5
+
+#: ``Claim.protocol`` values: decided at the paper's protocol, below it (our defaults or the
+#: quick overrides differ from a value the paper prints), or under a user's custom settings.
+PAPER_PROTOCOL = "paper protocol"
+REDUCED_PROTOCOL = "reduced protocol"
+CUSTOM_SETTINGS = "custom settings"
+PROTOCOLS = (PAPER_PROTOCOL, REDUCED_PROTOCOL, CUSTOM_SETTINGS)
 
 
 def _finite_or_none(x: float) -> float | None:
@@ -209,10 +228,21 @@ class Claim:
         reading), where they exist.
     unit : str
     comparable : bool
-        False when the run's configuration changed a protocol key of this claim (a user's
-        custom settings): the outcome is then not a verdict on the paper.
+        True only when the claim was decided at the paper's protocol (:attr:`protocol` is
+        ``"paper protocol"``) on enough seeds (not :attr:`indicative`): only then is the
+        outcome a verdict on the paper. Set by the runner.
     protocol_keys : tuple of str or None
-        Config keys whose change makes the claim not comparable (None: any key).
+        Config keys that define the paper's protocol for this claim (None: any key).
+    indicative : bool
+        A stochastic claim decided on fewer than :data:`MIN_SEEDS` seeds (a quick run).
+    protocol : str
+        ``"paper protocol"``, ``"reduced protocol"`` (a protocol key differs from the paper's
+        printed value: our defaults or the quick overrides) or ``"custom settings"`` (the
+        user changed a protocol key). Set by the runner.
+    protocol_differences : tuple of str
+        What differs from the paper's protocol, one ``"key: ours X, paper Y"`` per key.
+    margin, margin_reason
+        The equivalence margin of a deterministic comparison and why (empty when none).
 
     Examples
     --------
@@ -236,16 +266,34 @@ class Claim:
     unit: str = ""
     comparable: bool = True
     protocol_keys: tuple[str, ...] | None = None
+    indicative: bool = False
+    protocol: str = PAPER_PROTOCOL
+    protocol_differences: tuple[str, ...] = ()
+    margin: float = 0.0
+    margin_reason: str = ""
 
     def __post_init__(self) -> None:
         check_choice("outcome", self.outcome, OUTCOMES)
+        check_choice("protocol", self.protocol, PROTOCOLS)
         object.__setattr__(self, "readings", tuple(self.readings))
+        object.__setattr__(self, "protocol_differences", tuple(self.protocol_differences))
         object.__setattr__(self, "interval", (float(self.interval[0]), float(self.interval[1])))
 
     @property
     def display_outcome(self) -> str:
-        """The outcome as the report shows it (``"not comparable"`` for custom settings)."""
-        return self.outcome if self.comparable else "not comparable"
+        """The outcome as the report shows it.
+
+        ``"indicative (2 seeds)"`` below :data:`MIN_SEEDS` seeds, ``"not comparable"`` under
+        custom settings, the outcome followed by ``" (reduced protocol)"`` below the paper's
+        protocol, else the outcome.
+        """
+        if self.indicative:
+            return f"indicative ({self.n_seeds} seed{'s' if self.n_seeds != 1 else ''})"
+        if self.protocol == CUSTOM_SETTINGS:
+            return "not comparable"
+        if self.protocol == REDUCED_PROTOCOL:
+            return f"{self.outcome} (reduced protocol)"
+        return self.outcome
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -264,6 +312,12 @@ class Claim:
             "unit": self.unit,
             "comparable": bool(self.comparable),
             "protocol_keys": None if self.protocol_keys is None else list(self.protocol_keys),
+            "indicative": bool(self.indicative),
+            "protocol": self.protocol,
+            "protocol_differences": list(self.protocol_differences),
+            "display_outcome": self.display_outcome,
+            "margin": _finite_or_none(self.margin) if self.margin else None,
+            "margin_reason": self.margin_reason,
         }
 
 
@@ -290,16 +344,26 @@ def decide(
     stochastic: bool = True,
     reading: str = "default",
     confidence: float = 0.95,
+    margin: float = 0.0,
 ) -> Reading:
     """Outcome of one reading from per-seed results.
 
     Either give ``held`` (one bool per seed) or ``values`` with ``threshold`` (a seed holds
-    when its value is above, or below for ``better="below"``, the threshold).
+    when its value is above, or below for ``better="below"``, the threshold by more than
+    ``margin``), never both: an extra pass/fail condition must not contradict the interval, so
+    it is its own reading or check.
 
-    Rules: a stochastic claim on a single seed is ``inconclusive``; seeds that disagree give
-    ``inconclusive``; unanimous seeds give ``holds`` / ``does not hold`` unless, with a
-    threshold and two or more seeds, the ``confidence`` interval of the mean straddles the
-    threshold (then ``inconclusive``).
+    Rules, symmetric for "holds" and "does not hold":
+
+    * no seeds, or a stochastic claim on a single seed: ``inconclusive``;
+    * any non-finite value (a failed seed): ``inconclusive``, with the count;
+    * a value within ``margin`` of the threshold is a tie (``inconclusive``): the declared
+      equivalence margin of a deterministic comparison (a grid's resolution, a solver's
+      repeatability);
+    * seeds that disagree: ``inconclusive``;
+    * unanimous seeds: ``holds`` / ``does not hold``, unless with a threshold and two or more
+      seeds the ``confidence`` interval of the mean reaches into ``threshold ± margin``
+      (then ``inconclusive``).
 
     >>> decide([True, True, False, True, True]).outcome
     'inconclusive'
@@ -307,24 +371,39 @@ def decide(
     'inconclusive'
     >>> decide(values=[0.2, 0.3, 0.25], threshold=1.0).outcome
     'does not hold'
+    >>> decide(values=[4.56], threshold=4.54, stochastic=False, margin=0.05).outcome
+    'inconclusive'
     """
     check_choice("better", better, ("above", "below"))
     stochastic = check_flag("stochastic", stochastic)
     confidence = check_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
+    margin = check_range("margin", margin, 0.0, math.inf)
     vals: tuple[float, ...] = ()
+    n_failed = n_tied = 0
     if values is not None:
+        if held is not None:
+            raise InputError("decide: give held or values, not both (an extra condition is its own reading or check)")
         if threshold is None:
-            raise ValueError("decide: values need a threshold")
+            raise InputError("decide: values need a threshold")
         threshold = check_finite("threshold", threshold, max_abs=None)
-        # NaN / inf values are allowed: a failed seed, decided as not supporting the claim
+        # NaN / inf values are allowed: a failed seed, which makes the reading inconclusive
         vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
-        ok = [math.isfinite(v) and (v > threshold if better == "above" else v < threshold) for v in vals]
-        if held is not None:  # both given: a seed holds only if both say so
-            ok = [a and bool(b) for a, b in zip(ok, held, strict=True)]
+        sign = 1.0 if better == "above" else -1.0
+        ok, against = [], []
+        for v in vals:
+            if not math.isfinite(v):
+                n_failed += 1
+                ok.append(False), against.append(False)
+                continue
+            d = sign * (v - threshold)
+            ok.append(d > margin)
+            against.append(d < -margin)
+            n_tied += int(-margin <= d <= margin)
     elif held is not None:
         ok = [bool(h) for h in held]
+        against = [not h for h in ok]
     else:
-        raise ValueError("decide: give held or values")
+        raise InputError("decide: give held or values")
     n = len(ok)
     k = sum(ok)
     frac = k / n if n else math.nan
@@ -337,40 +416,55 @@ def decide(
     why = f"{k}/{n} seeds support it"
     if n == 0:
         outcome, why = INCONCLUSIVE, "no seeds"
+    elif n_failed:
+        outcome = INCONCLUSIVE
+        why += f"; {n_failed}/{n} seeds failed (non-finite value): a failed seed decides nothing"
     elif stochastic and n < 2:
         outcome = INCONCLUSIVE
         why += "; a single seed cannot decide a stochastic claim"
-    elif 0 < k < n:
+    elif n_tied:
+        outcome = INCONCLUSIVE
+        why += (f"; {n_tied}/{n} within the equivalence margin ±{margin:.4g} of {threshold:.4g}: a tie")
+    elif 0 < k < n or (k == 0 and not all(against)):
         outcome = INCONCLUSIVE
         why += "; seeds disagree"
     else:
         outcome = HOLDS if k == n else DOES_NOT_HOLD
         if vals and n >= 2 and threshold is not None and all(math.isfinite(x) for x in interval):
             lo, hi = interval
-            straddles = lo <= threshold <= hi
-            if straddles:
+            if lo <= threshold + margin and hi >= threshold - margin:
                 outcome = INCONCLUSIVE
-                why += f"; the {confidence:.0%} interval of the mean [{lo:.4g}, {hi:.4g}] straddles {threshold:.4g}"
-    if stochastic and 1 < n < MIN_SEEDS:
-        why += f" (fewer than {MIN_SEEDS} seeds: a quick-run verdict)"
+                band = f"{threshold:.4g}" if margin == 0 else f"{threshold:.4g} ± {margin:.4g}"
+                why += f"; the {confidence:.0%} interval of the mean [{lo:.4g}, {hi:.4g}] reaches {band}"
+    if stochastic and 0 < n < MIN_SEEDS:
+        why += f" (indicative: {n} < {MIN_SEEDS} seeds)"
     return Reading(reading=reading, outcome=outcome, n_seeds=n, fraction_held=frac, interval=interval, values=vals, detail=why)
 
 
 def combine_readings(readings: Iterable[Reading]) -> str:
-    """The claim's outcome over its readings: the common outcome, else ``depends on reading``.
+    """The claim's outcome over its readings, by a symmetric rule.
+
+    * every reading agrees: that outcome;
+    * at least one reading holds and at least one does not hold: ``depends on reading``;
+    * otherwise (a decided outcome beside inconclusive readings, or none decided):
+      ``inconclusive``; the per-reading outcomes are listed beside it.
 
     >>> r = lambda o: Reading(reading="x", outcome=o, n_seeds=5, fraction_held=1.0, interval=(0, 1))
     >>> combine_readings([r("holds"), r("holds")])
     'holds'
     >>> combine_readings([r("holds"), r("does not hold")])
     'depends on reading'
+    >>> combine_readings([r("does not hold"), r("inconclusive")])
+    'inconclusive'
     """
     outcomes = {r.outcome for r in readings}
     if not outcomes:
         return INCONCLUSIVE
     if len(outcomes) == 1:
         return outcomes.pop()
-    return DEPENDS_ON_READING
+    if HOLDS in outcomes and DOES_NOT_HOLD in outcomes:
+        return DEPENDS_ON_READING
+    return INCONCLUSIVE
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -388,7 +482,8 @@ class ClaimSpec:
     better : {"above", "below"}
         Which side of ``threshold`` supports the claim.
     held : callable, optional
-        ``held(measurement) -> bool`` for a yes/no claim (or an extra condition with ``value``).
+        ``held(measurement) -> bool`` for a yes/no claim; never together with ``value`` (an
+        extra condition would contradict the interval: make it its own reading or check).
     paper : any
         The paper's value of the deciding quantity.
     stochastic : bool
@@ -398,6 +493,13 @@ class ClaimSpec:
         reading is used and ``Claim.readings`` is empty.
     protocol_keys : tuple of str or None
         Config keys that define the paper's protocol for this claim (None: every key).
+    margin : float
+        Equivalence margin around ``threshold`` (same unit as ``value``): a value within it is
+        a tie (``inconclusive``). A deterministic comparison (``stochastic=False`` with a
+        ``value``) must declare one with ``margin_reason`` (e.g. the grid's resolution), even
+        when it is 0 (an exact count).
+    margin_reason : str
+        Why the margin has that size.
 
     Examples
     --------
@@ -421,6 +523,8 @@ class ClaimSpec:
     stochastic: bool = True
     readings: tuple[str, ...] = ()
     protocol_keys: tuple[str, ...] | None = None
+    margin: float = 0.0
+    margin_reason: str = ""
     describe: Callable[[Reading], str] | None = field(default=None, repr=False)
 
     _cls = Claim
@@ -430,17 +534,27 @@ class ClaimSpec:
         check_callable("held", self.held, allow_none=True)
         check_choice("better", self.better, ("above", "below"))
         check_flag("stochastic", self.stochastic)
+        object.__setattr__(self, "margin", check_range("margin", self.margin, 0.0, math.inf))
         if self.threshold is not None:
             object.__setattr__(self, "threshold", check_finite("threshold", self.threshold, max_abs=None))
         if self.value is not None and self.threshold is None:
-            raise ValueError(f"claim {self.id!r}: value needs a threshold")
+            raise InputError(f"claim {self.id!r}: value needs a threshold")
+        if self.value is not None and self.held is not None:
+            raise InputError(f"claim {self.id!r}: give value or held, not both; an extra condition "
+                             "must not contradict the interval: make it its own reading or check")
+        if self.value is None and self.held is None:
+            raise InputError(f"claim {self.id!r}: give value (with threshold) or held")
+        if self.value is not None and not self.stochastic and not self.margin_reason.strip():
+            raise InputError(f"claim {self.id!r}: a deterministic comparison declares its equivalence margin "
+                             "(margin=..., margin_reason='why this size'; margin=0 needs a reason too)")
 
     def _reading(self, name: str, runs: Sequence[Mapping[str, Any]]) -> Reading:
         vals = [float(self.value(m)) for m in runs] if self.value is not None else None
         held = [bool(self.held(m)) for m in runs] if self.held is not None else None
         if vals is not None and self.threshold is None:
             raise ValueError(f"claim {self.id!r}: value needs a threshold")
-        r = decide(held, values=vals, threshold=self.threshold, better=self.better, stochastic=self.stochastic, reading=name)
+        r = decide(held, values=vals, threshold=self.threshold, better=self.better, stochastic=self.stochastic,
+                   reading=name, margin=self.margin)
         if self.describe is not None:
             from dataclasses import replace
 
@@ -483,6 +597,9 @@ class ClaimSpec:
             measured=measured,
             unit=self.unit,
             protocol_keys=self.protocol_keys,
+            indicative=bool(self.stochastic and any(0 < r.n_seeds < MIN_SEEDS for r in per)),
+            margin=self.margin,
+            margin_reason=self.margin_reason,
         )
 
 
