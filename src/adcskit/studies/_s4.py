@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass, field
 
 from adcskit.control.onoff import LoopParams, LoopSettings
-from adcskit.studies._base import protocol
+from adcskit.studies._base import NOT_PRINTED, protocol
 
 __all__ = ["S4Loop", "S4_LOOP"]
 
@@ -68,19 +68,19 @@ class S4Loop:
     ValueError: delay_s must be >= 0; got -1.0
     """
 
-    u_on: float = field(default=0.15, metadata=protocol("s4-loop"))
-    off_ratio: float = field(default=0.5, metadata=protocol("s4-loop"))
-    inertia_kgm2: float = field(default=10.0, metadata=protocol("s4-loop"))
-    torque_nm: float = field(default=1.0, metadata=protocol("s4-loop"))
-    delay_s: float = field(default=0.02, metadata=protocol("s4-loop"))
-    disturbance_nm: float = field(default=0.05, metadata=protocol("s4-loop"))
-    tau_thruster_s: float = field(default=0.01, metadata=protocol("s4-loop"))
-    tau_deriv_s: float = field(default=0.01, metadata=protocol("s4-loop"))
-    step_deg: float = field(default=15.0, metadata=protocol("s4-loop"))
-    command_rate_hz: float = field(default=50.0, metadata=protocol("s4-loop"))
-    dt_s: float = field(default=1e-3, metadata=protocol("s4-loop"))
-    t_final_s: float = field(default=30.0, metadata=protocol("s4-loop"))
-    t_window_s: float = field(default=10.0, metadata=protocol("s4-loop"))
+    u_on: float = field(default=0.15, metadata=protocol("s4-loop", paper=0.15))
+    off_ratio: float = field(default=0.5, metadata=protocol("s4-loop", paper=0.5))
+    inertia_kgm2: float = field(default=10.0, metadata=protocol("s4-loop", paper=10.0))
+    torque_nm: float = field(default=1.0, metadata=protocol("s4-loop", paper=1.0))
+    delay_s: float = field(default=0.02, metadata=protocol("s4-loop", paper=0.02))
+    disturbance_nm: float = field(default=0.05, metadata=protocol("s4-loop", paper=0.05))
+    tau_thruster_s: float = field(default=0.01, metadata=protocol("s4-loop", paper=0.01))
+    tau_deriv_s: float = field(default=0.01, metadata=protocol("s4-loop", paper=NOT_PRINTED))
+    step_deg: float = field(default=15.0, metadata=protocol("s4-loop", paper=15.0))
+    command_rate_hz: float = field(default=50.0, metadata=protocol("s4-loop", paper=50.0))
+    dt_s: float = field(default=1e-3, metadata=protocol("s4-loop", paper=NOT_PRINTED))
+    t_final_s: float = field(default=30.0, metadata=protocol("s4-loop", paper=NOT_PRINTED))
+    t_window_s: float = field(default=10.0, metadata=protocol("s4-loop", paper=10.0))
 
     def __post_init__(self) -> None:
         for name in ("u_on", "inertia_kgm2", "torque_nm", "tau_thruster_s", "tau_deriv_s", "command_rate_hz",
