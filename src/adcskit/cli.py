@@ -151,6 +151,9 @@ def _cmd_list(quiet: bool = False) -> int:
     for name, info in STUDIES.items():
         mark = "" if is_available(name) else "  [not implemented yet]"
         print(f"{name:<{width}}  {info.paper}  {info.description}{mark}")
+    n_paper = sum(1 for i in STUDIES.values() if i.paper in PAPERS)
+    print(f"\n{len(STUDIES)} studies: {n_paper} reproduce the {len(PAPERS)} papers, "
+          f"{len(STUDIES) - n_paper} ({', '.join(n for n, i in STUDIES.items() if i.paper not in PAPERS)}) is ours.")
     print("\nSource papers:")
     for pid, paper in PAPERS.items():
         print(f"  {pid}  {paper.citation()}")
@@ -204,11 +207,14 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
     result = run_study(name, config=config, quick=args.quick, seed=args.seed, out=args.out, executor=executor)
     from adcskit.studies import tally
 
-    counts = tally(c.display_outcome for c in result.all_claims())
+    def label(c) -> str:  # indicative (quick) outcomes are counted apart, never as a red verdict
+        return "indicative" if c.indicative else c.display_outcome
+
+    counts = tally(label(c) for c in result.all_claims())
     verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n)
     if not verdicts and result.findings:
         # a study of our own questions (e.g. closed-loop): tally its findings instead
-        found = tally(f.display_outcome for f in result.findings)
+        found = tally(label(f) for f in result.findings)
         verdicts = "none; findings: " + ", ".join(f"{n} {o}" for o, n in found.items() if n)
     verdicts = verdicts or "no claims"
     return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, paper's claims: {verdicts} -> {Path(args.out) / name}"
