@@ -162,21 +162,35 @@ def test_quick_study_structure(quick_runs):
 
 def test_quick_claims_stable_over_seeds(quick_runs):
     # outcomes of the full run (docs/studies/rendezvous.md) that the quick settings reach too:
-    # 25.8727 s and 25.9360 s are the 20x3 optima of eq. 2 as printed to every printed digit
-    # (S2 Sec. 6, Table 4) and miss the full relative dynamics by 3.6e-4 / 5.9e-4 s
+    # 25.8727 s is the 20x3 optimum of eq. 2 as printed to every printed digit (S2 Sec. 6,
+    # Table 4) and misses the full relative dynamics by 3.6e-4 s. Row 3's 25.9360 s misses our
+    # optimum by 5.09e-5 s against the half unit 5e-5 s: the 8.9e-7 s excess is about the
+    # solver repeatability (the equivalence margin), so that reading is a tie or does not hold
+    # depending on the run's measured repeatability -- it never holds (issue 21)
+    H, N, I = "holds", "does not hold", "inconclusive"
     expected = {
-        "tf_main": ("holds", "holds", "does not hold", "holds"),
-        "table4_gpm_row3": ("holds", "holds", "does not hold", "holds"),
-        "bang_bang": ("holds", "holds"),
-        "hamiltonian": ("holds", "holds"),
+        "tf_main": ((H,), (H,), (N,), (H,)),
+        "table4_gpm_row3": ((I, N), (H,), (N,), (H,)),
+        "bang_bang": ((H,), (H,)),
+        "hamiltonian": ((H,), (H,)),
     }
     for doc in quick_runs:
         got = {c["id"]: tuple(r["outcome"] for r in c["readings"]) for c in doc["claims"]}
-        assert got == expected
+        assert set(got) == set(expected)
+        for cid, want in expected.items():
+            assert all(g in w for g, w in zip(got[cid], want, strict=True)), (cid, got[cid])
+        rep = doc["measured"]["repeatability_s"]
+        assert 0 < rep < 1e-5  # IPOPT tol 1e-9 on the scaled NLP: re-solves agree to ~1e-6 s
+        for c in doc["claims"]:
+            # a quick run has 2 of S2's 5 rows: below the paper's protocol, never comparable
+            assert c["protocol"] == "reduced protocol" and not c["comparable"] and not c["indicative"]
+            assert c["protocol_differences"][0].startswith("rows_m:")
+            if c["id"] in ("tf_main", "table4_gpm_row3"):
+                assert c["margin"] == rep and c["margin_reason"]
         main = next(c for c in doc["claims"] if c["id"] == "tf_main")
         assert main["outcome"] == "depends on reading"
-        # |25.8727 - ours| under eq. 2 as printed, in units of the 6e-5 s printed-digit tolerance
-        assert main["measured"] < 0.5
+        # |25.8727 - ours| - 5e-5 s under eq. 2 as printed (s): the value is ours to its digits
+        assert main["measured"] < -3e-5
 
 
 def _fake_branch(tf0, tfs, errors, *, tol=1e-5, met=True, nlp_ok=True):
@@ -322,7 +336,8 @@ def test_claim_decisions_from_the_full_run_branches():
     # Table 4 row 5): our best 20x3 optima are within 0.94 % of every GPOPS value
     assert got["agrees_with_gpops"] == (D, (N, H, N, H))
     loose = next(c for c in claims if c.id == "agrees_with_gpops").readings[1]
-    assert loose.values[0] == pytest.approx(0.00939 - 0.015325, abs=2e-5)  # row 2: 25.78917 vs 26.0336
+    # row 2: |25.789172 - 26.0336| / 25.789172 = 0.948 % (relative to the GPM value, as S2's column)
+    assert loose.values[0] == pytest.approx(0.244428 / 25.789172 - 0.015325, abs=1e-6)
     assert got["gpm_sometimes_shorter"] == (H, (H, H))  # rows 3, 4: 0.89 %, 0.92 % shorter
     fnd = {f.id: f.outcome for f in findings}
     assert fnd == {
@@ -345,6 +360,15 @@ def test_row3_printed_digits_is_no_longer_rescued_by_a_cushion():
         row3 = next(c for c in claims if c.id == "table4_gpm_row3")
         assert row3.readings[0].outcome == want, repeat_s
         assert row3.margin == repeat_s and "repeatab" in row3.margin_reason
+
+
+def test_table4_difference_column_is_relative_to_the_gpm_value():
+    # S2 Table 4, last column: |GPM - GPOPS| / GPM in %, to its 4 printed decimals (e.g.
+    # 0.1338 / 26.1674 = 0.5113 %); the 'agree well' reading uses the same definition
+    from adcskit.studies.rendezvous.paper import PAPER_ROWS
+
+    for _, gpm, gpops, pct in PAPER_ROWS:
+        assert abs(100 * abs(gpm - gpops) / gpm - pct) <= 0.5e-4, (gpm, gpops, pct)
 
 
 def test_repeatability_is_measured_from_starts_and_self_resolves():
