@@ -172,6 +172,9 @@ def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
     assert (c.protocol, c.indicative, c.comparable) == ("reduced protocol", True, False)
     assert c.display_outcome == "indicative (3 seeds)"
     assert c.protocol_differences == ("n_tasks: ours 3, paper 8",)
+    # a finding (our question) on a quick-overridden key is below the documented full run too
+    assert {f.id: f.protocol for f in quick.findings} == {"small-spread": "reduced protocol",
+                                                          "finite": "paper protocol"}
     custom = run_study("fake", quick=True, config={"n_tasks": 5}, out=tmp_path / "b")
     # the study's setting is recorded as "default", the paper's printed value as "paper"
     assert custom.config_changes == {"n_tasks": {"value": 5, "default": 3, "paper": 8}}

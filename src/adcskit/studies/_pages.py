@@ -131,26 +131,42 @@ def snapshot_of(result: Mapping[str, Any], *, commit: str = "", date: str = "", 
 
 
 def resolve(snapshot: Mapping[str, Any], path: str) -> Any:
-    """The value at a dotted ``path`` of ``snapshot`` (claims, findings and readings by id).
+    """The value at a dotted ``path`` of ``snapshot`` (claims, findings, readings and checks by id).
+
+    An id or key that itself contains dots (``pointing-accuracy-0.25deg``) is matched whole:
+    the longest run of path segments that names an entry wins.
 
     Examples
     --------
-    >>> snap = {"claims": [{"id": "c1", "measured": 0.5, "readings": [{"reading": "max", "outcome": "holds"}]}]}
+    >>> snap = {"claims": [{"id": "c1", "measured": 0.5, "readings": [{"reading": "max", "outcome": "holds"}]},
+    ...                    {"id": "acc-0.25deg", "measured": 0.04}]}
     >>> resolve(snap, "claims.c1.measured"), resolve(snap, "claims.c1.readings.max.outcome")
     (0.5, 'holds')
+    >>> resolve(snap, "claims.acc-0.25deg.measured")
+    0.04
     """
+    parts = path.split(".")
     node: Any = snapshot
-    for part in path.split("."):
-        if isinstance(node, list):
-            if part.lstrip("-").isdigit():
-                node = node[int(part)] if -len(node) <= int(part) < len(node) else _missing(path, part)
-                continue
-            keyed = [x for x in node if isinstance(x, Mapping) and part in (x.get("id"), x.get("reading"), x.get("name"))]
-            node = keyed[0] if keyed else _missing(path, part)
-        elif isinstance(node, Mapping):
-            node = node[part] if part in node else _missing(path, part)
-        else:
-            _missing(path, part)
+    i = 0
+    while i < len(parts):
+        found = False
+        for j in range(len(parts), i, -1):  # longest key first
+            key = ".".join(parts[i:j])
+            if isinstance(node, list):
+                if key.lstrip("-").isdigit() and -len(node) <= int(key) < len(node):
+                    node, found = node[int(key)], True
+                else:
+                    keyed = [x for x in node if isinstance(x, Mapping) and key in (x.get("id"), x.get("reading"),
+                                                                                     x.get("name"))]
+                    if keyed:
+                        node, found = keyed[0], True
+            elif isinstance(node, Mapping) and key in node:
+                node, found = node[key], True
+            if found:
+                i = j
+                break
+        if not found:
+            _missing(path, parts[i])
     return node
 
 
@@ -185,7 +201,7 @@ def _outcome(c: Mapping[str, Any]) -> str:
     text = f"**{shown}**"
     readings = c.get("readings") or []
     if readings:
-        text += " (" + "; ".join(f"{r['reading']}: {r['outcome']}" for r in readings) + ")"
+        text += " (" + "; ".join(f"{_cell(r['reading'])}: {r['outcome']}" for r in readings) + ")"
     return text
 
 
