@@ -177,7 +177,7 @@ def differences(config: Config, m: Measurements) -> list[str]:
         f"evaluation; here {config.n_seeds} x {ga['n_mc']} in all); "
         "the S4 stopping rule (mean change of the best objective over 10 generations < 1e-7) is applied and "
         "each case reports whether it fired.",
-        f"{ga['n_lhs']} LHS samples per robust-objective evaluation (S4 does not print the number), the same "
+        f"{ga['n_lhs']} LHS samples per robust-objective evaluation (S4 Fig. 11: 1000 LHS samples), the same "
         "samples for every candidate (common random numbers), a fresh draw per seed.",
         "Weights normalised to w1 + w2 = 1 at the printed ratio w2/w1; σ is the population std (ddof=0); the "
         f"overshoot constraint (S4 prints no penalty) enters as {config.penalty_weight_deg_per_pct:g}° per % of excess, "
