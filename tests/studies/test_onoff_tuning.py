@@ -126,6 +126,27 @@ def test_typically_is_a_strict_majority_of_the_cases(higher, outcome):
     assert "at least 3 of 5" in claim.quantity
 
 
+def test_headline_std_claim_follows_the_symmetric_rule():
+    """Issue 21: 'depends on reading' needs a holding and a failing reading. The all-four σ
+    ratios of the 2026-12-01 full run (runs/full2, old rule: 'depends on reading') read
+    inconclusive / does not hold / inconclusive, so the claim is inconclusive."""
+    from adcskit.studies.onoff_tuning import Config
+    from adcskit.studies.onoff_tuning.claims import _robust_std_claim
+
+    ours = (1.012, 1.383, 1.623, 1.506, 1.039)  # std robust / det, per seed
+    table4 = (1.121, 1.462, 1.277, 1.199, 1.270)  # std robust / S4 Table 4 gains
+    e_os = (0.734, 0.848, 1.156, 1.067, 0.736)  # penalty on E[overshoot] / det
+
+    class M(_Seeds):
+        def case_flats(self, case):
+            return [{"std_robust": o, "std_det": 1.0, "std_table4": o / t, "std_robust_mean": e}
+                    for o, t, e in zip(ours, table4, e_os, strict=True)]
+
+    claim = _robust_std_claim(Config(), M({}), "all")
+    assert [r.outcome for r in claim.readings] == ["inconclusive", "does not hold", "inconclusive"]
+    assert claim.outcome == "inconclusive"
+
+
 def test_every_protocol_key_declares_the_papers_value():
     """Issue 21 item 2: S4 §4 (population 70, 1000 iterations, 1e-7 over 10), Fig. 11 (1000 LHS
     samples), §5 (10 000 runs), Tables 3, 5, 6; NOT_PRINTED where S4 prints nothing."""
