@@ -180,6 +180,10 @@ def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
     assert custom.config_changes == {"n_tasks": {"value": 5, "default": 3, "paper": 8}}
     assert [c.comparable for c in custom.claims] == [False]
     assert [c.protocol for c in custom.claims] == ["custom settings"]
+    # a change *to* the paper's printed value (8 tasks) restores the paper's protocol
+    back = run_study("fake", quick=True, config={"n_tasks": 8}, out=None)
+    assert back.config_changes == {"n_tasks": {"value": 8, "default": 3, "paper": 8}}
+    assert [(c.protocol, c.comparable) for c in back.claims] == [("paper protocol", True)]
     # findings get the same treatment: the one on the changed key is not comparable with the
     # documented answer, the one whose protocol does not include n_tasks still is
     assert all(f.comparable for f in paper.findings)

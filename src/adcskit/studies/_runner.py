@@ -142,6 +142,8 @@ def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...
     from adcskit.studies._verdict import CUSTOM_SETTINGS, PAPER_PROTOCOL, REDUCED_PROTOCOL
 
     differences = differences or {}
+    # a change *to* the paper's printed value is not a custom setting (e.g. a paper-scale run)
+    changes = {k: v for k, v in changes.items() if to_jsonable(v.get("value")) != to_jsonable(v.get("paper"))}
     out = []
     for c in claims:
         if c.protocol_keys is None:
