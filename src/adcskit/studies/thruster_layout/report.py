@@ -20,7 +20,7 @@ from adcskit.studies.thruster_layout.paper import PAPER
 
 __all__ = ["comparison", "differences", "measured", "summary", "tables"]
 
-_RUN_KEYS = ("n", "alg", "seed_index", "f_best", "torque_error", "e_min", "sum_tp_s", "runtime_s", "cpu_s",
+_RUN_KEYS = ("n", "alg", "seed_index", "f_best", "torque_error", "e_min", "sum_tp_s", "runtime_s", "cpu_s", "cpu_s_median",
              "evaluations")
 
 
