@@ -88,7 +88,7 @@ def _de_faster(cfg: Config, m: Measurements) -> Declared | None:
         statement="the differential evolution algorithm has a shorter run time than the genetic algorithm",
         where="abstract; §6, Fig. 3",
         quantity="per seed, the largest DE/GA ratio over n of the process CPU time per optimisation "
-                 f"(time.process_time of the worker process, median of {reps} repeat{'s' if reps != 1 else ''} "
+                 f"(time.process_time of the process that runs it, median of {reps} repeat{'s' if reps != 1 else ''} "
                  f"of the same seeded run inside this run; equal evaluations: {cfg.n_gen} generations x "
                  f"{cfg.pop_size}); holds below 1",
         value=lambda r: r.value, threshold=1.0, better="below", unit="-", timing=True,

@@ -66,8 +66,8 @@ STATEMENTS = (
               claim="de-faster"),
     Statement(where="§6, Fig. 3", text="for both algorithms the computation time grows with the number of "
               "thrusters", claim=None,
-              reason="not declared: at equal evaluations it follows from the larger decision vector; our times "
-              "per n are in figure runtime_vs_n.png"),
+              reason="we time every n (figure runtime_vs_n.png) but declare no claim: at equal evaluations the "
+              "growth follows from the larger decision vector"),
     Statement(where="§6, Fig. 4", text="for both algorithms the lowest fitness is obtained with 6 thrusters",
               claim="six-thrusters-best"),
     Statement(where="§6, Fig. 5", text="the fuel consumption (on-time) of the optimal layout is lower than that of "
