@@ -91,7 +91,7 @@ def test_findings_not_comparable_only_when_their_scenario_changed(quick):
                         protocol_keys=tuple(f["protocol_keys"])) for f in d["findings"]]
 
     def marked(key):
-        return {f.id: f.comparable for f in _mark_comparable(findings, {key: {"value": 0, "paper": 1}})}
+        return {f.id: f.comparable for f in _mark_comparable(findings, {key: {"value": 0, "default": 1, "paper": "not declared"}})}
 
     assert all(marked("n_seeds").values())
     assert not any(marked("inertia_kgm2").values())
