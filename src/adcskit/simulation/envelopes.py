@@ -51,6 +51,8 @@ __all__ = [
 #: Percentiles of an envelope, %.
 BANDS = (1.0, 5.0, 50.0, 95.0, 99.0)
 _DEG = 180.0 / math.pi
+#: Colours of the worst samples, worst first (red, orange, purple, brown, pink).
+_WORST_COLOURS = ("C3", "C1", "C4", "C5", "C6")
 _UNIT_SCALES = {"rad": ("deg", _DEG), "rad/s": ("deg/s", _DEG)}
 
 
@@ -297,20 +299,27 @@ def envelope_figure(
         name = label if (label is not None and k == 1) else (f"{label} {j}" if label is not None else labels[j])
         ax.set_ylabel(f"{name}{ulab}")
     axes[-1].set_xlabel("time [s]")
-    axes[0].legend(loc="upper right", fontsize="small", ncol=2, framealpha=0.85)
+    _legend(fig, axes[0])
     fig.suptitle(f"{label or channel}: median, 5-95 % and 1-99 % of n = {res.n_samples} samples",
                  fontsize="medium")
     return fig
 
 
+def _legend(fig: Any, ax: Any) -> None:
+    """One legend for the figure, below the panels (never over the data)."""
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize="small",
+               frameon=False)
+
+
 def _draw(ax: Any, e: Envelope, v: np.ndarray, worst: np.ndarray, worst_by: str, yscale: str) -> None:
     ax.fill_between(e.t, e.p1, e.p99, color="C0", alpha=0.18, lw=0, label="1-99 %")
     ax.fill_between(e.t, e.p5, e.p95, color="C0", alpha=0.38, lw=0, label="5-95 %")
-    ax.plot(e.t, e.median, color="C0", lw=1.6, label="median")
+    ax.plot(e.t, e.median, color="C0", lw=1.8, label="median", zorder=4)
     by = "peak |value|" if worst_by == "peak" else worst_by
     for r, i in enumerate(worst):
-        ax.plot(e.t, v[i], color="C3", lw=0.9, alpha=0.9 - 0.5 * r / max(1, len(worst)),
-                label=f"worst by {by}: sample {int(i)}" if r < 3 else None)
+        ax.plot(e.t, v[i], color=_WORST_COLOURS[r % len(_WORST_COLOURS)], lw=0.9, alpha=0.85, zorder=3,
+                label=f"worst by {by}: sample {int(i)}" if r == 0 else f"sample {int(i)}")
     ax.set_yscale(yscale)
     ax.grid(True, which="major", alpha=0.3)
 
@@ -414,6 +423,6 @@ def _panels(res: SimulationResult, panels: list[tuple[str, str, str]], units: st
         _draw(ax, envelope(v, t[keep]), v, idx, worst_by, ysc)
         ax.set_ylabel(f"{lab} [{units}]")
     axs[-1].set_xlabel("time [s]")
-    axs[0].legend(loc="upper right", fontsize="small", ncol=2, framealpha=0.85)
+    _legend(fig, axs[0])
     fig.suptitle(f"{title}: median, 5-95 % and 1-99 % of n = {res.n_samples} samples", fontsize="medium")
     return fig

@@ -291,6 +291,15 @@ def _version() -> str:
         return "unknown"
 
 
+def _target(name: str, path: Any) -> Path:
+    """A path to write: its parent directory must exist (nothing is created above it)."""
+    p = check_path(name, path)
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{name} must be in an existing directory; got {str(p)!r} ({str(parent)!r} is not a directory)")
+    return p
+
+
 def _as_dataset(obj: Any, scenario: Any, rng_seed: Any) -> Any:
     xr = _xarray()
     if isinstance(obj, xr.Dataset):
@@ -340,10 +349,9 @@ def write_netcdf(result: Any, path: Any, scenario: Scenario | None = None, *, rn
     (True, 'rad')
     """
     ds = _as_dataset(result, scenario, rng_seed)
-    p = check_path("path", path)
+    p = _target("path", path)
     if p.exists() and p.is_dir():
         raise InputError(f"path must be a file path for netCDF; got {str(p)!r} (a directory)")
-    check_path("path", p.parent if str(p.parent) else Path("."), writable_dir=True)
     out = ds.copy()
     if "noise_seed" in out and out["noise_seed"].dtype == np.uint64:
         attrs = dict(out["noise_seed"].attrs) | {"adcskit_encoding": "uint64 as decimal text (netCDF3)"}
@@ -351,7 +359,10 @@ def write_netcdf(result: Any, path: Any, scenario: Scenario | None = None, *, rn
     for k, v in list(out.attrs.items()):
         if isinstance(v, bool):
             out.attrs[k] = int(v)
-    out.to_netcdf(p, engine="scipy", format="NETCDF3_64BIT")
+    try:
+        out.to_netcdf(p, engine="scipy", format="NETCDF3_64BIT")
+    except OSError as exc:
+        raise InputError(f"path cannot be written ({exc.strerror or exc}); got {str(p)!r}") from None
     return p
 
 
@@ -391,12 +402,17 @@ def write_zarr(result: Any, path: Any, scenario: Scenario | None = None, *, rng_
         import zarr  # noqa: F401
     except ImportError as exc:  # pragma: no cover - zarr comes with the export extra
         raise SolverError(f"write_zarr needs zarr, which is not installed; {EXPORT_EXTRA_HINT}") from exc
-    p = check_path("path", path, writable_dir=True)
+    p = _target("path", path)
+    if p.exists() and not p.is_dir():
+        raise InputError(f"path must be a directory (a Zarr store) or a new path; got {str(p)!r} (an existing file)")
     out = ds.copy()
     for k, v in list(out.attrs.items()):
         if isinstance(v, bool):
             out.attrs[k] = int(v)
-    out.to_zarr(p, mode="w", consolidated=False)
+    try:
+        out.to_zarr(p, mode="w", consolidated=False)
+    except OSError as exc:
+        raise InputError(f"path cannot be written ({exc.strerror or exc}); got {str(p)!r}") from None
     return p
 
 
@@ -433,11 +449,16 @@ def read_dataset(path: Any) -> Any:
     """
     xr = _xarray()
     p = check_path("path", path, must_exist=True)
-    if p.is_dir():
-        ds = xr.open_zarr(p, consolidated=False).load()
-    else:
-        with xr.open_dataset(p, engine="scipy") as f:
-            ds = f.load()
+    try:
+        if p.is_dir():
+            ds = xr.open_zarr(p, consolidated=False).load()
+        else:
+            with xr.open_dataset(p, engine="scipy") as f:
+                ds = f.load()
+    except (OSError, ValueError, TypeError, KeyError) as exc:
+        kind = "a Zarr store" if p.is_dir() else "a netCDF3 file"
+        raise InputError(f"path must be {kind} written by write_netcdf/write_zarr; got {str(p)!r} "
+                         f"({type(exc).__name__}: {str(exc)[:120]})") from None
     if "noise_seed" in ds and ds["noise_seed"].dtype != np.uint64:
         attrs = {k: v for k, v in ds["noise_seed"].attrs.items() if k != "adcskit_encoding"}
         ds["noise_seed"] = (ds["noise_seed"].dims, np.array([int(s) for s in ds["noise_seed"].values],
