@@ -1332,7 +1332,7 @@ case("simulation.write_netcdf", kinds={"result": "object", "scenario": "object",
      **_XR)(lambda: dict(result=_sim_recorded(), path=scratch_path("nc", file_suffix=".nc"), scenario=_sim_scenario(),
                          rng_seed=1))
 case("simulation.write_zarr", kinds={"result": "object", "scenario": "object", "path": "path"}, positive=("rng_seed",),
-     **_XR)(lambda: dict(result=_sim_recorded(), path=scratch_path("zarr") + "/run.zarr", scenario=_sim_scenario()))
+     slow=True, **_XR)(lambda: dict(result=_sim_recorded(), path=scratch_path("zarr") + "/run.zarr", scenario=_sim_scenario()))
 
 
 def _nc_file() -> str:
@@ -1343,15 +1343,16 @@ def _nc_file() -> str:
 
 case("simulation.read_dataset", kinds={"path": "path"}, **_XR)(lambda: dict(path=_nc_file()))
 case("simulation.envelope_figure", kinds={"result": "object", "channel": "skip", "units": "skip", "label": "skip"},
-     extra={"unknown-channel": ("channel", "wheel_speed", "type")})(
+     extra={"unknown-channel": ("channel", "wheel_speed", "type")}, slow=True)(
     lambda: dict(result=_sim_recorded(), channel="pointing_error", scale=57.29577951308232, units="deg",
                  label="pointing error", worst=2, worst_by="pointing_max_deg", yscale="log", t_from=0.0))
-case("simulation.attitude_error_figure", kinds={"result": "object"})(
+# figures take ~0.1 s each: every mutation runs in the exhaustive variant (-m slow) only
+case("simulation.attitude_error_figure", kinds={"result": "object"}, slow=True)(
     lambda: dict(result=_sim_recorded(), worst=2, worst_by="pointing_max_deg", axes=True, yscale="log", t_from=0.0))
-case("simulation.body_rate_figure", kinds={"result": "object"})(
+case("simulation.body_rate_figure", kinds={"result": "object"}, slow=True)(
     lambda: dict(result=_sim_recorded(), worst=1, worst_by="max_rate_deg_s", t_from=0.0))
 case("simulation.check_simulation", kinds={"requirements": "object", "result": "object", "scenario": "object"},
-     aliases={"requirements": ("source",)}, positive=("confidence",), shape_stable=False,
+     aliases={"requirements": ("source", "requirement")}, positive=("confidence",), shape_stable=False,
      nan_ok=("bound", "opposite_bound", "estimate"),
      extra={"bad-line": ("requirements", ["pointing_max_deg p99 0.1"], "type"),
             "unknown-metric": ("requirements", ["pointing_worst_deg p95 <= 1"], "type"),

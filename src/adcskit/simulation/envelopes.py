@@ -194,16 +194,20 @@ def worst_samples(result: SimulationResult, n: int = 3, *, by: str = "pointing_m
     if not isinstance(result, SimulationResult):
         raise InputTypeError(f"result must be a SimulationResult; got {type(result).__name__}")
     n = check_int("n", n, minimum=0)
+    return _worst(result, n, by, channel, largest, "by")
+
+
+def _worst(result: SimulationResult, n: int, by: Any, channel: str | None, largest: bool, name: str) -> np.ndarray:
     n = min(n, int(result.n_samples))
     if by == "peak":
         if channel is None:
-            raise InputError("by='peak' needs channel (the channel whose largest |value| ranks the samples); got None")
+            raise InputError(f"{name}='peak' needs channel (the channel whose largest |value| ranks the samples); got None")
         _check_result(result)
         vals, _ = _channel_values(result, channel)
         with np.errstate(invalid="ignore"):
             score = np.nanmax(np.abs(vals).reshape(vals.shape[0], -1), axis=1) if vals.size else np.zeros(0)
     else:
-        check_choice("by", by, sorted(result.metrics) + ["peak"])
+        check_choice(name, by, sorted(result.metrics) + ["peak"])
         score = np.asarray(result.metrics[by], dtype=float)
     key = np.where(np.isnan(score), np.inf, score if largest else -score)
     return np.argsort(-key, kind="stable")[:n]
@@ -285,7 +289,7 @@ def envelope_figure(
     keep = t >= t_from
     if not np.any(keep):
         raise InputError(f"t_from must be at most the last recorded time {t[-1]:g} s; got {t_from:g} s")
-    idx = worst_samples(res, worst, by=worst_by, channel=channel)
+    idx = _worst(res, worst, worst_by, channel, True, "worst_by")
     k = vals.shape[2]
     from matplotlib.figure import Figure
 
@@ -414,7 +418,7 @@ def _panels(res: SimulationResult, panels: list[tuple[str, str, str]], units: st
     keep = t >= t_from
     if not np.any(keep):
         raise InputError(f"t_from must be at most the last recorded time {t[-1]:g} s; got {t_from:g} s")
-    idx = worst_samples(res, worst, by=worst_by, channel=panels[0][0])
+    idx = _worst(res, worst, worst_by, panels[0][0], True, "worst_by")
     fig = Figure(figsize=(7.0, 1.0 + 2.4 * len(panels)), layout="constrained")
     axs = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     for ax, (ch, lab, ysc) in zip(axs, panels):

@@ -319,7 +319,10 @@ def check_simulation(
                     f"requirement {req.text!r}: metric {req.metric!r} cannot be re-windowed to [{req.after_s:g}, end] s "
                     f"(from the traces: {', '.join(TRACE_METRICS)}); re-run with SimSpec(metrics_from_s="
                     f"{req.after_s:g}) or drop 'after'")
-            values, src, ok = _from_trace(result, scenario, req.metric, req.after_s)
+            try:
+                values, src, ok = _from_trace(result, scenario, req.metric, req.after_s)
+            except InputError as exc:
+                raise InputError(f"requirement {req.text!r}: {exc}") from None
             exact = exact and ok
         window_arg = req.after_s if req.after_s is not None else None
         one = check_requirements([req], {req.metric: values}, metrics_from_s=window_arg, method=method,
