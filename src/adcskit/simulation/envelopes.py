@@ -73,7 +73,7 @@ class Envelope:
     >>> import numpy as np
     >>> from adcskit.simulation.envelopes import envelope
     >>> e = envelope(np.arange(101.0)[:, None] * np.ones((1, 3)), t=[0.0, 1.0, 2.0])
-    >>> e.median.tolist(), e.p5.tolist(), e.p99[0], e.n
+    >>> e.median.tolist(), e.p5.tolist(), float(e.p99[0]), e.n
     ([50.0, 50.0, 50.0], [5.0, 5.0, 5.0], 99.0, 101)
     """
 
