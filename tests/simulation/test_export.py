@@ -6,12 +6,16 @@ simulator kernel is compiled once and cached (see ``docs/simulation.md``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import tomllib
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from adcskit.errors import InputError, InputTypeError, SolverError
 from adcskit.simulation import (
@@ -145,6 +149,27 @@ def test_envelope_matches_numpy_percentiles():
         env.envelope(x, np.arange(6.0))
     with pytest.raises(InputError, match="2-D"):
         env.envelope(np.ones(3), [0.0, 1.0, 2.0])
+
+
+@settings(max_examples=40, deadline=None)
+@given(arrays(np.float64, st.tuples(st.integers(1, 30), st.integers(1, 5)),
+              elements=st.floats(-1e6, 1e6, allow_nan=False)))
+def test_envelope_bands_are_ordered(x):
+    e = env.envelope(x, np.arange(x.shape[1], dtype=float))
+    for lo, hi in ((e.p1, e.p5), (e.p5, e.median), (e.median, e.p95), (e.p95, e.p99)):
+        assert np.all(lo <= hi + 1e-9 * (1 + np.abs(hi)))
+    assert np.all(e.p1 >= x.min(axis=0) - 1e-9 * (1 + np.abs(x.min(axis=0))))
+
+
+def test_new_indexed_channels_group_and_plot(run):
+    # channels a later model adds (here: wheel speeds, rad/s) export and plot without changes
+    _, res = run
+    chans = tuple(c.replace("thrust_", "wheel_speed_") for c in res.channels)
+    wheels = dataclasses.replace(res, channels=chans)
+    ds = ex.to_dataset(wheels)
+    assert ds["wheel_speed"].dims == ("sample", "time", "wheel_speed_index") and ds.sizes["wheel_speed_index"] == 6
+    fig = env.envelope_figure(wheels, "wheel_speed", scale=30 / math.pi, units="rpm", worst=1)
+    assert len(fig.axes) == 6 and fig.axes[0].get_ylabel() == "wheel_speed_0 [rpm]"
 
 
 def test_worst_samples_rank_by_a_stated_metric(run):
