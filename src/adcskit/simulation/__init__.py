@@ -10,7 +10,10 @@ kernel (``prange`` over samples).
 
 * :mod:`~adcskit.simulation.scenario` — the scenario as data (frozen dataclasses, TOML);
 * :mod:`~adcskit.simulation.core` — :func:`simulate` and :class:`SimulationResult`;
-* :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews.
+* :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews;
+* :mod:`~adcskit.simulation.export` — xarray Dataset, netCDF and Zarr export (``adcskit[export]``);
+* :mod:`~adcskit.simulation.envelopes` — Monte-Carlo envelope figures of the traces;
+* :mod:`~adcskit.simulation.signoff` — a requirement table checked on a result.
 
 Layering: this package composes attitude, dynamics, environment, sensors, determination,
 estimation, thrusters, control and uncertainty; nothing below imports it.
@@ -24,6 +27,8 @@ from adcskit.simulation.core import (
     reference_profile,
     simulate,
 )
+from adcskit.simulation.envelopes import attitude_error_figure, body_rate_figure, envelope_figure
+from adcskit.simulation.export import read_dataset, to_dataset, write_netcdf, write_zarr
 from adcskit.simulation.scenario import (
     ControllerSpec,
     DispersionSpec,
@@ -38,9 +43,13 @@ from adcskit.simulation.scenario import (
     ThrusterSpec,
     load_scenario,
 )
+from adcskit.simulation.signoff import SignOffTable, check_simulation
 
 __all__ = [
     "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
+    "to_dataset", "write_netcdf", "write_zarr", "read_dataset",
+    "envelope_figure", "attitude_error_figure", "body_rate_figure",
+    "SignOffTable", "check_simulation",
 ]
