@@ -847,6 +847,7 @@ def _study_config_cls() -> Any:
 
 case("studies.neutral_keys")(lambda: dict(config_cls=_study_config_cls()))
 case("studies.protocol_keys")(lambda: dict(config_cls=_study_config_cls()))
+case("studies.paper_protocol")(lambda: dict(config_cls=_study_config_cls()))
 exempt("takes only *tags (no keyword to mutate); its checks (non-empty strings, at least one) are tested in "
        "tests/test_framework.py::test_config_keys_are_declared_as_field_metadata", "studies.protocol")
 exempt(
