@@ -10,7 +10,9 @@ kernel (``prange`` over samples).
 
 * :mod:`~adcskit.simulation.scenario` — the scenario as data (frozen dataclasses, TOML);
 * :mod:`~adcskit.simulation.core` — :func:`simulate` and :class:`SimulationResult`;
-* :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews.
+* :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews;
+* :mod:`~adcskit.simulation.wheels` — reaction wheels, magnetorquers, momentum management and
+  a detumble -> sun -> nadir mode sequence in their own batched kernel (:func:`simulate_wheels`).
 
 Layering: this package composes attitude, dynamics, environment, sensors, determination,
 estimation, thrusters, control and uncertainty; nothing below imports it.
@@ -38,9 +40,24 @@ from adcskit.simulation.scenario import (
     ThrusterSpec,
     load_scenario,
 )
+from adcskit.simulation.wheels import (
+    MODE_NAMES,
+    WHEEL_METRIC_NAMES,
+    MagnetorquerSpec,
+    ModeSpec,
+    WheelControlSpec,
+    WheelDispersionSpec,
+    WheelScenario,
+    WheelSimulationResult,
+    WheelSpec,
+    load_wheel_scenario,
+    simulate_wheels,
+)
 
 __all__ = [
     "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
+    "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
+    "WheelScenario", "WheelSimulationResult", "WheelSpec", "load_wheel_scenario", "simulate_wheels",
 ]
