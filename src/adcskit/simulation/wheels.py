@@ -253,9 +253,11 @@ class MagnetorquerSpec(_Spec):
     max_dipole_am2 : float, A m^2
         Dipole limit per rod (the command is scaled so that its largest component fits).
     duty : float
-        Fraction of each control period during which the rods are on (in (0, 1]); the
-        magnetometer sample at the start of a period is taken with the rods off if
-        ``duty < 1``.
+        Fraction of each control period during which the rods are on (in (0, 1]), realised as
+        ``floor(duty * steps)`` whole steps at the start of the period, at least one and, for
+        ``duty < 1``, at most all but one (then the magnetometer sample at the start of the
+        next period is taken with the rods off; ``duty < 1`` needs a control period of >= 2
+        steps).
     magnetometer : {"blank", "corrupt"}
         A magnetometer sample taken while the rods are on is dropped (``blank``) or gets
         ``coupling_t_per_am2 * m`` added (``corrupt``).
@@ -542,6 +544,14 @@ class WheelScenario(_Spec):
             rate = getattr(self.sensors, name)
             if rate > 0:
                 steps(f"1 / sensors.{name}", 1.0 / rate)
+        hc = int(round(self.control.period_s / dt))
+        mt = self.magnetorquers
+        rods_used = mt.max_dipole_am2 > 0 and self.control.law != "open-loop" and self.sensors.mag_rate_hz > 0 and (
+            self.modes.initial == "detumble" or mt.unload_gain > 0)
+        if rods_used and mt.duty < 1.0 and hc < 2:
+            raise InputError(f"magnetorquers.duty={self.magnetorquers.duty:g} < 1 needs an off step in each control "
+                             f"period: control.period_s must be >= 2 steps (2 dt = {2 * dt:g} s); got "
+                             f"{self.control.period_s:g} s")
         nw = self.wheels.n
         if self.control.law == "open-loop" and len(self.control.open_loop_torque_nm) != nw:
             raise InputError(f"control.open_loop_torque_nm must have {nw} entries (one per wheel); "
@@ -803,6 +813,14 @@ def _allocation(sc: WheelScenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pinv, nullp, hstar
 
 
+def _on_steps(duty: float, hc: int) -> int:
+    """Steps per control period with the rods on: ``floor(duty hc)``, at least 1, and at most
+    ``hc - 1`` when ``duty < 1`` (an off step is left for the magnetometer)."""
+    if duty >= 1.0:
+        return hc
+    return max(1, min(hc - 1, int(math.floor(duty * hc + 1e-9))))
+
+
 def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
     dt = sc.sim.dt
     n_steps = int(round(sc.sim.t_final / dt))
@@ -884,7 +902,7 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     C[_k.NULL_GAIN] = c.null_gain if c.null_motion else 0.0
     m = sc.magnetorquers
     C[_k.MTQ_MAX] = m.max_dipole_am2
-    C[_k.MTQ_ON_STEPS] = max(1, int(round(m.duty * hc)))
+    C[_k.MTQ_ON_STEPS] = _on_steps(m.duty, hc)
     C[_k.MAG_MODE] = _k.MAG_BLANK if m.magnetometer == "blank" else _k.MAG_CORRUPT
     C[_k.MAG_COUPLING] = m.coupling_t_per_am2
     C[_k.BDOT_GAIN] = m.bdot_gain
