@@ -50,6 +50,7 @@ from adcskit.simulation.wheels import (
     WheelScenario,
     WheelSimulationResult,
     WheelSpec,
+    envelope_figure,
     load_wheel_scenario,
     simulate_wheels,
 )
@@ -59,5 +60,6 @@ __all__ = [
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
     "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
-    "WheelScenario", "WheelSimulationResult", "WheelSpec", "load_wheel_scenario", "simulate_wheels",
+    "WheelScenario", "WheelSimulationResult", "WheelSpec", "envelope_figure", "load_wheel_scenario",
+    "simulate_wheels",
 ]

@@ -61,6 +61,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -77,6 +78,7 @@ from adcskit._validation import (
     check_int,
     check_positive,
     check_range,
+    short_repr,
 )
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation import _wheel_kernels as _k
@@ -101,8 +103,10 @@ __all__ = [
     "WheelSimulationResult",
     "load_wheel_scenario",
     "simulate_wheels",
+    "envelope_figure",
     "MODE_NAMES",
     "WHEEL_METRIC_NAMES",
+    "ENVELOPE_CHANNELS",
 ]
 
 _DEG = math.pi / 180.0
@@ -160,9 +164,10 @@ class WheelSpec(_Spec):
     Examples
     --------
     >>> from adcskit.simulation import WheelSpec
-    >>> w = WheelSpec(axes=((1, 0, 0), (0, 1, 0), (0, 0, 1)), max_torque_nm=0.004, failed=(2,))
+    >>> w = WheelSpec(axes=((1, 0, 0), (0, 1, 0), (0, 0, 1), (0.577, 0.577, 0.577)), max_torque_nm=0.004,
+    ...               failed=(3,))                 # 3 orthogonal wheels + a skewed spare, failed
     >>> w.n, w.failed, w.axis_matrix().shape
-    (3, (2,), (3, 3))
+    (4, (3,), (3, 4))
 
     References
     ----------
@@ -235,6 +240,9 @@ class WheelSpec(_Spec):
         (4, 0.5774)
         """
         e = check_range("elevation_deg", elevation_deg, 0.0, 90.0, lo_open=True, hi_open=True, unit="deg")
+        if min(math.sin(e * _DEG), math.cos(e * _DEG)) < 1e-6:
+            raise InputError(f"elevation_deg must keep the pyramid's axes spanning 3 axes (between 6e-5 and "
+                             f"89.99994 deg); got {e!r} deg")
         return cls(axes=_pyramid_axes(e), **kw)
 
 
@@ -342,7 +350,7 @@ class WheelControlSpec(_Spec):
     bandwidth_rad_s: float = 0.1
     damping: float = 0.9
     rate_limit_deg_s: float = 1.0
-    period_s: float = 0.5
+    period_s: float = 1.0
     null_motion: bool = False
     null_gain: float = 0.01
     null_speed_rpm: float = 1000.0
@@ -472,13 +480,13 @@ def _ref_orbit() -> OrbitSpec:
 
 
 def _ref_sensors() -> SensorSpec:
-    return SensorSpec(sun_rate_hz=2.0, sun_noise_deg=0.5, mag_rate_hz=2.0, mag_noise_deg=0.5, gyro_rate_hz=10.0,
-                      gyro_arw=1.5e-5, gyro_rrw=1e-7, gyro_bias0_deg_h=5.0, star_tracker_rate_hz=2.0,
+    return SensorSpec(sun_rate_hz=1.0, sun_noise_deg=0.5, mag_rate_hz=1.0, mag_noise_deg=0.5, gyro_rate_hz=5.0,
+                      gyro_arw=1.5e-5, gyro_rrw=1e-7, gyro_bias0_deg_h=5.0, star_tracker_rate_hz=1.0,
                       star_tracker_noise_arcsec=20.0)
 
 
 def _ref_sim() -> SimSpec:
-    return SimSpec(dt=0.1, t_final=11400.0, metrics_from_s=8000.0, settle_band_deg=0.5, record_every=50)
+    return SimSpec(dt=0.2, t_final=17100.0, metrics_from_s=11400.0, settle_band_deg=0.5, record_every=50)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -486,7 +494,8 @@ class WheelScenario(_Spec):
     """A wheel + magnetorquer scenario (all parts are data). The defaults are the reference
     12U-class LEO smallsat: diag(0.30, 0.27, 0.17) kg m^2, 500 km sun-synchronous orbit
     (97.4 deg), 4-wheel pyramid (0.015 N m s, 4 mN m), three 0.2 A m^2 rods, sun sensor +
-    magnetometer + gyro + star tracker, detumble -> sun -> nadir over two orbits (dt 0.1 s).
+    magnetometer + gyro + star tracker, detumble -> sun -> nadir over three orbits (17 100 s,
+    dt 0.2 s, control at 1 Hz), pointing metrics over the third orbit (from 11 400 s).
 
     Attributes
     ----------
@@ -506,7 +515,7 @@ class WheelScenario(_Spec):
     >>> from adcskit.simulation import WheelScenario
     >>> sc = WheelScenario()
     >>> sc.wheels.n, sc.modes.initial, sc.sim.dt
-    (4, 'detumble', 0.1)
+    (4, 'detumble', 0.2)
     """
 
     spacecraft: SpacecraftSpec = field(default_factory=_ref_spacecraft)
@@ -705,10 +714,102 @@ class WheelSimulationResult:
         windows = {name: self.metrics_from_s for name in _WINDOWED}
         return check_requirements(requirements, self.metrics, metrics_from_s=windows, **kw)
 
+    def envelope(self, channel: str) -> dict[str, np.ndarray]:
+        """Monte-Carlo envelope of a recorded channel over time: median, 5/95 % and 1/99 %
+        bands, and the worst sample (largest peak ``|value|``; NaN samples ignored).
+
+        Returns
+        -------
+        dict
+            ``t`` (R,), ``p50``, ``p05``, ``p95``, ``p01``, ``p99`` (R,) in the channel's SI
+            unit, ``worst`` (R,) the worst sample's trace and ``worst_index`` (its sample).
+
+        Examples
+        --------
+        >>> from adcskit.simulation import ModeSpec, SimSpec, WheelScenario, simulate_wheels
+        >>> sc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
+        ...                    sim=SimSpec(dt=0.1, t_final=5.0, metrics_from_s=1.0))
+        >>> env = simulate_wheels(sc, n_samples=8, rng=1, record=True).envelope("rate")
+        >>> env["p50"].shape, bool((env["p05"] <= env["p95"]).all())
+        ((6,), True)
+        """
+        if self.trace is None or self.t is None:
+            raise InputError("envelope needs the traces: run simulate_wheels(..., record=True)")
+        check_choice("channel", channel, self.channels)
+        x = self.trace[:, :, self.channels.index(channel)]
+        out: dict[str, np.ndarray] = {"t": self.t.copy()}
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns (e.g. error in detumble)
+            q = np.nanquantile(x, [0.5, 0.05, 0.95, 0.01, 0.99], axis=0)
+            peak = np.nanmax(np.abs(x), axis=1)
+        for name, row in zip(("p50", "p05", "p95", "p01", "p99"), q):
+            out[name] = row
+        worst = int(np.nanargmax(np.where(np.isfinite(peak), peak, -np.inf)))
+        out["worst"] = x[worst].copy()
+        out["worst_index"] = np.asarray(worst)
+        return out
+
     def to_dict(self) -> dict[str, Any]:
         return {"summary": self.summary(), "n_samples": self.n_samples, "n_steps": self.n_steps,
                 "sample_steps_per_s": self.sample_steps_per_s, "runtime_s": self.runtime_s,
                 "metrics_from_s": self.metrics_from_s, "success": self.success, "message": self.message}
+
+
+#: Channels drawn by :func:`envelope_figure` by default, with their display unit and factor.
+ENVELOPE_CHANNELS: dict[str, tuple[str, float]] = {
+    "error": ("pointing / sun error, deg", 1.0 / _DEG),
+    "rate": ("body rate, deg/s", 1.0 / _DEG),
+    "speed_0": ("wheel 0 speed, rpm", 1.0 / _RPM),
+    "h_wheels": ("wheel momentum |A h|, N m s", 1.0),
+    "dipole_x": ("dipole x, A m^2", 1.0),
+}
+
+
+def envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
+    """Monte-Carlo envelope figure: median, p5-p95 and p1-p99 bands over time and the worst
+    sample, one panel per channel (a :class:`matplotlib.figure.Figure`, no pyplot).
+
+    Parameters
+    ----------
+    result : WheelSimulationResult
+        From ``simulate_wheels(..., record=True)``.
+    channels : sequence of str, optional
+        Trace channels (default: attitude error, rate, wheel 0 speed, wheel momentum, dipole x).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import ModeSpec, SimSpec, WheelScenario, simulate_wheels, envelope_figure
+    >>> sc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
+    ...                    sim=SimSpec(dt=0.1, t_final=5.0, metrics_from_s=1.0))
+    >>> fig = envelope_figure(simulate_wheels(sc, n_samples=8, rng=1, record=True), ["rate"])
+    >>> len(fig.axes)
+    1
+    """
+    from matplotlib.figure import Figure
+
+    if not isinstance(result, WheelSimulationResult):
+        raise InputTypeError(f"result must be a WheelSimulationResult; got {type(result).__name__}")
+    if channels is None:
+        names = list(ENVELOPE_CHANNELS)
+    elif isinstance(channels, (list, tuple)) and channels and all(isinstance(c, str) for c in channels):
+        names = list(channels)
+    else:
+        raise InputTypeError(f"channels must be a non-empty list of channel names (str); got {short_repr(channels)}")
+    fig = Figure(figsize=(7.0, 2.2 * len(names)), layout="constrained")
+    axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, name in zip(axes, names):
+        env = result.envelope(name)
+        label, f = ENVELOPE_CHANNELS.get(name, (name + " (SI)", 1.0))
+        t = env["t"]
+        ax.fill_between(t, env["p01"] * f, env["p99"] * f, color="C0", alpha=0.2, lw=0, label="p1-p99")
+        ax.fill_between(t, env["p05"] * f, env["p95"] * f, color="C0", alpha=0.4, lw=0, label="p5-p95")
+        ax.plot(t, env["p50"] * f, color="C0", lw=1.2, label="median")
+        ax.plot(t, env["worst"] * f, color="C3", lw=0.8, label=f"worst (sample {int(env['worst_index'])})")
+        ax.set_ylabel(label)
+    axes[0].legend(loc="upper right", fontsize="small")
+    axes[-1].set_xlabel("time, s")
+    fig.suptitle(f"{result.n_samples} samples")
+    return fig
 
 
 # ------------------------------------------------------------------------------- set-up
