@@ -24,6 +24,11 @@ balanced wheels act as if the hub inertia were *reduced* by the wheels' transver
 (``J_t = J_g = J_s/2`` from ``rwFactory``). We did not trace this in Basilisk's C++ source (not
 at hand); both readings are printed.
 
+**Closed loop.** Basilisk's chain (``simpleNav`` -> ``inertial3D`` -> ``attTrackingError`` ->
+``mrpFeedback`` -> ``rwMotorTorque`` -> wheels) vs our PD law on the same plant from a 20 deg error
+(isotropic inertia so that the scalar MRP gains equal ours): settling time, final error, the
+largest error and wheel-speed differences.
+
 **Speed.** Basilisk runs one sample at a time (no batch kernel); ours a batch of samples in
 one kernel call, open loop with the same elements; both in sample-steps per CPU-second.
 """
@@ -32,6 +37,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import resource
 import sys
@@ -133,6 +139,110 @@ def ours_scenario(torques: np.ndarray, t_final: float, dt: float, transverse: fl
     )
 
 
+def closed_loop(t_final: float, dt: float, period: float) -> dict:
+    """Basilisk's own chain (simpleNav -> inertial3D -> attTrackingError -> mrpFeedback ->
+    rwMotorTorque -> wheels) vs our PD law on the same plant; isotropic J = 0.25 I (ours), so that
+    mrpFeedback's scalar gains ``L = -K sigma - P omega`` equal ours ``-J (2 k q_e + c omega)`` to first
+    order (``sigma ~ q_e / 2``: ``K = 4 j k``, ``P = j c``)."""
+    from Basilisk.architecture import messaging
+    from Basilisk.fswAlgorithms import attTrackingError, inertial3D, mrpFeedback, rwMotorTorque
+    from Basilisk.simulation import reactionWheelStateEffector, simpleNav, spacecraft
+    from Basilisk.utilities import SimulationBaseClass, macros, simIncludeRW
+
+    j, wn, zeta = 0.25, 0.1, 1.0
+    k, c = wn * wn, 2 * zeta * wn
+    axes = np.asarray(WheelSpec.pyramid().axes)
+    i_hub = j * np.eye(3) + sum(0.5 * JS * (np.eye(3) - np.outer(g, g)) for g in axes)  # Basilisk-equivalent J = j I
+    ang0 = np.radians(20.0)
+    axis = np.array([1.0, 1.0, 0.5]) / np.linalg.norm([1.0, 1.0, 0.5])
+    sim = SimulationBaseClass.SimBaseClass()
+    dyn = sim.CreateNewProcess("dyn", 10)
+    dyn.addTask(sim.CreateNewTask("dynTask", macros.sec2nano(dt)))
+    fsw = sim.CreateNewProcess("fsw", 5)
+    fsw.addTask(sim.CreateNewTask("fswTask", macros.sec2nano(period)))
+    sc = spacecraft.Spacecraft()
+    sc.hub.mHub = 20.0
+    sc.hub.r_BcB_B = [[0.0], [0.0], [0.0]]
+    sc.hub.IHubPntBc_B = i_hub.tolist()
+    sc.hub.sigma_BNInit = [[float(x)] for x in axis * np.tan(ang0 / 4)]
+    sc.hub.omega_BN_BInit = [[0.0], [0.0], [0.0]]
+    fac = simIncludeRW.rwFactory()
+    for g, om in zip(axes, SPEEDS_RPM):
+        fac.create("custom", list(g), Js=JS, Omega=float(om), useRWfriction=False, useMaxTorque=False,
+                   useMinTorque=False, RWModel=messaging.BalancedWheels)
+    rws = reactionWheelStateEffector.ReactionWheelStateEffector()
+    fac.addToSpacecraft("rw", rws, sc)
+    sim.AddModelToTask("dynTask", rws, 2)
+    sim.AddModelToTask("dynTask", sc, 1)
+    nav = simpleNav.SimpleNav()
+    sim.AddModelToTask("dynTask", nav)
+    ref = inertial3D.inertial3D()
+    ref.sigma_R0N = [0.0, 0.0, 0.0]
+    err = attTrackingError.attTrackingError()
+    ctl = mrpFeedback.mrpFeedback()
+    ctl.K, ctl.P, ctl.Ki = 4 * j * k, j * c, -1.0
+    alloc = rwMotorTorque.rwMotorTorque()
+    alloc.controlAxes_B = [1, 0, 0, 0, 1, 0, 0, 0, 1]
+    for mdl in (ref, err, ctl, alloc):
+        sim.AddModelToTask("fswTask", mdl)
+    veh = messaging.VehicleConfigMsg().write(messaging.VehicleConfigMsgPayload(ISCPntB_B=list((j * np.eye(3)).reshape(-1))))
+    rw_conf = fac.getConfigMessage()
+    nav.scStateInMsg.subscribeTo(sc.scStateOutMsg)
+    err.attNavInMsg.subscribeTo(nav.attOutMsg)
+    err.attRefInMsg.subscribeTo(ref.attRefOutMsg)
+    ctl.guidInMsg.subscribeTo(err.attGuidOutMsg)
+    ctl.vehConfigInMsg.subscribeTo(veh)
+    ctl.rwParamsInMsg.subscribeTo(rw_conf)
+    ctl.rwSpeedsInMsg.subscribeTo(rws.rwSpeedOutMsg)
+    alloc.rwParamsInMsg.subscribeTo(rw_conf)
+    alloc.vehControlInMsg.subscribeTo(ctl.cmdTorqueOutMsg)
+    rws.rwMotorCmdInMsg.subscribeTo(alloc.rwMotorTorqueOutMsg)
+    rec = sc.scStateOutMsg.recorder(macros.sec2nano(1.0))
+    rec_w = rws.rwSpeedOutMsg.recorder(macros.sec2nano(1.0))
+    sim.AddModelToTask("dynTask", rec)
+    sim.AddModelToTask("dynTask", rec_w)
+    sim.InitializeSimulation()
+    sim.ConfigureStopTime(macros.sec2nano(t_final))
+    c0 = _cpu()
+    sim.ExecuteSimulation()
+    cpu_b = _cpu() - c0
+    qb = _mrp_to_quat(np.asarray(rec.sigma_BN))
+    err_b = np.degrees(2 * np.arccos(np.clip(np.abs(qb[:, 3]), 0, 1)))
+    sp_b = np.asarray(rec_w.wheelSpeeds)[:, :4] / RPM
+    ours = WheelScenario(
+        spacecraft=SpacecraftSpec(inertia=(j, j, j)),
+        wheels=WheelSpec.pyramid(inertia_kgm2=JS, initial_speed_rpm=SPEEDS_RPM, max_torque_nm=1.0, max_speed_rpm=1e6),
+        orbit=OrbitSpec(altitude_km=500.0, inclination_deg=97.4, gravity_gradient=False), disturbance=DisturbanceSpec(),
+        magnetorquers=MagnetorquerSpec(max_dipole_am2=0.0, unload_gain=0.0),
+        sensors=SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=0.0, gyro_rate_hz=1.0 / dt,
+                           gyro_arw=0.0, gyro_rrw=0.0, gyro_bias0_deg_h=0.0),
+        control=WheelControlSpec(law="pd", bandwidth_rad_s=wn, damping=zeta, period_s=period),
+        modes=ModeSpec(initial="point", sequence=False, pointing="inertial"),
+        sim=SimSpec(dt=dt, t_final=t_final, metrics_from_s=0.5 * t_final, settle_band_deg=0.5,
+                    record_every=int(round(1.0 / dt))),
+        initial_rotvec_deg=tuple(np.degrees(axis * ang0)), initial_rate_deg_s=(0.0, 0.0, 0.0))
+    res = simulate_wheels(ours, 1, rng=0, record=True)
+    ch = res.channels
+    err_o = np.degrees(res.trace[0][:, ch.index("error")])
+    sp_o = res.trace[0][:, [ch.index(f"speed_{i}") for i in range(4)]] / RPM
+    m = min(len(err_b), len(err_o))
+    t = np.arange(m) * 1.0
+
+    def settle(e):
+        out = np.flatnonzero(e > 0.5)
+        return float(t[out[-1] + 1]) if out.size and out[-1] + 1 < m else math.nan
+
+    return {"settling_time_s": {"basilisk": settle(err_b[:m]), "adcskit": settle(err_o[:m])},
+            "final_error_deg": {"basilisk": float(err_b[m - 1]), "adcskit": float(err_o[m - 1])},
+            "max_error_diff_deg": float(np.max(np.abs(err_b[:m] - err_o[:m]))),
+            "final_wheel_speeds_rpm": {"basilisk": sp_b[m - 1].tolist(), "adcskit": sp_o[m - 1].tolist()},
+            "max_wheel_speed_diff_rpm": float(np.max(np.abs(sp_b[:m] - sp_o[:m]))),
+            "wheel_speed_range_rpm": float(np.max(np.ptp(sp_b[:m], axis=0))),
+            "basilisk_sample_steps_per_cpu_s": int(round(t_final / dt)) / cpu_b,
+            "traces": {"t": t.tolist(), "basilisk_err_deg": err_b[:m].tolist(), "adcskit_err_deg": err_o[:m].tolist(),
+                       "basilisk_speed_rpm": sp_b[:m].tolist(), "adcskit_speed_rpm": sp_o[:m].tolist()}}
+
+
 def _compare(b: dict, res) -> dict:
     ch = res.channels
     wo = res.trace[0][:, [ch.index(c) for c in ("omega_x", "omega_y", "omega_z")]]
@@ -154,6 +264,8 @@ def main() -> None:
     ap.add_argument("--t-final", type=float, default=300.0)
     ap.add_argument("--dt", type=float, default=0.1)
     ap.add_argument("--samples", type=int, default=256)
+    ap.add_argument("--period", type=float, default=0.5)
+    ap.add_argument("--closed-t-final", type=float, default=150.0)
     ap.add_argument("--json")
     a = ap.parse_args()
     torques = np.random.default_rng(7).uniform(-1e-4, 1e-4, 4)
@@ -180,6 +292,13 @@ def main() -> None:
               f"wheel speed difference {r['max_speed_diff_rad_s']:.2e} rad/s ({100 * r['rel_speed_diff']:.2e} %)")
     print(f"  speed: Basilisk {rate_b:.3g} sample-steps per CPU-second (one sample); adcskit {rate_o:.3g} "
           f"({a.samples} samples) -> {rate_o / rate_b:.0f}x per core")
+    cl = closed_loop(a.closed_t_final, a.dt, a.period)
+    out["closed_loop"] = cl
+    print(f"closed loop ({a.closed_t_final:.0f} s from 20 deg, PD / mrpFeedback, J = 0.25 I, control every {a.period} s):")
+    for key in ("settling_time_s", "final_error_deg"):
+        print(f"  {key}: Basilisk {cl[key]['basilisk']:.4g}, adcskit {cl[key]['adcskit']:.4g}")
+    print(f"  largest error difference {cl['max_error_diff_deg']:.3g} deg; largest wheel-speed difference "
+          f"{cl['max_wheel_speed_diff_rpm']:.3g} rpm of a {cl['wheel_speed_range_rpm']:.3g} rpm range")
     if a.json:
         with open(a.json, "w") as fh:
             json.dump(out, fh, indent=1)
