@@ -509,6 +509,8 @@ class WheelScenario(_Spec):
         :class:`ModeSpec`, :class:`WheelDispersionSpec`.
     initial_rotvec_deg : 3 floats, deg
     initial_rate_deg_s : 3 floats, deg/s
+        Default: the reference's tumble after separation, (2, -1.5, 1.5) deg/s; set (0, 0, 0)
+        for a spacecraft at rest.
 
     Examples
     --------
