@@ -302,3 +302,19 @@ def test_envelope_bands_are_ordered_and_the_worst_sample_is_the_largest_peak():
         simulate_wheels(sc, 2, rng=2).envelope("rate")
     with pytest.raises(InputError, match="channel"):
         res.envelope("nope")
+
+
+def test_results_do_not_depend_on_threads_or_blocks():
+    # samples are independent: one thread or several blocks on two threads, bit-identical
+    sc = WheelScenario(sim=SimSpec(dt=0.2, t_final=20.0, metrics_from_s=10.0))
+    prep, _ = _w._prepare(sc, 9, as_rng(4))
+    sh = prep["shared"]
+    seeds = np.arange(1, 10, dtype=np.uint64)
+    outs = []
+    for nt in (1, 2):
+        out = np.empty((9, _k.N_METRICS))
+        z = [np.zeros((9, 11)) for _ in range(4)]
+        _k.run_wheels(prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
+                      sh["WPAR"], sh["JW"], seeds, *z, np.zeros((9, 4)), out, np.empty((9, 0, 25)), n_threads=nt)
+        outs.append(out)
+    np.testing.assert_array_equal(outs[0], outs[1])

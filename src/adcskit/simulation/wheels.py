@@ -3,7 +3,7 @@
 A :class:`WheelScenario` (frozen dataclasses, loadable from TOML with
 :func:`load_wheel_scenario`) describes a spacecraft pointed by reaction wheels and
 magnetorquers; :func:`simulate_wheels` flies it for many Monte-Carlo samples at once in one
-numba kernel (:mod:`adcskit.simulation._wheel_kernels`, ``prange`` over samples).
+numba kernel (:mod:`adcskit.simulation._wheel_kernels`, blocks of samples on threads).
 
 What the loop holds
 -------------------
@@ -1035,9 +1035,9 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
                     record: bool = False) -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
-    All samples run in one call of the compiled kernel, in parallel over the CPU cores
-    (numba ``prange``). A sample's result depends only on its parameters and its 64-bit
-    noise seed.
+    The samples run in blocks on ``numba.get_num_threads()`` threads, each block one call of
+    the compiled, GIL-free kernel. A sample's result depends only on its parameters and its
+    64-bit noise seed, so it does not depend on the thread count or the blocks.
 
     Parameters
     ----------
@@ -1054,8 +1054,8 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
 
     Notes
     -----
-    The first call in a fresh installation compiles the kernel (about a minute on 2 cores;
-    cached on disk afterwards).
+    The first call in a fresh installation compiles the kernel (about 12 s of CPU; cached on
+    disk afterwards).
 
     Examples
     --------
