@@ -206,6 +206,20 @@ def test_bdot_detumbles_and_blanking_matters():
     assert np.all(slow.metrics["final_rate_deg_s"] > 1.5 * res.metrics["final_rate_deg_s"])
 
 
+def test_magnetometer_corrupted_by_the_rods_defeats_bdot():
+    # rods always on and the magnetometer not blanked: each sample carries coupling * m of the
+    # dipole of the period before it. With one sample per control period consecutive samples
+    # see different dipoles, so dB/dt holds coupling * (m_k - m_k-1) / dt; at 2e-4 T/(A m^2)
+    # (4e-5 T at 0.2 A m^2, as large as the field itself) that term drives the command and B-dot
+    # no longer detumbles; with coupling 0 the same configuration detumbles (measured 4.07 vs
+    # 0.36 deg/s after one orbit).
+    sc = _detumble(duty=1.0, magnetometer="corrupt").replace(control=WheelControlSpec(period_s=1.0))
+    clean = simulate_wheels(sc, 1, rng=3)
+    bad = simulate_wheels(sc.replace(magnetorquers=sc.magnetorquers.replace(coupling_t_per_am2=2e-4)), 1, rng=3)
+    assert clean.metrics["final_rate_deg_s"][0] < 1.0
+    assert bad.metrics["final_rate_deg_s"][0] > 3.0
+
+
 def test_magnetic_unloading_reduces_wheel_momentum_over_an_orbit():
     # cross-product law m = k (h x B)/|B|^2: torque -k h_perp (Camillo & Markley 1980); over
     # one orbit B turns through every direction perpendicular to the orbit normal and more.
@@ -318,3 +332,17 @@ def test_results_do_not_depend_on_threads_or_blocks():
                       sh["WPAR"], sh["JW"], seeds, *z, np.zeros((9, 4)), out, np.empty((9, 0, 25)), n_threads=nt)
         outs.append(out)
     np.testing.assert_array_equal(outs[0], outs[1])
+
+
+def test_scenario_loads_from_toml(tmp_path):
+    path = tmp_path / "sc.toml"
+    path.write_text(
+        "initial_rate_deg_s = [0.0, 0.0, 0.0]\n"
+        "[wheels]\naxes = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [0.577, 0.577, 0.577]]\n"
+        "initial_speed_rpm = [100.0, 200.0, 300.0, 0.0]\nfailed = [3]\n"
+        "[control]\nlaw = 'wie'\nnull_motion = false\n"
+        "[modes]\ninitial = 'point'\nsequence = false\npointing = 'inertial'\n"
+        "[sim]\ndt = 0.2\nt_final = 4.0\nmetrics_from_s = 2.0\n", encoding="utf-8")
+    sc = load_wheel_scenario(str(path))
+    assert sc.wheels.n == 4 and sc.wheels.failed == (3,) and sc.wheels.initial_speed_rpm[2] == 300.0
+    assert simulate_wheels(sc, 1, rng=0).success

@@ -7,8 +7,8 @@ blocks of samples on threads, each through the compiled, GIL-free :func:`run_blo
 :func:`adcskit._targets.device` functions. Rules of the one-source idiom: scalars, ``math``
 and indexing of arrays passed in; the per-sample scratch rows (``X``, ``XT``, ``KS``,
 ``KD``, ``TM``) are allocated by the Python driver (:mod:`adcskit.simulation.wheels`). Only
-the CPU driver is built; the function has no CPU-only callee, so ``SAMPLE.cuda()`` can
-compile it (not exercised in the tests).
+the CPU driver is built; the function calls only device helpers (no CPU-only dispatcher), but
+no CUDA driver exists and ``SAMPLE.cuda()`` has not been compiled or tested.
 
 Plant (Markley & Crassidis 2014, §3.3.5, eqs. 3.147-3.150 in their notation; Wie 2008,
 §7.2): a rigid spacecraft with ``n_w`` reaction wheels along unit axes ``a_j`` (columns of
