@@ -27,8 +27,8 @@ from adcskit.simulation import (  # noqa: E402
     SimSpec,
     WheelDispersionSpec,
     WheelScenario,
-    envelope_figure,
     simulate_wheels,
+    wheel_envelope_figure,
 )
 
 REQUIREMENTS = [
@@ -70,7 +70,7 @@ def main() -> None:
         print("  " + " | ".join(str(v) for v in row.values()))
     if a.out:
         os.makedirs(a.out, exist_ok=True)
-        envelope_figure(res).savefig(os.path.join(a.out, "wheels-envelopes.png"), dpi=110)
+        wheel_envelope_figure(res).savefig(os.path.join(a.out, "wheels-envelopes.png"), dpi=110)
         with open(os.path.join(a.out, "wheels-summary.json"), "w") as fh:
             json.dump({"wall_s": wall, "cpu_s": cpu, "sample_steps_per_cpu_s": steps / cpu, "result": res.to_dict(),
                        "requirements": table.table_rows()}, fh, indent=1, default=str)

@@ -1172,7 +1172,7 @@ def _wheel_recorded() -> Any:
 
 case("simulation.WheelSimulationResult.envelope", target=method("", _wheel_recorded, "envelope"),
      nan_ok=("*",))(lambda: dict(channel="rate"))
-case("simulation.envelope_figure", kinds={"result": "object"})(lambda: dict(result=_wheel_recorded(), channels=["rate"]))
+case("simulation.wheel_envelope_figure", kinds={"result": "object"})(lambda: dict(result=_wheel_recorded(), channels=["rate"]))
 case("simulation.simulate_wheels", target=_warmed("simulation.simulate_wheels", _simulate_wheels_kw),
      kinds={"scenario": "object"}, nan_ok=("t_detumbled_s", "t_acquired_s", "settling_time_s"), slow=True)(
     _simulate_wheels_kw

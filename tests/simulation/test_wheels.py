@@ -300,7 +300,7 @@ def test_invalid_inputs_name_the_parameter(build, words):
 def test_envelope_bands_are_ordered_and_the_worst_sample_is_the_largest_peak():
     sc = _step(SimSpec(dt=0.1, t_final=5.0, metrics_from_s=0.0, record_every=5)).replace(
         spacecraft=SpacecraftSpec(inertia=J_SC))
-    from adcskit.simulation import WheelDispersionSpec, envelope_figure
+    from adcskit.simulation import WheelDispersionSpec, wheel_envelope_figure
 
     sc = sc.replace(dispersions=WheelDispersionSpec(initial_rate_deg_s=0.5))
     res = simulate_wheels(sc, n_samples=16, rng=2, record=True)
@@ -310,7 +310,7 @@ def test_envelope_bands_are_ordered_and_the_worst_sample_is_the_largest_peak():
     assert np.all(env["p50"] <= env["p95"]) and np.all(env["p95"] <= env["p99"])
     np.testing.assert_allclose(env["p50"], np.median(x, axis=0))
     assert int(env["worst_index"]) == int(np.argmax(np.max(np.abs(x), axis=1)))
-    fig = envelope_figure(res, ["rate", "error", "speed_0"])
+    fig = wheel_envelope_figure(res, ["rate", "error", "speed_0"])
     assert len(fig.axes) == 3
     with pytest.raises(InputError, match="record=True"):
         simulate_wheels(sc, 2, rng=2).envelope("rate")

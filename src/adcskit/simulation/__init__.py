@@ -50,9 +50,9 @@ from adcskit.simulation.wheels import (
     WheelScenario,
     WheelSimulationResult,
     WheelSpec,
-    envelope_figure,
     load_wheel_scenario,
     simulate_wheels,
+    wheel_envelope_figure,
 )
 
 __all__ = [
@@ -60,6 +60,6 @@ __all__ = [
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
     "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
-    "WheelScenario", "WheelSimulationResult", "WheelSpec", "envelope_figure", "load_wheel_scenario",
+    "WheelScenario", "WheelSimulationResult", "WheelSpec", "wheel_envelope_figure", "load_wheel_scenario",
     "simulate_wheels",
 ]

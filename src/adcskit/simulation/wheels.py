@@ -103,10 +103,10 @@ __all__ = [
     "WheelSimulationResult",
     "load_wheel_scenario",
     "simulate_wheels",
-    "envelope_figure",
+    "wheel_envelope_figure",
     "MODE_NAMES",
     "WHEEL_METRIC_NAMES",
-    "ENVELOPE_CHANNELS",
+    "WHEEL_ENVELOPE_CHANNELS",
 ]
 
 _DEG = math.pi / 180.0
@@ -757,8 +757,8 @@ class WheelSimulationResult:
                 "metrics_from_s": self.metrics_from_s, "success": self.success, "message": self.message}
 
 
-#: Channels drawn by :func:`envelope_figure` by default, with their display unit and factor.
-ENVELOPE_CHANNELS: dict[str, tuple[str, float]] = {
+#: Channels drawn by :func:`wheel_envelope_figure` by default, with their display unit and factor.
+WHEEL_ENVELOPE_CHANNELS: dict[str, tuple[str, float]] = {
     "error": ("pointing / sun error, deg", 1.0 / _DEG),
     "rate": ("body rate, deg/s", 1.0 / _DEG),
     "speed_0": ("wheel 0 speed, rpm", 1.0 / _RPM),
@@ -767,7 +767,7 @@ ENVELOPE_CHANNELS: dict[str, tuple[str, float]] = {
 }
 
 
-def envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
+def wheel_envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
     """Monte-Carlo envelope figure: median, p5-p95 and p1-p99 bands over time and the worst
     sample, one panel per channel (a :class:`matplotlib.figure.Figure`, no pyplot).
 
@@ -780,10 +780,10 @@ def envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
 
     Examples
     --------
-    >>> from adcskit.simulation import ModeSpec, SimSpec, WheelScenario, simulate_wheels, envelope_figure
+    >>> from adcskit.simulation import ModeSpec, SimSpec, WheelScenario, simulate_wheels, wheel_envelope_figure
     >>> sc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
     ...                    sim=SimSpec(dt=0.1, t_final=5.0, metrics_from_s=1.0))
-    >>> fig = envelope_figure(simulate_wheels(sc, n_samples=8, rng=1, record=True), ["rate"])
+    >>> fig = wheel_envelope_figure(simulate_wheels(sc, n_samples=8, rng=1, record=True), ["rate"])
     >>> len(fig.axes)
     1
     """
@@ -792,7 +792,7 @@ def envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
     if not isinstance(result, WheelSimulationResult):
         raise InputTypeError(f"result must be a WheelSimulationResult; got {type(result).__name__}")
     if channels is None:
-        names = list(ENVELOPE_CHANNELS)
+        names = list(WHEEL_ENVELOPE_CHANNELS)
     elif isinstance(channels, (list, tuple)) and channels and all(isinstance(c, str) for c in channels):
         names = list(channels)
     else:
@@ -801,7 +801,7 @@ def envelope_figure(result: WheelSimulationResult, channels: Any = None) -> Any:
     axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
     for ax, name in zip(axes, names):
         env = result.envelope(name)
-        label, f = ENVELOPE_CHANNELS.get(name, (name + " (SI)", 1.0))
+        label, f = WHEEL_ENVELOPE_CHANNELS.get(name, (name + " (SI)", 1.0))
         t = env["t"]
         ax.fill_between(t, env["p01"] * f, env["p99"] * f, color="C0", alpha=0.2, lw=0, label="p1-p99")
         ax.fill_between(t, env["p05"] * f, env["p95"] * f, color="C0", alpha=0.4, lw=0, label="p5-p95")
