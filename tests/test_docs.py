@@ -1,4 +1,8 @@
-"""Execute every ```python block of the user guide, so the documentation cannot rot."""
+"""Execute every ```python block of the user guide, so the documentation cannot rot.
+
+The user guide's blocks run each on its own; a tutorial chapter (``CHAPTERS``) runs its
+blocks in order in one namespace, as a reader would.
+"""
 
 from __future__ import annotations
 
@@ -14,3 +18,19 @@ BLOCKS = re.findall(r"```python\n(.*?)```", GUIDE.read_text(encoding="utf-8"), f
 @pytest.mark.parametrize("code", BLOCKS, ids=[f"block{i}" for i in range(len(BLOCKS))])
 def test_user_guide_block_runs(code, capsys):
     exec(compile(code, str(GUIDE), "exec"), {"__name__": "__docs__"})
+
+
+DOCS = GUIDE.parent
+#: Tutorial chapters whose blocks build on each other.
+CHAPTERS = ["signoff.md"]
+
+
+@pytest.mark.compile
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_tutorial_chapter_runs_in_order(chapter, capsys):
+    if chapter == "signoff.md":
+        pytest.importorskip("xarray")
+    path = DOCS / chapter
+    namespace = {"__name__": "__docs__"}
+    for code in re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), flags=re.S):
+        exec(compile(code, str(path), "exec"), namespace)

@@ -172,11 +172,18 @@ def test_custom_config_is_recorded_and_claims_not_comparable(fake, tmp_path):
     assert (c.protocol, c.indicative, c.comparable) == ("reduced protocol", True, False)
     assert c.display_outcome == "indicative (3 seeds)"
     assert c.protocol_differences == ("n_tasks: ours 3, paper 8",)
+    # a finding (our question) on a quick-overridden key is below the documented full run too
+    assert {f.id: f.protocol for f in quick.findings} == {"small-spread": "reduced protocol",
+                                                          "finite": "paper protocol"}
     custom = run_study("fake", quick=True, config={"n_tasks": 5}, out=tmp_path / "b")
     # the study's setting is recorded as "default", the paper's printed value as "paper"
     assert custom.config_changes == {"n_tasks": {"value": 5, "default": 3, "paper": 8}}
     assert [c.comparable for c in custom.claims] == [False]
     assert [c.protocol for c in custom.claims] == ["custom settings"]
+    # a change *to* the paper's printed value (8 tasks) restores the paper's protocol
+    back = run_study("fake", quick=True, config={"n_tasks": 8}, out=None)
+    assert back.config_changes == {"n_tasks": {"value": 8, "default": 3, "paper": 8}}
+    assert [(c.protocol, c.comparable) for c in back.claims] == [("paper protocol", True)]
     # findings get the same treatment: the one on the changed key is not comparable with the
     # documented answer, the one whose protocol does not include n_tasks still is
     assert all(f.comparable for f in paper.findings)

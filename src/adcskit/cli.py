@@ -7,6 +7,7 @@
     adcskit reproduce [--quick] [--out DIR] [--only A,B] [--seed N] [--executor SPEC] [--jobs N]
     adcskit report DIR                            # rebuild the HTML report from results
     adcskit config STUDY [--quick]                # print the resolved default config as TOML
+    adcskit pages [--results DIR] [--check]       # study pages from their committed snapshots
 
 Exit codes: 0 success, 1 a study failed, 2 bad arguments or input, 130 interrupted.
 
@@ -114,6 +115,21 @@ def build_parser() -> argparse.ArgumentParser:
     p_report.add_argument("dir", help="results directory")
     p_report.add_argument("--quiet", action="store_true", help="print nothing on success")
 
+    p_pages = sub.add_parser(
+        "pages",
+        help="regenerate docs/studies/*.md from their snapshots (--results DIR: new snapshots from a full run)",
+    )
+    p_pages.add_argument("--results", help="a full (not --quick) reproduction's results directory")
+    p_pages.add_argument("--docs", default="docs/studies", help="the study pages' directory (default docs/studies)")
+    p_pages.add_argument("--only", help="comma-separated subset of studies")
+    p_pages.add_argument("--check", action="store_true",
+                         help="write nothing; exit 1 when RESULTS differ from the snapshots or a page from its snapshot")
+    p_pages.add_argument("--commit", default="", help="provenance: the commit the results were run at")
+    p_pages.add_argument("--date", default="", help="provenance: the date of the run")
+    p_pages.add_argument("--machine", default="", help="provenance: the machine")
+    p_pages.add_argument("--command-line", dest="command_line", default="",
+                         help="provenance: the command that produced the results")
+
     p_cfg = sub.add_parser("config", help="print a study's resolved default config as TOML")
     p_cfg.add_argument("study")
     p_cfg.add_argument("--quick", action="store_true", help="the --quick settings")
@@ -135,9 +151,38 @@ def _cmd_list(quiet: bool = False) -> int:
     for name, info in STUDIES.items():
         mark = "" if is_available(name) else "  [not implemented yet]"
         print(f"{name:<{width}}  {info.paper}  {info.description}{mark}")
+    n_paper = sum(1 for i in STUDIES.values() if i.paper in PAPERS)
+    print(f"\n{len(STUDIES)} studies: {n_paper} reproduce the {len(PAPERS)} papers, "
+          f"{len(STUDIES) - n_paper} ({', '.join(n for n, i in STUDIES.items() if i.paper not in PAPERS)}) is ours.")
     print("\nSource papers:")
     for pid, paper in PAPERS.items():
         print(f"  {pid}  {paper.citation()}")
+    return EXIT_OK
+
+
+def _only(text: str) -> list[str]:
+    """The study names of an ``--only A,B`` option (unknown names: an error naming the valid ones)."""
+    from adcskit.studies import STUDIES
+
+    wanted = [s.strip() for s in text.split(",") if s.strip()]
+    for w in wanted:
+        if w not in STUDIES:
+            raise AdcskitError(f"--only names unknown study {w!r}; valid: {', '.join(STUDIES)}")
+    return wanted
+
+
+def _cmd_pages(args: argparse.Namespace) -> int:
+    from adcskit.studies import study_names
+    from adcskit.studies._pages import sync_pages
+
+    names = _only(args.only) if args.only else list(study_names())
+    prov = {"commit": args.commit, "date": args.date, "machine": args.machine, "command": args.command_line}
+    out = sync_pages(args.docs, names, results=args.results, check=args.check, provenance=prov)
+    for line in out:
+        print(line)
+    if args.check:
+        print(f"{len(out)} difference(s)" if out else "pages and snapshots agree")
+        return 1 if out else EXIT_OK
     return EXIT_OK
 
 
@@ -162,11 +207,14 @@ def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tupl
     result = run_study(name, config=config, quick=args.quick, seed=args.seed, out=args.out, executor=executor)
     from adcskit.studies import tally
 
-    counts = tally(c.display_outcome for c in result.all_claims())
+    def label(c) -> str:  # indicative (quick) outcomes are counted apart, never as a red verdict
+        return "indicative" if c.indicative else c.display_outcome
+
+    counts = tally(label(c) for c in result.all_claims())
     verdicts = ", ".join(f"{n} {o}" for o, n in counts.items() if n)
     if not verdicts and result.findings:
         # a study of our own questions (e.g. closed-loop): tally its findings instead
-        found = tally(f.display_outcome for f in result.findings)
+        found = tally(label(f) for f in result.findings)
         verdicts = "none; findings: " + ", ".join(f"{n} {o}" for o, n in found.items() if n)
     verdicts = verdicts or "no claims"
     return True, f"{name}: done in {time.perf_counter() - t0:.1f} s, paper's claims: {verdicts} -> {Path(args.out) / name}"
@@ -435,10 +483,7 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     else:
         names = [n for n in STUDIES if is_available(n)]
         if args.only:
-            wanted = [s.strip() for s in args.only.split(",") if s.strip()]
-            for w in wanted:
-                if w not in STUDIES:
-                    raise AdcskitError(f"--only names unknown study {w!r}; valid: {', '.join(STUDIES)}")
+            wanted = _only(args.only)
             names = [n for n in names if n in wanted]
         skipped = [n for n in STUDIES if not is_available(n)]
         if skipped and not args.quiet:
@@ -501,6 +546,8 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_list(args.quiet)
         if args.command == "config":
             return _cmd_config(args)
+        if args.command == "pages":
+            return _cmd_pages(args)
         if args.command == "report":
             from adcskit.report.html import ERRORS_FILE, build_report, load_results
 

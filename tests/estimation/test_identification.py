@@ -88,6 +88,25 @@ def test_offline_schedule_iterations_and_warm_start():
     assert three.nit == 3
 
 
+def test_capped_krylov_takes_exactly_maxiter_iterations():
+    # The study's "S1-like Krylov" reading caps the standard solvers per call: maxiter=1 is one
+    # GMRES (Arnoldi) step, i.e. scipy gmres(restart=1, maxiter=1) from the same x0, and it is
+    # reported unconverged (status 1); uncapped, the same solver reaches the QR solution.
+    X, Z, U = _data(noise=0.1)
+    A_init = A_TRUE + 0.3
+    M, b = _normal_system(*regression_data(X, Z, U, B=B_TRUE))
+    x1, _ = spla.gmres(M, b, x0=A_init.ravel(), rtol=0.0, atol=0.0, restart=1, maxiter=1)
+    one = identify_model(X, Z, U, B=B_TRUE, method="gmres", A_init=A_init, options={"maxiter": 1})
+    np.testing.assert_allclose(one.x, x1, rtol=1e-12, atol=1e-12)
+    assert one.nit == 1 and one.status == 1
+    ref = identify_model(X, Z, U, B=B_TRUE, method="qr").A
+    for m in ("gmres", "bicg", "cgs", "bicgstab"):
+        capped = identify_model(X, Z, U, B=B_TRUE, method=m, A_init=A_init, options={"maxiter": 1})
+        assert capped.nit == 1 and np.linalg.norm(capped.A - ref) > 1e-6 * np.linalg.norm(ref), m
+        full = identify_model(X, Z, U, B=B_TRUE, method=m, A_init=A_init)
+        assert np.linalg.norm(full.A - ref) < 1e-6 * np.linalg.norm(ref), m
+
+
 def test_hand_written_gmres_iterates_equal_scipy():
     # Our Arnoldi/GMRES (S1 Alg. 21 lines 8-17) vs scipy gmres(restart=k, maxiter=1) for
     # every k: same Krylov minimiser, agreement to rounding (1e-10).

@@ -282,3 +282,19 @@ def test_a_switch_beside_a_mesh_point_moves_the_mesh_point_onto_it(method):
     assert act0 == ("keep", "h") and abs(new0.breaks[1] - 0.495) < 1e-12
     with pytest.raises(InputError):
         refine_mesh(sol.mesh, estimate_error(sol), snap=0.5, **kw)
+
+
+def test_tiny_inputs_are_clear_errors():
+    """Robustness findings: tol below double resolution, a span too short to sample, -0.0 spread,
+    a gravity that overflows the brachistochrone time."""
+    from adcskit.optimal_control import guess_from_function, random_guess
+    from adcskit.optimal_control.problems import double_integrator_min_time
+    from adcskit.optimal_control.problems.standard import brachistochrone_time
+
+    with pytest.raises(InputError, match="tol must be in"):
+        refine_mesh(Mesh.uniform(2, 4), [1e-3, 1e-9], tol=5e-324)
+    with pytest.raises(InputError, match="too short to sample"):
+        guess_from_function(lambda t: ([0.0, 0.0], [0.0]), 0.0, 5e-324)
+    assert random_guess(double_integrator_min_time(), rng=0, spread=-0.0).x.shape[1] == 2
+    with pytest.raises(InputError, match="overflow"):
+        brachistochrone_time(1.0, 1.0, g=5e-324)

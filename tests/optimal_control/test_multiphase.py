@@ -194,3 +194,13 @@ def test_primal_dual_warm_start_on_refined_meshes_reaches_the_same_optimum():
     assert warm.objective == pytest.approx(-np.sqrt(7.0) - 0.5, abs=1e-7)  # closed form (above)
     assert warm.objective == pytest.approx(cold.objective, rel=1e-9)
     np.testing.assert_allclose(warm.phases[0].x, cold.phases[0].x, atol=1e-7)
+
+
+def test_bad_ipopt_option_and_links_none_are_named():
+    """Robustness findings of the slow sweep: the options are blamed, not the problem functions."""
+    ph = Phase(dynamics=lambda x, u, t, p: [x[1], u[0]], n_states=2, n_controls=1, tf_bounds=(1.0, 1.0),
+               lagrange=lambda x, u, t, p: u[0] ** 2)
+    with pytest.raises(InputError, match="ipopt_options not accepted"):
+        solve_multiphase(MultiPhaseProblem(phases=[ph]), meshes=[(2, 3)], ipopt_options={"no_such_option": 1})
+    with pytest.raises(InputTypeError, match="links must be"):
+        MultiPhaseProblem(phases=[ph], links=None)

@@ -1381,3 +1381,58 @@ def _guess() -> Any:
 case("optimal_control.Guess.check_widths", target=method("", _guess, "check_widths"), kinds={"what": "skip"})(
     lambda: dict(n_states=2, n_controls=1)
 )
+
+# ============================================================================================
+# simulation: export, envelope figures, sign-off (issue 25 item 5) -- kept as one block
+# ============================================================================================
+
+exempt(RESULT, "simulation.SignOffTable")
+exempt("accessor without arguments of a result built by adcskit (nothing to validate)",
+       "simulation.SignOffTable.table_rows", "simulation.SignOffTable.to_markdown", "simulation.SignOffTable.to_text")
+_SIM_RECORDED: list[Any] = []
+
+
+def _sim_recorded() -> Any:
+    """One tiny recorded campaign shared by the cases below (built once; never modified)."""
+    if not _SIM_RECORDED:
+        from adcskit.simulation import simulate
+
+        _SIM_RECORDED.append(simulate(_sim_scenario(), n_samples=4, rng=1, record=True))
+    return _SIM_RECORDED[0]
+
+
+_XR = {"nan_ok": ("*",)}  # a Dataset's leaves are not walked; settling times may be NaN
+case("simulation.to_dataset", kinds={"result": "object", "scenario": "object"}, positive=("rng_seed",), **_XR)(
+    lambda: dict(result=_sim_recorded(), scenario=_sim_scenario(), rng_seed=1))
+case("simulation.write_netcdf", kinds={"result": "object", "scenario": "object", "path": "path"}, positive=("rng_seed",),
+     **_XR)(lambda: dict(result=_sim_recorded(), path=scratch_path("nc", file_suffix=".nc"), scenario=_sim_scenario(),
+                         rng_seed=1))
+case("simulation.write_zarr", kinds={"result": "object", "scenario": "object", "path": "path"}, positive=("rng_seed",),
+     slow=True, **_XR)(lambda: dict(result=_sim_recorded(), path=scratch_path("zarr") + "/run.zarr", scenario=_sim_scenario()))
+
+
+def _nc_file() -> str:
+    from adcskit.simulation import write_netcdf
+
+    return str(write_netcdf(_sim_recorded(), scratch_path("nc-read", file_suffix=".nc")))
+
+
+case("simulation.read_dataset", kinds={"path": "path"}, **_XR)(lambda: dict(path=_nc_file()))
+case("simulation.envelope_figure", kinds={"result": "object", "channel": "skip", "units": "skip", "label": "skip"},
+     extra={"unknown-channel": ("channel", "wheel_speed", "type")}, slow=True)(
+    lambda: dict(result=_sim_recorded(), channel="pointing_error", scale=57.29577951308232, units="deg",
+                 label="pointing error", worst=2, worst_by="pointing_max_deg", yscale="log", t_from=0.0))
+# figures take ~0.1 s each: every mutation runs in the exhaustive variant (-m slow) only
+case("simulation.attitude_error_figure", kinds={"result": "object"}, slow=True)(
+    lambda: dict(result=_sim_recorded(), worst=2, worst_by="pointing_max_deg", axes=True, yscale="log", t_from=0.0))
+case("simulation.body_rate_figure", kinds={"result": "object"}, slow=True)(
+    lambda: dict(result=_sim_recorded(), worst=1, worst_by="max_rate_deg_s", t_from=0.0))
+case("simulation.check_simulation", kinds={"requirements": "object", "result": "object", "scenario": "object"},
+     aliases={"requirements": ("source", "requirement")}, positive=("confidence",), shape_stable=False,
+     nan_ok=("bound", "opposite_bound", "estimate"),
+     extra={"bad-line": ("requirements", ["pointing_max_deg p99 0.1"], "type"),
+            "unknown-metric": ("requirements", ["pointing_worst_deg p95 <= 1"], "type"),
+            "window-out-of-run": ("requirements", ["pointing_max_deg p95 <= 1 after 50 s"], "type")})(
+    lambda: dict(requirements=["R1: pointing_max_deg p95 <= 1 after 0.5 s", "P(final_error_deg > 2) <= 5 %"],
+                 result=_sim_recorded(), scenario=_sim_scenario(), confidence=0.95, method="clopper-pearson",
+                 nan_policy="fail"))

@@ -152,7 +152,7 @@ def test_claim_rejects_runs_under_a_reading_it_does_not_declare():
     from adcskit.studies import ClaimSpec
 
     spec = ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m["r"], threshold=1.0,
-                     better="below", stochastic=False)
+                     better="below", stochastic=False, margin=0.0, margin_reason="test: exact")
     assert spec.evaluate({"default": [{"r": 0.5}]}).outcome == "holds"
     with pytest.raises(InputError, match=r"runs has readings \['other'\] that claim 'c' does not declare"):
         spec.evaluate({"default": [{"r": 0.5}], "other": [{"r": 2.0}]})

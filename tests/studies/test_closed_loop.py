@@ -25,6 +25,8 @@ def test_every_finding_decided_on_two_seeds(quick):
     for f in d["findings"]:
         assert f["outcome"] in (*OUTCOMES, "not comparable"), f
         assert f["n_seeds"] == 2
+        # issue 21: fewer than 5 seeds is indicative, never comparable
+        assert f["indicative"] and not f["comparable"] and f["display_outcome"] == "indicative (2 seeds)"
     q1 = next(f for f in d["findings"] if f["id"] == "q1-layout-propellant")
     assert len(q1["readings"]) == 4  # two allocations x (all thrusters, one failed)
     q2m = next(f for f in d["findings"] if f["id"] == "q2-minmax-vs-qmethod")
@@ -49,8 +51,34 @@ def test_checks_and_figures(quick):
     checks = {c["name"]: c for c in d["checks"]}
     assert any("bang-bang" in n for n in checks)
     assert next(c for n, c in checks.items() if "bang-bang" in n)["passed"]
+    # the NEES band is the strict chi2(6) band of a mean over all 2 x 48 samples: [5.33, 6.71]
+    nees = next(c for n, c in checks.items() if "NEES" in n)
+    assert "of 96 chi2(6) values" in nees["detail"] and "[5.327, 6.712]" in nees["detail"]
     assert set(d["figures"]) == {"attitude-error.png", "thruster-activity.png", "nees.png", "propellant.png"}
     for f in d["figures"]:
         assert (path / "closed-loop" / f).stat().st_size > 1000
     rows = d["tables"]
     assert "q1_layouts.csv" in rows and "q4_slew.csv" in rows
+
+
+def test_nees_check_uses_the_strict_band_of_the_grand_mean():
+    """Issue 21: the band is chi2(6 N)/N over all N = n_seeds x n_samples samples the mean covers,
+    with no widening (it once accepted 1.5x the upper bound). Per-seed values of the 2026-12-01
+    full run (docs/studies/closed-loop.md): mean 5.842, below [5.904, 6.096]."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from adcskit.studies.closed_loop import Config
+    from adcskit.studies.closed_loop.claims import _mekf_consistent, chi2_mean_band
+
+    def check(values, **cfg):
+        return _mekf_consistent(Config(**cfg), SimpleNamespace(estimators=SimpleNamespace(
+            nees_gaussian=np.asarray(values, dtype=float))))
+
+    lo, hi = chi2_mean_band(6, 5000)
+    assert (round(lo, 3), round(hi, 3)) == (5.904, 6.096)
+    assert not check([5.87, 5.86, 5.87, 5.77, 5.84]).passed  # inside the old per-seed band, not this one
+    assert check([6.0] * 5).passed
+    assert not check([hi * 1.01] * 5).passed  # no 1.5x allowance above the band
+    assert not check([6.0, float("nan")], n_seeds=2).passed  # a failed seed decides nothing

@@ -162,21 +162,35 @@ def test_quick_study_structure(quick_runs):
 
 def test_quick_claims_stable_over_seeds(quick_runs):
     # outcomes of the full run (docs/studies/rendezvous.md) that the quick settings reach too:
-    # 25.8727 s and 25.9360 s are the 20x3 optima of eq. 2 as printed to every printed digit
-    # (S2 Sec. 6, Table 4) and miss the full relative dynamics by 3.6e-4 / 5.9e-4 s
+    # 25.8727 s is the 20x3 optimum of eq. 2 as printed to every printed digit (S2 Sec. 6,
+    # Table 4) and misses the full relative dynamics by 3.6e-4 s. Row 3's 25.9360 s misses our
+    # optimum by 5.09e-5 s against the half unit 5e-5 s: the 8.9e-7 s excess is about the
+    # solver repeatability (the equivalence margin), so that reading is a tie or does not hold
+    # depending on the run's measured repeatability -- it never holds (issue 21)
+    H, N, I = "holds", "does not hold", "inconclusive"
     expected = {
-        "tf_main": ("holds", "holds", "does not hold", "holds"),
-        "table4_gpm_row3": ("holds", "holds", "does not hold", "holds"),
-        "bang_bang": ("holds", "holds"),
-        "hamiltonian": ("holds", "holds"),
+        "tf_main": ((H,), (H,), (N,), (H,)),
+        "table4_gpm_row3": ((I, N), (H,), (N,), (H,)),
+        "bang_bang": ((H,), (H,)),
+        "hamiltonian": ((H,), (H,)),
     }
     for doc in quick_runs:
         got = {c["id"]: tuple(r["outcome"] for r in c["readings"]) for c in doc["claims"]}
-        assert got == expected
+        assert set(got) == set(expected)
+        for cid, want in expected.items():
+            assert all(g in w for g, w in zip(got[cid], want, strict=True)), (cid, got[cid])
+        rep = doc["measured"]["repeatability_s"]
+        assert 0 < rep < 1e-5  # IPOPT tol 1e-9 on the scaled NLP: re-solves agree to ~1e-6 s
+        for c in doc["claims"]:
+            # a quick run has 2 of S2's 5 rows: below the paper's protocol, never comparable
+            assert c["protocol"] == "reduced protocol" and not c["comparable"] and not c["indicative"]
+            assert c["protocol_differences"][0].startswith("rows_m:")
+            if c["id"] in ("tf_main", "table4_gpm_row3"):
+                assert c["margin"] == rep and c["margin_reason"]
         main = next(c for c in doc["claims"] if c["id"] == "tf_main")
         assert main["outcome"] == "depends on reading"
-        # |25.8727 - ours| under eq. 2 as printed, in units of the 6e-5 s printed-digit tolerance
-        assert main["measured"] < 0.5
+        # |25.8727 - ours| - 5e-5 s under eq. 2 as printed (s): the value is ours to its digits
+        assert main["measured"] < -3e-5
 
 
 def _fake_branch(tf0, tfs, errors, *, tol=1e-5, met=True, nlp_ok=True):
@@ -245,7 +259,7 @@ _FULL_RUN = {
     "paper": [
         [(25.872706, 25.870004), (26.156705, 26.153977)],
         [(25.789172, 25.787187), (26.036548, 26.033526)],
-        [(25.935949, 25.932368), (26.168251, 26.165178)],
+        [(25.93594910579, 25.932368), (26.168251, 26.165178)],  # row 3 to 11 decimals: a tie is at stake
         [(25.660545, 25.658952), (25.903083, 25.900051)],
         [(28.279789, 28.278427), (28.569247, 28.564589)],
     ],
@@ -266,11 +280,12 @@ def _rows_from(branches_per_row):
     rows = {}
     for i, pairs in enumerate(branches_per_row):
         br = [
-            NS(tf_paper_mesh_s=a, tf_converged_s=b, on_branch=True, converged=True)
+            NS(tf_paper_mesh_s=a, tf_converged_s=b, on_branch=True, converged=True, self_resolve_change=math.nan)
             for a, b in pairs
         ]
         rows[i] = NS(
             branches=br,
+            spread_per_optimum_s=[0.0 for _ in pairs],
             optima_paper_mesh_s=[a for a, _ in pairs],
             best_paper_mesh_s=min(a for a, _ in pairs),
             converged_optima_s=sorted(b for _, b in pairs),
@@ -280,10 +295,13 @@ def _rows_from(branches_per_row):
     return rows
 
 
-def test_claim_decisions_from_the_full_run_branches():
-    # the decision logic alone (no solves): the full run's branches must give the full run's
-    # outcomes, so a change of a tolerance or of the branch identification that flips a
-    # verdict fails here
+# The solver repeatability of that run (s): the largest change of a 20x3 tf when its refinement
+# re-solves it from itself (row 4's second optimum, 25.903082770 -> 25.903083702 s, branches.csv
+# and mesh_history.csv); the starts that reached one optimum spread by at most 6.5e-8 s.
+_FULL_RUN_REPEAT_S = 9.32e-7
+
+
+def _full_run_decisions(repeat_s=_FULL_RUN_REPEAT_S):
     from dataclasses import replace
     from types import SimpleNamespace as NS
 
@@ -295,16 +313,31 @@ def test_claim_decisions_from_the_full_run_branches():
     meas = {}
     for dyn, rows in _FULL_RUN.items():
         m = _derive(_rows_from(rows), dyn, cfg)
-        meas[dyn] = replace(m, main=NS(bang_bang_all=True, h_max_dev_paper_mesh=0.021))
+        meas[dyn] = replace(m, main=NS(bang_bang_all=True, h_max_dev_paper_mesh=0.021), repeatability_s=repeat_s)
     claims, findings = _decide(meas, cfg, list(range(5)))
+    return meas, claims, findings
+
+
+def test_claim_decisions_from_the_full_run_branches():
+    # the decision logic alone (no solves): the full run's branches must give the full run's
+    # outcomes, so a change of a tolerance or of the branch identification that flips a
+    # verdict fails here
+    meas, claims, findings = _full_run_decisions()
     got = {c.id: (c.outcome, tuple(r.outcome for r in c.readings)) for c in claims}
-    H, N, D = "holds", "does not hold", "depends on reading"
+    H, N, D, I = "holds", "does not hold", "depends on reading", "inconclusive"
     assert got["tf_main"] == (D, (H, H, N, H))  # digits / same optimum x printed / full
     assert got["table4_gpm_row2"] == (N, (N, N, N, N))  # 26.1674: no optimum of ours
-    assert got["table4_gpm_row3"] == (D, (H, H, N, H))
+    # S2 Table 4 row 3: |25.9360 - 25.935949| = 5.089e-5 s against the half unit 5e-5 s: the
+    # excess 8.9e-7 s lies within the solver repeatability 9.3e-7 s, a tie (issue 21)
+    assert got["table4_gpm_row3"] == (D, (I, H, N, H))
     assert got["table4_gpm_row4"] == (D, (N, H, N, H))  # 25.6607 vs 25.660546: 1.5e-4 s
     assert got["table4_gpm_row5"] == (N, (N, N, N, N))  # 28.7185: no optimum of ours
-    assert got["agrees_with_gpops"] == (N, (N, N))
+    # same optimum (1e-3): rows 3, 4 sit on different optima; S2's own 'agree well' (<= 1.5325 %,
+    # Table 4 row 5): our best 20x3 optima are within 0.94 % of every GPOPS value
+    assert got["agrees_with_gpops"] == (D, (N, H, N, H))
+    loose = next(c for c in claims if c.id == "agrees_with_gpops").readings[1]
+    # row 2: |25.789172 - 26.0336| / 25.789172 = 0.948 % (relative to the GPM value, as S2's column)
+    assert loose.values[0] == pytest.approx(0.244428 / 25.789172 - 0.015325, abs=1e-6)
     assert got["gpm_sometimes_shorter"] == (H, (H, H))  # rows 3, 4: 0.89 %, 0.92 % shorter
     fnd = {f.id: f.outcome for f in findings}
     assert fnd == {
@@ -315,3 +348,37 @@ def test_claim_decisions_from_the_full_run_branches():
     }
     # GPOPS rows 2-4 are the second converged branch, rows 1 and 5 the best
     assert meas["paper"]["gpops_branch"] == [0, 1, 1, 1, 0]
+
+
+def test_row3_printed_digits_is_no_longer_rescued_by_a_cushion():
+    # issue 21: the old 1e-5 s cushion (ten times the repeatability) made row 3 "hold" to its
+    # printed digits; now the repeatability is the equivalence margin on both sides. Without
+    # any margin, or with row 3's own repeatability (5.1e-7 s: 25.935949106 -> 25.935949612 s
+    # on its re-solve), the 8.9e-7 s excess does not hold; it never holds
+    for repeat_s, want in ((0.0, "does not hold"), (5.1e-7, "does not hold"), (_FULL_RUN_REPEAT_S, "inconclusive")):
+        _, claims, _ = _full_run_decisions(repeat_s)
+        row3 = next(c for c in claims if c.id == "table4_gpm_row3")
+        assert row3.readings[0].outcome == want, repeat_s
+        assert row3.margin == repeat_s and "repeatab" in row3.margin_reason
+
+
+def test_table4_difference_column_is_relative_to_the_gpm_value():
+    # S2 Table 4, last column: |GPM - GPOPS| / GPM in %, to its 4 printed decimals (e.g.
+    # 0.1338 / 26.1674 = 0.5113 %); the 'agree well' reading uses the same definition
+    from adcskit.studies.rendezvous.paper import PAPER_ROWS
+
+    for _, gpm, gpops, pct in PAPER_ROWS:
+        assert abs(100 * abs(gpm - gpops) / gpm - pct) <= 0.5e-4, (gpm, gpops, pct)
+
+
+def test_repeatability_is_measured_from_starts_and_self_resolves():
+    from types import SimpleNamespace as NS
+
+    from adcskit.studies.rendezvous.experiment import repeatability
+
+    b = [NS(tf_paper_mesh_s=25.903082770, self_resolve_change=3.6e-8), NS(tf_paper_mesh_s=26.0, self_resolve_change=math.nan)]
+    rows = {0: NS(spread_per_optimum_s=(6.5e-8, 0.0), branches=b)}
+    assert repeatability(rows) == pytest.approx(3.6e-8 * 25.903082770)
+    rows = {0: NS(spread_per_optimum_s=(2e-6,), branches=b)}  # a spread over starts can dominate
+    assert repeatability(rows) == 2e-6
+    assert math.isnan(repeatability({0: NS(spread_per_optimum_s=(), branches=[])}))

@@ -8,9 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from adcskit.studies._runner import run_study
-from adcskit.studies._verdict import OUTCOMES
+from adcskit.studies._base import paper_protocol, protocol_keys
+from adcskit.studies._runner import protocol_differences, run_study
+from adcskit.studies._verdict import OUTCOMES, mean_interval
 from adcskit.studies.thruster_layout import A_REF, Config, manoeuvre_demands
+from adcskit.studies.thruster_layout.experiment import torque_tolerance_nm
 
 
 @pytest.fixture(scope="module")
@@ -36,8 +38,11 @@ def test_result_structure(quick):
     assert doc["paper"]["f_best"]["4"] == {"ga": 4.5, "de": 3.1}  # S3 §6 as printed
     for stem in ("runtime_vs_n", "fitness_vs_n", "on_times_ref_vs_opt", "convergence", "layouts_3d"):
         assert f"{stem}.png" in doc["figures"] and (folder / f"{stem}.png").is_file()
-    # our own consistency checks must pass (every one is computed)
-    assert doc["checks"] and all(c["passed"] for c in doc["checks"])
+    # our own consistency checks are computed; the equal-torque premise of the fuel claim is one of
+    # them (issue 21 §3 S3) and is reported, not asserted: it is a property of S3's allocation
+    premise = "fuel comparison on equal torque"
+    assert doc["checks"] and all(c["passed"] for c in doc["checks"] if not c["name"].startswith(premise))
+    assert sum(c["name"].startswith(premise) for c in doc["checks"]) == 1
     assert all(c["kind"] == "check" for c in doc["checks"])
 
 
@@ -50,6 +55,22 @@ def test_claims_are_the_papers_and_decided_over_seeds(quick):
         assert c["statement"] and c["where"] and c["quantity"]
         assert c["outcome"] in OUTCOMES
         assert c["n_seeds"] == 5 and c["interval"][0] is not None
+        # quick: 60 generations where S3 Table 6 prints 400, so every claim is below the paper's protocol
+        # (issue 21 item 2); 5 seeds, so not indicative
+        assert c["protocol"] == "reduced protocol" and not c["comparable"] and not c["indicative"]
+        assert any(d.startswith("n_gen: ours 60, paper 400") for d in c["protocol_differences"])
+    # de-faster is a timing claim (compared with a snapshot by outcome only) on process CPU time
+    assert claims["de-faster"]["timing"] and "process_time" in claims["de-faster"]["quantity"]
+    # the fuel claim is decided on the on-time ratio alone (no extra torque condition that could
+    # contradict the interval, issue 21 item 1); its quantity states the equal-torque tolerance
+    fuel_claim = claims["optimal-layout-less-fuel"]
+    assert "0.212 N m" in fuel_claim["quantity"] and "4.1 % of |M|" in fuel_claim["quantity"]
+    for r in fuel_claim["readings"]:
+        lo, hi = mean_interval(r["values"])
+        if all(v < 1 for v in r["values"]) and hi < 1:
+            assert r["outcome"] == "holds"
+        if all(v > 1 for v in r["values"]) and lo > 1:
+            assert r["outcome"] == "does not hold"
     # readings: the fuel claim is decided out of sample with both allocations and both layouts,
     # Table 8 with the single-thruster and the paired-couple impulse bit
     fuel = {r["reading"] for r in claims["optimal-layout-less-fuel"]["readings"]}
@@ -73,11 +94,40 @@ def test_verdicts_follow_the_config(tmp_path):
     # a custom config changes the protocol: claims are marked not comparable, and the summary
     # and differences follow the actual settings (no hard-coded numbers)
     cfg = {"n_thrusters": [4, 6], "n_seeds": 2, "n_gen": 3, "pop_size": 8, "n_random_layouts": 2,
-           "de_sensitivity": [], "n_fuel_demands": 5, "correction_deg": 0.25}
+           "de_sensitivity": [], "n_fuel_demands": 5, "correction_deg": 0.25, "timing_repeats": 2}
     res = run_study("thruster-layout", config=cfg, seed=5, out=None)
-    assert all(not c.comparable for c in res.claims)
+    assert all(not c.comparable and c.protocol == "custom settings" for c in res.claims)
+    assert all(c.indicative for c in res.claims)  # 2 < 5 seeds (issue 21 item 1)
     assert "corrections of 0.25 deg" in res.summary and "2 seeds" in res.summary
     assert all(c.n_seeds == 2 for c in res.claims)
+    # timing repeats: each main design ran twice with its own seed, same F_best (a check), and the
+    # CPU time per run is the median of the repeats
+    checks = {c.name: c for c in res.checks}
+    rep = next(c for n, c in checks.items() if n.startswith("every timing repeat"))
+    assert rep.passed and "8 repeats of 8 designs" in rep.detail
+    for r in res.measured["runs"].values():
+        for by_alg in r.values():
+            assert len(by_alg["cpu_s_seeds"]) == 2 and all(t > 0 for t in by_alg["cpu_s_seeds"])
+
+
+def test_protocol_keys_declare_the_papers_values():
+    # issue 21 item 2: every protocol key declares S3's printed value or "not printed"; our defaults
+    # equal every printed value (Tables 5-7, §6, eq. 20), so the full run is at the paper's protocol
+    declared = paper_protocol(Config)
+    assert set(protocol_keys(Config)) - {"inertia_kgm2", "mdot_kg_s", "n_random_layouts", "de_sensitivity",
+                                         "e_min_readings"} == set(declared)
+    assert declared["n_gen"] == 400 and declared["weights"] == (100.0, -99.0, 12.0)  # S3 Tables 6, 7
+    assert declared["pop_size"] == "not printed" and declared["correction_deg"] == "not printed"
+    assert protocol_differences(Config, Config()) == {}
+    assert set(protocol_differences(Config, Config(n_gen=60))) == {"n_gen"}
+
+
+def test_torque_tolerance_is_the_references_minimum_torque_impulse():
+    # S3 eq. 9-10: MTIB = F_max Delta t_min; per sample t_s it is a torque F_max Delta t_min / t_s.
+    # Reference layout (S3 §6): largest lever sqrt(2) m; Table 5 / §6: 10 N, 3 ms; Table 6: 0.2 s
+    assert torque_tolerance_nm(Config()) == pytest.approx(10 * math.sqrt(2) * 3e-3 / 0.2, rel=1e-12)
+    # relative to the demand |M| = K theta (0.5 deg, K = 600): e_min,ref / theta = 4.05 %
+    assert torque_tolerance_nm(Config()) / (600 * math.radians(0.5)) == pytest.approx(0.0405, abs=5e-5)
 
 
 def test_reference_on_time_by_hand(quick):

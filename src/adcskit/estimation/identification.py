@@ -27,6 +27,9 @@ Solvers (registry :data:`IDENTIFICATION_METHODS`):
     condition number (``kappa(Phi)^2``); the alternative with the same solution, the
     augmented system ``[[I, Phi], [Phi^T, 0]]``, is indefinite and twice as large, which
     slows every method here. Run to convergence, all of them reach the ``qr`` solution.
+    ``maxiter`` caps the iterations per call (for ``gmres`` the Arnoldi steps, in restart
+    cycles of at most the system size); a capped solve that has not reached ``rtol`` returns
+    its last iterate with ``status`` 1.
     Note that ``I_n kron G`` has the minimal polynomial of the ``q x q`` matrix ``G``, so a
     Krylov space of this system has dimension at most ``q``: GMRES reaches the exact
     least-squares solution in at most ``q`` steps (2 for the 1-DOF, 6 for the 3-DOF model).
@@ -273,9 +276,12 @@ class _Counter:
 
 def _normal_system(Phi, Z):
     """Normal equations ``(I_n kron G) theta = vec(Z^T Phi)`` as a dense matrix."""
-    n = Z.shape[1]
+    n, q = Z.shape[1], Phi.shape[1]
     G = Phi.T @ Phi
-    return np.kron(np.eye(n), G), (Z.T @ Phi).ravel()
+    M = np.zeros((n * q, n * q))
+    for i in range(n):  # the n diagonal blocks of I_n kron G (np.kron costs ~4x more here)
+        M[i * q:(i + 1) * q, i * q:(i + 1) * q] = G
+    return M, (Z.T @ Phi).ravel()
 
 
 def _residual(Phi, Z, Theta):
@@ -317,7 +323,11 @@ def _krylov(name):
         nit = [0]
         kw: dict[str, Any] = dict(rtol=o["rtol"], atol=o["atol"], maxiter=o["maxiter"] or 10 * M.shape[0])
         if name == "gmres":
-            kw.update(restart=M.shape[0], callback_type="pr_norm")
+            # ``maxiter`` counts Arnoldi (inner) iterations, as for the other methods' iterations:
+            # at most that many, in restart cycles of at most the system size
+            restart = min(M.shape[0], o["maxiter"] or M.shape[0])
+            kw.update(restart=restart, callback_type="pr_norm",
+                      maxiter=-(-o["maxiter"] // restart) if o["maxiter"] else 10 * M.shape[0])
         x, info = solver(cnt.op(), b, x0=T0.ravel(), callback=lambda _: nit.__setitem__(0, nit[0] + 1), **kw)
         if info == 0:
             status, msg = 0, f"{name} converged (normal equations)"

@@ -352,6 +352,11 @@ def _continuous_control(left, right, lo, hi, threshold: float) -> bool:
     return bool(np.all(np.abs(u_end - u_start).ravel() / span < threshold))
 
 
+#: Smallest relative error target: below double precision's resolution no mesh can meet it
+#: (and ``e / tol`` would overflow the degree estimate).
+MIN_TOL = 1e-15
+
+
 def refine_mesh(
     mesh: Mesh,
     errors,
@@ -443,7 +448,7 @@ def refine_mesh(
     check_finite("jump_threshold", jump_threshold)
     if err.shape != (mesh.n_intervals,):
         raise InputError(f"errors must have shape ({mesh.n_intervals},); got {err.shape}")
-    tol = check_positive("tol", tol)
+    tol = check_range("tol", tol, MIN_TOL, math.inf)
     n_min = check_int("n_min", n_min, minimum=1)
     n_max = check_int("n_max", n_max, minimum=n_min)
     reduce = check_flag("reduce", reduce)
@@ -924,7 +929,7 @@ def solve_adaptive(
         raise InputTypeError(
             f"problem must be an OptimalControlProblem or MultiPhaseProblem; got {type(problem).__name__}"
         )
-    tol = check_positive("tol", tol)
+    tol = check_range("tol", tol, MIN_TOL, math.inf)
     method = check_choice("method", method, METHODS)
     max_iterations = check_int("max_iterations", max_iterations, minimum=1)
     n_min = check_int("n_min", n_min, minimum=1)
@@ -1462,6 +1467,9 @@ def guess_from_function(fun, t0: float, tf: float, *, n_samples: int = 41) -> Gu
     if not b > a:
         raise InputError(f"tf must be > t0 (s); got t0 = {a:g}, tf = {b:g}")
     t = np.linspace(a, b, n)
+    if not np.all(np.diff(t) > 0):
+        raise InputError(f"tf - t0 = {b - a:g} s is too short to sample n_samples = {n} distinct increasing times; "
+                         "allowed: a span that floating point resolves into n_samples points (e.g. >= 1e-9 s)")
     xs, us = [], []
     for tk in t:
         try:

@@ -403,6 +403,8 @@ class MultiPhaseProblem:
             if links != "continuous":
                 raise InputError(f"links must be 'continuous' or a sequence of Link; got {links!r}")
             links = tuple(Link(k, k + 1) for k in range(len(phases) - 1))
+        if links is None or not hasattr(links, "__iter__"):
+            raise InputTypeError(f"links must be 'continuous' or a sequence of Link (use () for no links); got {links!r}")
         links = tuple(links)
         for lk in links:
             if not isinstance(lk, Link):
@@ -923,6 +925,11 @@ def solve_multiphase(
     try:
         tr = _get(problem, method, meshes, opts)
     except (TypeError, ValueError, RuntimeError, NotImplementedError) as exc:
+        if isinstance(exc, RuntimeError) and "ipopt" in str(exc).lower() and "option" in str(exc).lower():
+            # CasADi refusing an IPOPT option (unknown name, wrong type): the options, not the problem
+            lines = [ln for ln in str(exc).splitlines() if ln.strip()]
+            raise InputError(f"ipopt_options not accepted by IPOPT: {lines[-1] if lines else exc}; "
+                             f"got {ipopt_options!r}") from None
         # a user function with the wrong signature, output size or a non-CasADi operation
         raise InputTypeError(
             f"problem functions must be f(x, u, t, p) / g / path / integrand (x, u, t, p) and "

@@ -893,7 +893,7 @@ def random_guess(problem: OptimalControlProblem, rng, *, spread: float = 0.5, kn
     True
     """
     _check_problem(problem)
-    spread = check_positive("spread", spread, allow_zero=True, max_value=1e6)
+    spread = check_positive("spread", spread, allow_zero=True, max_value=1e6) + 0.0  # -0.0 -> 0.0 for numpy
     knots = check_int("knots", knots, minimum=2, maximum=100_000)
     rng = as_rng(rng)
     base = default_guess(problem)

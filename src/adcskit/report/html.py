@@ -94,16 +94,71 @@ OUTCOME_CLASS = {
     "does not hold": "bad",
     "inconclusive": "warn",
     "depends on reading": "read",
+    "indicative": "ind",
     "not comparable": "muted",
 }
 
+#: The legend of the report: each bucket of :func:`_bucket`, its colour class and meaning.
+LEGEND = (
+    ("holds", "ok", "every independent seed supports the claim and the 95 % interval lies on its side"),
+    ("does not hold", "bad", "the mirror image: no seed supports it and the interval lies on the other side"),
+    ("inconclusive", "warn", "seeds disagree, the interval straddles the threshold, a tie within a declared "
+                             "margin, a failed seed, or one reading decided while others are not"),
+    ("depends on reading", "read", "one documented reading of the paper holds and another does not"),
+    ("indicative", "ind", "fewer than 5 independent seeds (a quick run): shown, never a verdict on the paper"),
+    ("not comparable", "muted", "the run changed a protocol key of the claim (custom settings)"),
+)
+
 
 def _display_outcome(c: dict[str, Any]) -> str:
-    return c.get("outcome", "inconclusive") if c.get("comparable", True) else "not comparable"
+    """The label of a claim or finding (``display_outcome`` of new files; derived for older ones)."""
+    if c.get("display_outcome"):
+        return str(c["display_outcome"])
+    if not c.get("comparable", True):
+        return "not comparable"
+    return c.get("outcome", "inconclusive")
+
+
+def _bucket(c: dict[str, Any]) -> str:
+    """The colour bucket of a claim: indicative, not comparable, or its outcome."""
+    if c.get("indicative"):
+        return "indicative"
+    if c.get("protocol") == "custom settings" or (not c.get("comparable", True) and "protocol" not in c):
+        return "not comparable"
+    return c.get("outcome", "inconclusive")
+
+
+def _tooltip(c: dict[str, Any]) -> str:
+    parts = [f"{_display_outcome(c)} — {c.get('statement', '')}"]
+    if c.get("quantity"):
+        parts.append(f"decided by: {c['quantity']}")
+    if c.get("measured") is not None:
+        parts.append(f"ours {format_value(c.get('measured'))} {c.get('unit', '')}".rstrip()
+                     + (f", paper {format_value(c.get('paper'))}" if c.get("paper") is not None else ""))
+    for r in c.get("readings") or []:
+        parts.append(f"reading {r.get('reading')}: {r.get('outcome')} ({r.get('n_seeds')} seeds)")
+    if c.get("protocol_differences"):
+        parts.append("reduced protocol: " + "; ".join(c["protocol_differences"]))
+    if c.get("detail"):
+        parts.append(str(c["detail"])[:400])
+    return "\n".join(parts)
+
+
+def _decorate(items: list[dict[str, Any]], study: str, prefix: str) -> list[dict[str, Any]]:
+    for i, c in enumerate(items):
+        c["display"] = _display_outcome(c)
+        c["bucket"] = _bucket(c)
+        c["css"] = OUTCOME_CLASS.get(c["bucket"], "muted")
+        c["reduced"] = c.get("protocol") == "reduced protocol" and c["bucket"] not in ("indicative", "not comparable")
+        c["anchor"] = f"{study}--{prefix}-{c.get('id') or i}"
+        c["tooltip"] = _tooltip(c)
+        for r in c.get("readings") or []:
+            r["css"] = OUTCOME_CLASS.get(r.get("outcome", ""), "muted")
+    return items
 
 
 def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
-    """The claims of a result, with ``display`` and ``css`` set (old result files: checks of kind claim)."""
+    """The claims of a result, with ``display``, ``bucket``, ``css``, ``anchor`` and ``tooltip`` set."""
     claims = [dict(c) for c in data.get("claims", [])]
     if not claims and "claims" not in data:  # result.json of an older adcskit version
         claims = [
@@ -111,19 +166,16 @@ def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
             for c in data.get("checks", [])
             if c.get("kind", "claim") == "claim"
         ]
-    for c in claims:
-        c["display"] = _display_outcome(c)
-        c["css"] = OUTCOME_CLASS.get(c["display"], "muted")
-    return claims
+    return _decorate(claims, data.get("study", ""), "claim")
 
 
 def _tally(items: list[dict[str, Any]]) -> list[tuple[str, int, str]]:
-    """``[(outcome, count, css)]`` for the outcomes present, in a fixed order."""
+    """``[(bucket, count, css)]`` for the buckets present, in the legend's order."""
     for c in items:
+        c.setdefault("bucket", _bucket(c))
         c.setdefault("display", _display_outcome(c))
-        c.setdefault("css", OUTCOME_CLASS.get(c["display"], "muted"))
-    order = list(OUTCOME_CLASS)
-    counts = {o: sum(1 for c in items if c["display"] == o) for o in order}
+        c.setdefault("css", OUTCOME_CLASS.get(c["bucket"], "muted"))
+    counts = {o: sum(1 for c in items if c["bucket"] == o) for o in OUTCOME_CLASS}
     return [(o, n, OUTCOME_CLASS[o]) for o, n in counts.items() if n]
 
 
@@ -131,7 +183,7 @@ def _verdict_class(claims: list[dict[str, Any]]) -> str:
     """Badge colour of a study's claim tally: green only when every claim holds."""
     if not claims:
         return "muted"
-    shown = {c["display"] for c in claims}
+    shown = {c["bucket"] for c in claims}
     if shown == {"holds"}:
         return "ok"
     if "holds" not in shown:
@@ -192,8 +244,10 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
             section["error"] = {"message": data["_load_error"]}
         else:
             claims = _claims_of(data)
-            checks = [c for c in data.get("checks", []) if c.get("kind", "check") == "check"]
-            findings = list(data.get("findings", []))
+            checks = [dict(c) for c in data.get("checks", []) if c.get("kind", "check") == "check"]
+            for i, c in enumerate(checks):
+                c["anchor"] = f"{name}--check-{i}"
+            findings = _decorate([dict(f) for f in data.get("findings", [])], name, "finding")
             flat_paper: list[tuple[str, str]] = []
             flat_measured: list[tuple[str, str]] = []
             if not data.get("comparison"):
@@ -209,6 +263,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
                 finding_tally=_tally(findings),
                 verdict_class=_verdict_class(claims),
                 changes=data.get("config_changes") or {},
+                protocol_differences=data.get("protocol_differences") or {},
                 checks_passed=sum(bool(c.get("passed")) for c in checks),
                 flat_paper=flat_paper,
                 flat_measured=flat_measured,
@@ -226,6 +281,9 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
         generated=_dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         machine=html.escape(f"{platform.system()} {platform.machine()}, Python {platform.python_version()}"),
         sections=sections,
+        legend=LEGEND,
+        n_studies=len(STUDIES),
+        n_paper_studies=sum(1 for i in STUDIES.values() if i.paper in PAPERS),
         papers=PAPERS,
         any_quick=any(s.get("data", {}).get("quick") for s in sections),
     )

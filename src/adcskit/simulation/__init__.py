@@ -11,6 +11,9 @@ kernel (``prange`` over samples).
 * :mod:`~adcskit.simulation.scenario` — the scenario as data (frozen dataclasses, TOML);
 * :mod:`~adcskit.simulation.core` — :func:`simulate` and :class:`SimulationResult`;
 * :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews;
+* :mod:`~adcskit.simulation.export` — xarray Dataset, netCDF and Zarr export (``adcskit[export]``);
+* :mod:`~adcskit.simulation.envelopes` — Monte-Carlo envelope figures of the traces;
+* :mod:`~adcskit.simulation.signoff` — a requirement table checked on a result;
 * :mod:`~adcskit.simulation.wheels` — reaction wheels, magnetorquers, momentum management and
   a detumble -> sun -> nadir mode sequence in their own batched kernel (:func:`simulate_wheels`).
 
@@ -26,6 +29,8 @@ from adcskit.simulation.core import (
     reference_profile,
     simulate,
 )
+from adcskit.simulation.envelopes import attitude_error_figure, body_rate_figure, envelope_figure
+from adcskit.simulation.export import read_dataset, to_dataset, write_netcdf, write_zarr
 from adcskit.simulation.scenario import (
     ControllerSpec,
     DispersionSpec,
@@ -40,6 +45,7 @@ from adcskit.simulation.scenario import (
     ThrusterSpec,
     load_scenario,
 )
+from adcskit.simulation.signoff import SignOffTable, check_simulation
 from adcskit.simulation.wheels import (
     MODE_NAMES,
     WHEEL_METRIC_NAMES,
@@ -59,6 +65,9 @@ __all__ = [
     "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
+    "to_dataset", "write_netcdf", "write_zarr", "read_dataset",
+    "envelope_figure", "attitude_error_figure", "body_rate_figure",
+    "SignOffTable", "check_simulation",
     "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
     "WheelScenario", "WheelSimulationResult", "WheelSpec", "wheel_envelope_figure", "load_wheel_scenario",
     "simulate_wheels",

@@ -55,7 +55,8 @@ class Paper:
         return text
 
 
-#: The five source papers (S0..S4). Five papers give seven studies because S0 (robust Wahba)
+#: The five source papers (S0..S4). Five papers give seven paper studies (plus our closed loop,
+#: eight in all) because S0 (robust Wahba)
 #: reports two experiments (one epoch, Table 1; an orbit, Figs 1-4) and S4 (on-off control)
 #: two (the Schmitt-trigger loop itself, Figs 2-7; the gain tuning, Tables 4-6).
 PAPERS: dict[str, Paper] = {

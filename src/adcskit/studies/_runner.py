@@ -102,6 +102,27 @@ def protocol_differences(config_cls: Any, config: Any) -> dict[str, dict[str, An
     return out
 
 
+def _quick_reductions(name: str, config: Any) -> dict[str, dict[str, Any]]:
+    """The ``--quick`` overrides that differ from the study's full settings, as protocol differences.
+
+    A quick run is below our documented full run even where the paper prints nothing (a coarser
+    grid, fewer trials): its claims and findings on those keys read "reduced protocol".
+    ``paper`` names the printed value, or the full run's setting when the paper prints none.
+    """
+    from adcskit.studies._base import NOT_PRINTED, paper_protocol
+
+    full = config_to_dict(resolve_config(name, None, quick=False))
+    ours = config_to_dict(config)
+    printed = paper_protocol(get_study(name).config_cls)
+    out = {}
+    for k in get_study(name).quick:
+        if k in ours and to_jsonable(ours[k]) != to_jsonable(full.get(k)):
+            p = printed.get(k, NOT_PRINTED)
+            shown = p if not (isinstance(p, str) and p == NOT_PRINTED) else f"not printed; full run {to_jsonable(full.get(k))!r}"
+            out[k] = {"value": to_jsonable(ours[k]), "paper": to_jsonable(shown)}
+    return out
+
+
 def _in(key: str, names) -> bool:
     return any(key == n or key.startswith(n + ".") for n in names)
 
@@ -121,6 +142,8 @@ def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...
     from adcskit.studies._verdict import CUSTOM_SETTINGS, PAPER_PROTOCOL, REDUCED_PROTOCOL
 
     differences = differences or {}
+    # a change *to* the paper's printed value is not a custom setting (e.g. a paper-scale run)
+    changes = {k: v for k, v in changes.items() if to_jsonable(v.get("value")) != to_jsonable(v.get("paper"))}
     out = []
     for c in claims:
         if c.protocol_keys is None:
@@ -291,14 +314,15 @@ def run_study(
 
     changes = config_changes(name, cfg, quick=quick)
     differ = protocol_differences(study.config_cls, cfg)
+    reduced = _quick_reductions(name, cfg) if quick else {}
     result = replace(
         result,
         config=config_to_dict(cfg),
         config_changes=changes,
         protocol_differences=differ,
-        claims=_mark_comparable(result.claims, changes, study.neutral_keys, differ),
-        # a finding is our question, compared with our documented settings, not with the paper
-        findings=_mark_comparable(result.findings, changes, study.neutral_keys),
+        claims=_mark_comparable(result.claims, changes, study.neutral_keys, {**reduced, **differ}),
+        # a finding is our question, compared with our documented (full-run) settings, not the paper
+        findings=_mark_comparable(result.findings, changes, study.neutral_keys, reduced),
         seed=seed,
         quick=quick,
         runtime_s=runtime,

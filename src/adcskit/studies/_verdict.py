@@ -243,6 +243,8 @@ class Claim:
         What differs from the paper's protocol, one ``"key: ours X, paper Y"`` per key.
     margin, margin_reason
         The equivalence margin of a deterministic comparison and why (empty when none).
+    timing : bool
+        The deciding quantity is a measured time (compared with a snapshot by outcome only).
 
     Examples
     --------
@@ -271,6 +273,7 @@ class Claim:
     protocol_differences: tuple[str, ...] = ()
     margin: float = 0.0
     margin_reason: str = ""
+    timing: bool = False
 
     def __post_init__(self) -> None:
         check_choice("outcome", self.outcome, OUTCOMES)
@@ -318,6 +321,7 @@ class Claim:
             "display_outcome": self.display_outcome,
             "margin": _finite_or_none(self.margin) if self.margin else None,
             "margin_reason": self.margin_reason,
+            "timing": bool(self.timing),
         }
 
 
@@ -500,6 +504,9 @@ class ClaimSpec:
         when it is 0 (an exact count).
     margin_reason : str
         Why the margin has that size.
+    timing : bool
+        The deciding quantity is a measured time (CPU or wall): a re-run is compared with the
+        page's snapshot by outcome only.
 
     Examples
     --------
@@ -525,6 +532,7 @@ class ClaimSpec:
     protocol_keys: tuple[str, ...] | None = None
     margin: float = 0.0
     margin_reason: str = ""
+    timing: bool = False
     describe: Callable[[Reading], str] | None = field(default=None, repr=False)
 
     _cls = Claim
@@ -600,6 +608,7 @@ class ClaimSpec:
             indicative=bool(self.stochastic and any(0 < r.n_seeds < MIN_SEEDS for r in per)),
             margin=self.margin,
             margin_reason=self.margin_reason,
+            timing=self.timing,
         )
 
 

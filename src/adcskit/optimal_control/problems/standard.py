@@ -209,7 +209,12 @@ def brachistochrone_time(x_final: float, drop: float, g: float = _G0) -> float:
     ratio = xf / dy
     phi = brentq(lambda p: (p - np.sin(p)) - ratio * (1.0 - np.cos(p)), 1e-3, 2 * np.pi - 1e-9, xtol=1e-15)
     R = dy / (1.0 - np.cos(phi))
-    return float(phi * np.sqrt(R / g))
+    with np.errstate(over="ignore"):
+        T = float(phi * np.sqrt(R / g))
+    if not np.isfinite(T):
+        raise InputError(f"g = {g:g} m/s^2 makes the descent time overflow for R = {R:g} m; "
+                         "allowed: g with a finite time phi*sqrt(R/g)")
+    return T
 
 
 # ------------------------------------------------------------------------- rigid body

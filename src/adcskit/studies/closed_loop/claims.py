@@ -122,16 +122,21 @@ def _q4_propellant(cfg: Config, m: Measurements) -> Declared:
 
 
 def _mekf_consistent(cfg: Config, m: Measurements) -> Check:
-    nees_all = m.estimators.nees_gaussian
-    ns = cfg.n_samples
-    lo, hi = chi2_mean_band(6, ns)
+    nees_all = np.asarray(m.estimators.nees_gaussian, dtype=float)
+    n = cfg.n_samples * nees_all.size  # the grand mean averages every sample of every seed
+    lo, hi = chi2_mean_band(6, n)
+    mean = float(np.mean(nees_all))
+    side = "inside" if lo <= mean <= hi else ("below: the covariance is larger than the errors (conservative)"
+                                               if mean < lo else "above: the covariance is too small (overconfident)")
     return Check(
-        name="MEKF consistency in the loop: mean NEES over the Gaussian-error LEO campaigns within the chi2(6) "
-             "95 % band of a mean over the samples",
-        passed=bool(lo <= np.mean(nees_all) <= hi),
-        detail=f"mean NEES {np.mean(nees_all):.2f} (per-seed {', '.join(f'{v:.2f}' for v in nees_all)}); "
-               f"95 % band of the mean of {ns} chi2(6) values [{lo:.2f}, {hi:.2f}] (strict; the MEKF "
-               "underweights measurements while its covariance exceeds their noise)",
+        name="MEKF consistency in the loop: mean NEES over the Gaussian-error LEO campaigns within the strict chi2(6) "
+             "95 % band of a mean over all their samples",
+        passed=bool(np.all(np.isfinite(nees_all)) and lo <= mean <= hi),
+        detail=f"mean NEES {mean:.3f} (per-seed {', '.join(f'{v:.2f}' for v in nees_all)}); 95 % band of the mean "
+               f"of {n} chi2(6) values ({nees_all.size} seeds x {cfg.n_samples} samples) [{lo:.3f}, {hi:.3f}]: "
+               f"{side}. Each sample's NEES is a time average over its epochs, whose spread is at most one chi2(6) "
+               "value's, so this band is the widest a consistent filter's mean can need (the MEKF underweights "
+               "measurements while its covariance exceeds their noise)",
         kind="check")
 
 

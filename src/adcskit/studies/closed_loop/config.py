@@ -5,9 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from adcskit.config import ConfigError
-from adcskit.studies._base import NEUTRAL
+from adcskit.studies._base import NEUTRAL, NOT_PRINTED, protocol
 
 __all__ = ["Config"]
+
+#: Field metadata of every setting that defines the study's scenarios: no paper closes the loop,
+#: so no paper prints these settings (the printed numbers the scenarios reuse are in ``paper.py``);
+#: the findings are our questions and their protocol is ours.
+_OURS = protocol("findings", paper=NOT_PRINTED)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,23 +59,23 @@ class Config:
     """
 
     n_seeds: int = field(default=5, metadata=NEUTRAL)
-    n_samples: int = 1000
-    geo_dt_s: float = 0.02
-    geo_t_final_s: float = 45.0
-    geo_slew_deg: float = 5.0
-    geo_torque_level_nm: float = 10.0
-    geo_srp_torque_nm: float = 5e-5
-    layout_pop: int = 30
-    layout_gens: int = 150
-    leo_dt_s: float = 0.02
-    leo_t_final_s: float = 60.0
-    leo_window_s: float = 30.0
-    s4_dt_s: float = 0.005
-    s4_t_final_s: float = 30.0
-    switch_tc_s: float = 5.0
-    command_period_s: float = 0.02
-    slew_deg: float = 20.0
-    slew_accel_fraction: float = 0.7
+    n_samples: int = field(default=1000, metadata=_OURS)
+    geo_dt_s: float = field(default=0.02, metadata=_OURS)
+    geo_t_final_s: float = field(default=45.0, metadata=_OURS)
+    geo_slew_deg: float = field(default=5.0, metadata=_OURS)
+    geo_torque_level_nm: float = field(default=10.0, metadata=_OURS)
+    geo_srp_torque_nm: float = field(default=5e-5, metadata=_OURS)
+    layout_pop: int = field(default=30, metadata=_OURS)
+    layout_gens: int = field(default=150, metadata=_OURS)
+    leo_dt_s: float = field(default=0.02, metadata=_OURS)
+    leo_t_final_s: float = field(default=60.0, metadata=_OURS)
+    leo_window_s: float = field(default=30.0, metadata=_OURS)
+    s4_dt_s: float = field(default=0.005, metadata=_OURS)
+    s4_t_final_s: float = field(default=30.0, metadata=_OURS)
+    switch_tc_s: float = field(default=5.0, metadata=_OURS)
+    command_period_s: float = field(default=0.02, metadata=_OURS)
+    slew_deg: float = field(default=20.0, metadata=_OURS)
+    slew_accel_fraction: float = field(default=0.7, metadata=_OURS)
     # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
     record_samples: int = field(default=32, metadata=NEUTRAL)
 

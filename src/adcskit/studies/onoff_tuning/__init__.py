@@ -49,7 +49,7 @@ def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> Stud
         title=STUDY.title,
         summary=_report.summary(config, m, claims, quick),
         paper=PAPER,
-        measured=_report.measured(m),
+        measured={**_report.measured(m), "mean_ratio": _claims.mean_ratio_table(config, m)},
         checks=_claims.checks(config, m),
         claims=claims,
         findings=_claims.findings(config, m),

@@ -7,11 +7,13 @@ S4, Tables 3, 5 and 6; §4 (GA settings).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import textwrap
+from dataclasses import dataclass, field, fields
 from typing import Any
 
-from adcskit.studies._base import NEUTRAL, protocol
-from adcskit.studies._s4 import S4Loop
+from adcskit.control.tuning import PAPER_SCALE
+from adcskit.studies._base import NEUTRAL, NOT_PRINTED, protocol
+from adcskit.studies._s4 import S4_LOOP_ATTRIBUTES, S4Loop
 from adcskit.uncertainty.sampling import Gaussian, TruncatedGaussian
 
 __all__ = ["Config", "CASE_PARAMS"]
@@ -28,138 +30,142 @@ _STD_KEYS = {"inertia": "std_inertia_kgm2", "torque": "std_torque_nm", "disturba
              "delay": "std_delay_s"}
 
 
+_CONFIG_DOC = """Settings of the tuning study (defaults: S4 Tables 3 and 5, printed GA settings).
+
+Every protocol key declares the value S4 prints (``paper=``; ``adcskit config onoff-tuning``
+shows ours): a run whose keys differ from a printed value reads "reduced protocol". Our
+defaults are below S4's GA protocol (generation cap, LHS samples, evaluation runs) to fit
+two CPU cores; ``paper_scale=True`` sets those keys to S4's values.
+
+Table 5 standard deviations: inertia 2 kg m², thrust level 0.2 N m, disturbance
+0.05 N m, delay 0.01 s around the Table 3 means. Inertia, thrust level and delay are
+truncated Gaussians (kept positive); the disturbance is a plain Gaussian.
+
+``n_seeds`` independent repetitions of the whole pipeline (NSGA-II, robust GA with its own
+LHS training draw and seed, fresh evaluation samples) decide every claim.
+``penalty_readings``: S4 prints no overshoot penalty; ``"sample"`` penalises each sample's
+excess, ``"mean"`` the excess of E[overshoot]; the first is the default reading, the
+others are run for the all-four case. ``paper_scale=True`` sets the claim GAs to S4's
+protocol (``ga_pop`` 70, ``ga_max_gen`` 1000 with the S4 stopping rule, ``n_lhs`` 1000 LHS
+samples per candidate, ``n_mc`` 10 000-run evaluations: ``PAPER_SCALE`` of
+:mod:`adcskit.control.tuning`; giving one of these keys another value beside it is an error)
+and prints a time estimate first (issue 14's timed probe,
+:func:`~adcskit.control.tuning.estimate_tuning_time`); days on two CPU cores, meant for
+``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
+
+Attributes
+----------
+{loop}\
+overshoot_max_pct : float, %
+    Overshoot constraint of both optimisations (S4 eq. 9: 10 %).
+gain_max : float
+    Upper search bound of every gain, each in its own unit (``K_p`` 1/rad, ``K_i``
+    1/(rad s), ``K_d`` s/rad; S4 eq. 9: 100); the lower bound is 1e-3.
+std_inertia_kgm2 : float, kg m²
+    Standard deviation of the inertia (S4 Table 5: 2).
+std_torque_nm : float, N m
+    Standard deviation of the torque level (S4 Table 5: 0.2).
+std_disturbance_nm : float, N m
+    Standard deviation of the disturbance torque (S4 Table 5: 0.05).
+std_delay_s : float, s
+    Standard deviation of the delay (S4 Table 5: 0.01).
+nsga_pop, nsga_gen : int
+    NSGA-II population and generations of the deterministic front (S4 prints neither).
+ga_pop, ga_max_gen : int
+    Robust GA population (S4 §4: 70) and generation cap (S4 §4: 1000 iterations).
+ga_tol_deg : float, deg
+    S4's stopping rule: change of the best objective below this over ``ga_window`` (S4 §4:
+    1e-7, unit not printed).
+ga_window : int
+    Generations of the stopping rule (S4 §4: 10).
+n_lhs : int
+    LHS training samples per candidate of the robust GA (S4 §4, Fig. 11: 1000 LHS samples
+    for the inertia, "the same for the other uncertainties").
+penalty_weight_deg_per_pct : float, deg/%
+    Weight of the overshoot penalty added to eq. 10 per % of excess over
+    ``overshoot_max_pct`` (S4 prints no penalty).
+ratio_inertia, ratio_thrust, ratio_disturbance, ratio_delay, ratio_all : float
+    Weight ratio ``w2/w1`` of eq. 10 per uncertainty case (S4 Table 6: 25, 22, 15, 10, 180).
+sweep_ratios : tuple of float
+    ``w2/w1`` values of the all-four ratio sweep (Figs 10-11).
+sweep_max_gen : int
+    Generation cap of the GA of that sweep.
+sweep_cases_max_gen, sweep_cases_n_lhs : int
+    Generation cap and LHS samples of the single-uncertainty ratio sweep (Figs 12-13).
+sweep_cases_ratios : tuple of float
+    ``w2/w1`` values of the single-uncertainty ratio sweep.
+n_mc_ratio_cases : int
+    Monte-Carlo runs evaluating each gain set of the single-uncertainty sweep.
+n_mc : int
+    Monte-Carlo runs (fresh samples) evaluating the deterministic and robust gains, per seed
+    (S4 §5: 10 000).
+std_factors : tuple of float
+    Multiples of the Table 5 standard deviations of the spread sweep.
+n_mc_sweep : int
+    Monte-Carlo runs per point of the ratio and spread sweeps.
+command_rates_hz : tuple of float, Hz
+    Schmitt evaluation rates of the command-rate claim (S4 §5, Figs 20-21: 50, 200, 1000).
+n_mc_rate : int
+    Monte-Carlo runs of the command-rate claim, per seed (S4 prints no count for Figs 20-21).
+n_mc_order : int
+    Monte-Carlo runs of the gain-order check.
+task_size : int
+    Samples per task handed to the executor.
+campaign_dir : str
+    Directory for resumable Monte-Carlo campaigns ("" = in memory).
+n_seeds : int
+    Independent repetitions of the whole pipeline that decide every claim.
+penalty_readings : tuple of {{"sample", "mean"}}
+    Readings of the overshoot penalty, the default first.
+paper_scale : bool
+    Set the claim GAs and evaluations to S4's protocol (``PAPER_SCALE``; S4 ran at it).
+backend : str
+    ``"cpu"``, ``"cuda"`` or ``"auto"`` for the batch simulations.
+
+Examples
+--------
+>>> Config().ga_max_gen, Config(paper_scale=True).ga_max_gen  # ours, S4's
+(30, 1000)
+>>> Config(paper_scale=True, n_lhs=200)
+Traceback (most recent call last):
+...
+ValueError: paper_scale=true sets n_lhs to S4's 1000; got n_lhs=200 beside it
+"""
+
+#: ``paper_scale=True``: the keys it sets to S4's protocol (``PAPER_SCALE``)
+_PAPER_SCALE_KEYS = {"ga_pop": PAPER_SCALE.pop_size, "ga_max_gen": PAPER_SCALE.max_gen,
+                     "n_lhs": PAPER_SCALE.n_samples, "n_mc": PAPER_SCALE.n_eval}
+
+
 @dataclass(frozen=True, kw_only=True)
 class Config(S4Loop):
-    """Settings of the tuning study (defaults: S4 Tables 3 and 5, printed GA settings).
-
-    Table 5 standard deviations: inertia 2 kg m², thrust level 0.2 N m, disturbance
-    0.05 N m, delay 0.01 s around the Table 3 means. Inertia, thrust level and delay are
-    truncated Gaussians (kept positive); the disturbance is a plain Gaussian.
-
-    ``n_seeds`` independent repetitions of the whole pipeline (NSGA-II, robust GA with its own
-    LHS training draw and seed, fresh evaluation samples) decide every claim.
-    ``penalty_readings``: S4 prints no overshoot penalty; ``"sample"`` penalises each sample's
-    excess, ``"mean"`` the excess of E[overshoot]; the first is the default reading, the
-    others are run for the all-four case. ``paper_scale=True`` runs the claim GAs at S4's
-    protocol (population 70, the S4 stopping rule with the 1000-generation cap, 1000 LHS
-    samples per candidate, 10 000-run evaluations: ``PAPER_SCALE`` of
-    :mod:`adcskit.control.tuning`) after printing a time estimate (issue 14's timed
-    probe, :func:`~adcskit.control.tuning.estimate_tuning_time`); days on two CPU cores,
-    meant for ``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
-
-    Attributes
-    ----------
-    u_on : float
-        Schmitt on threshold on the (dimensionless) PID output (S4 Table 3: 0.15).
-    off_ratio : float
-        ``U_off / U_on`` in [0, 1] (S4 Table 3: 0.5).
-    inertia_kgm2 : float, kg m²
-        Mean moment of inertia ``J`` (S4 Table 3: 10).
-    torque_nm : float, N m
-        Mean torque level ``T`` of the thruster pair (S4 Table 3: 1).
-    delay_s : float, s
-        Mean pure thruster delay ``τ`` (S4 Table 3: 0.02), >= 0.
-    disturbance_nm : float, N m
-        Mean constant disturbance torque ``T_d`` (S4 Table 3: 0.05).
-    tau_thruster_s : float, s
-        Time constant of each of the thruster's two first-order lags (S4: 0.01).
-    tau_deriv_s : float, s
-        Time constant of the PID's derivative filter (S4 nomenclature: 0.01).
-    step_deg : float, deg
-        Commanded attitude step (S4: 15°).
-    command_rate_hz : float, Hz
-        Rate at which the Schmitt trigger is evaluated (sample and hold; S4: 50 Hz).
-    dt_s : float, s
-        Fixed integration step (S4 prints none).
-    t_final_s : float, s
-        Simulated duration (S4: 30 s).
-    t_window_s : float, s
-        The error objective is the mean |error| over the last ``t_window_s`` (S4: 10 s).
-    overshoot_max_pct : float, %
-        Overshoot constraint of both optimisations (S4: 10 %).
-    gain_max : float
-        Upper search bound of every gain, each in its own unit (``K_p`` 1/rad, ``K_i``
-        1/(rad s), ``K_d`` s/rad); the lower bound is 1e-3.
-    std_inertia_kgm2 : float, kg m²
-        Standard deviation of the inertia (S4 Table 5: 2).
-    std_torque_nm : float, N m
-        Standard deviation of the torque level (S4 Table 5: 0.2).
-    std_disturbance_nm : float, N m
-        Standard deviation of the disturbance torque (S4 Table 5: 0.05).
-    std_delay_s : float, s
-        Standard deviation of the delay (S4 Table 5: 0.01).
-    nsga_pop, nsga_gen : int
-        NSGA-II population and generations of the deterministic front (S4 prints neither).
-    ga_pop, ga_max_gen : int
-        Robust GA population (S4: 70) and generation cap (S4: 1000).
-    ga_tol_deg : float, deg
-        S4's stopping rule: change of the best objective below this over ``ga_window``.
-    ga_window : int
-        Generations of the stopping rule (S4: 10).
-    n_lhs : int
-        LHS training samples per candidate of the robust GA (S4 prints none).
-    penalty_weight_deg_per_pct : float, deg/%
-        Weight of the overshoot penalty added to eq. 10 per % of excess over
-        ``overshoot_max_pct`` (S4 prints no penalty).
-    ratio_inertia, ratio_thrust, ratio_disturbance, ratio_delay, ratio_all : float
-        Weight ratio ``w2/w1`` of eq. 10 per uncertainty case (S4 Table 6).
-    sweep_ratios : tuple of float
-        ``w2/w1`` values of the all-four ratio sweep (Figs 10-11).
-    sweep_max_gen : int
-        Generation cap of the GA of that sweep.
-    sweep_cases_max_gen, sweep_cases_n_lhs : int
-        Generation cap and LHS samples of the single-uncertainty ratio sweep (Figs 12-13).
-    sweep_cases_ratios : tuple of float
-        ``w2/w1`` values of the single-uncertainty ratio sweep.
-    n_mc_ratio_cases : int
-        Monte-Carlo runs evaluating each gain set of the single-uncertainty sweep.
-    n_mc : int
-        Monte-Carlo runs (fresh samples) evaluating the deterministic and robust gains.
-    std_factors : tuple of float
-        Multiples of the Table 5 standard deviations of the spread sweep.
-    n_mc_sweep : int
-        Monte-Carlo runs per point of the ratio and spread sweeps.
-    command_rates_hz : tuple of float, Hz
-        Schmitt evaluation rates of the command-rate check.
-    n_mc_rate, n_mc_order : int
-        Monte-Carlo runs of the command-rate and gain-order checks.
-    task_size : int
-        Samples per task handed to the executor.
-    campaign_dir : str
-        Directory for resumable Monte-Carlo campaigns ("" = in memory).
-    n_seeds : int
-        Independent repetitions of the whole pipeline that decide every claim.
-    penalty_readings : tuple of {"sample", "mean"}
-        Readings of the overshoot penalty, the default first.
-    paper_scale : bool
-        Run the claim GAs at S4's protocol (``PAPER_SCALE``).
-    backend : str
-        ``"cpu"``, ``"cuda"`` or ``"auto"`` for the batch simulations.
-    """
+    __doc__ = _CONFIG_DOC.format(loop=textwrap.dedent(S4_LOOP_ATTRIBUTES))
 
     # loop: S4 Table 3, the 13 keys of S4Loop (first, in its order)
-    overshoot_max_pct: float = field(default=10.0, metadata=protocol("tuning"))
-    gain_max: float = 100.0
+    overshoot_max_pct: float = field(default=10.0, metadata=protocol("tuning", paper=10.0))
+    gain_max: float = field(default=100.0, metadata=protocol("tuning", paper=100.0))
     # uncertainty (S4 Table 5)
-    std_inertia_kgm2: float = field(default=2.0, metadata=protocol("tuning"))
-    std_torque_nm: float = field(default=0.2, metadata=protocol("tuning"))
-    std_disturbance_nm: float = field(default=0.05, metadata=protocol("tuning"))
-    std_delay_s: float = field(default=0.01, metadata=protocol("tuning"))
+    std_inertia_kgm2: float = field(default=2.0, metadata=protocol("tuning", paper=2.0))
+    std_torque_nm: float = field(default=0.2, metadata=protocol("tuning", paper=0.2))
+    std_disturbance_nm: float = field(default=0.05, metadata=protocol("tuning", paper=0.05))
+    std_delay_s: float = field(default=0.01, metadata=protocol("tuning", paper=0.01))
     # deterministic NSGA-II (S4 prints no population/generations)
-    nsga_pop: int = field(default=60, metadata=protocol("tuning"))
-    nsga_gen: int = field(default=60, metadata=protocol("tuning"))
-    # robust GA (S4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10)
-    ga_pop: int = field(default=70, metadata=protocol("tuning"))
-    ga_max_gen: int = field(default=30, metadata=protocol("tuning"))
-    ga_tol_deg: float = field(default=1e-7, metadata=protocol("tuning"))
-    ga_window: int = field(default=10, metadata=protocol("tuning"))
-    n_lhs: int = field(default=40, metadata=protocol("tuning"))
-    penalty_weight_deg_per_pct: float = field(default=1.0, metadata=protocol("tuning"))
-    ratio_inertia: float = 25.0
-    ratio_thrust: float = 22.0
-    ratio_disturbance: float = 15.0
-    ratio_delay: float = 10.0
-    ratio_all: float = 180.0
+    nsga_pop: int = field(default=60, metadata=protocol("tuning", paper=NOT_PRINTED))
+    nsga_gen: int = field(default=60, metadata=protocol("tuning", paper=NOT_PRINTED))
+    # robust GA (S4 §4: population 70, 1000 iterations, stop at mean change < 1e-7 over 10; Fig. 11: 1000
+    # LHS samples); our cap and sample count are below S4's (two CPU cores): "reduced protocol"
+    ga_pop: int = field(default=70, metadata=protocol("tuning", paper=70))
+    ga_max_gen: int = field(default=30, metadata=protocol("tuning", paper=1000))
+    ga_tol_deg: float = field(default=1e-7, metadata=protocol("tuning", paper=1e-7))
+    ga_window: int = field(default=10, metadata=protocol("tuning", paper=10))
+    n_lhs: int = field(default=40, metadata=protocol("tuning", paper=1000))
+    penalty_weight_deg_per_pct: float = field(default=1.0, metadata=protocol("tuning", paper=NOT_PRINTED))
+    # S4 Table 6 weight ratios w2/w1
+    ratio_inertia: float = field(default=25.0, metadata=protocol("tuning", paper=25.0))
+    ratio_thrust: float = field(default=22.0, metadata=protocol("tuning", paper=22.0))
+    ratio_disturbance: float = field(default=15.0, metadata=protocol("tuning", paper=15.0))
+    ratio_delay: float = field(default=10.0, metadata=protocol("tuning", paper=10.0))
+    ratio_all: float = field(default=180.0, metadata=protocol("tuning", paper=180.0))
     sweep_ratios: tuple[float, ...] = (1.0, 10.0, 50.0, 500.0)
     sweep_max_gen: int = 20
     # ratio sweep of each single uncertainty (Figs 12-13): a lighter GA
@@ -168,11 +174,12 @@ class Config(S4Loop):
     sweep_cases_n_lhs: int = 20
     n_mc_ratio_cases: int = 1000
     # evaluation
-    n_mc: int = field(default=2000, metadata=protocol("tuning"))
+    n_mc: int = field(default=2000, metadata=protocol("tuning", paper=10_000))
     std_factors: tuple[float, ...] = (0.25, 0.5, 1.0, 1.5, 2.0)
     n_mc_sweep: int = 1000
-    command_rates_hz: tuple[float, ...] = field(default=(50.0, 200.0, 1000.0), metadata=protocol("command-rates"))
-    n_mc_rate: int = 1000
+    command_rates_hz: tuple[float, ...] = field(default=(50.0, 200.0, 1000.0),
+                                               metadata=protocol("command-rates", paper=(50.0, 200.0, 1000.0)))
+    n_mc_rate: int = field(default=1000, metadata=protocol("command-rates", paper=NOT_PRINTED))
     n_mc_order: int = 1000
     # execution only (NEUTRAL): the campaigns draw their samples once and tasks carry index ranges, so
     # task_size and campaign_dir leave every number unchanged; backend changes where the kernel
@@ -181,8 +188,8 @@ class Config(S4Loop):
     campaign_dir: str = field(default="", metadata=NEUTRAL)
     # verdicts: independent repetitions of the whole pipeline, readings, paper-scale setting
     n_seeds: int = field(default=5, metadata=NEUTRAL)
-    penalty_readings: tuple[str, ...] = field(default=("sample", "mean"), metadata=protocol("tuning"))
-    paper_scale: bool = field(default=False, metadata=protocol("tuning"))
+    penalty_readings: tuple[str, ...] = field(default=("sample", "mean"), metadata=protocol("tuning", paper=NOT_PRINTED))
+    paper_scale: bool = field(default=False, metadata=protocol("tuning", paper=True))
     backend: str = field(default="cpu", metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
@@ -215,6 +222,13 @@ class Config(S4Loop):
             raise ValueError(f"backend must be 'cpu', 'cuda' or 'auto'; got {self.backend!r}")
         if not isinstance(self.paper_scale, bool):
             raise ValueError(f"paper_scale must be true or false; got {self.paper_scale!r}")
+        if self.paper_scale:  # S4's protocol in the keys themselves, so the resolved config says what ran
+            ours = {f.name: f.default for f in fields(self)}
+            for name, value in _PAPER_SCALE_KEYS.items():
+                if getattr(self, name) not in (ours[name], value):
+                    raise ValueError(f"paper_scale=true sets {name} to S4's {value}; got {name}={getattr(self, name)!r} "
+                                     "beside it")
+                object.__setattr__(self, name, value)
 
     def ratio(self, case: str) -> float:
         return float(getattr(self, f"ratio_{case}"))

@@ -25,7 +25,6 @@ from adcskit._progress import status, track
 from adcskit._results import Result
 from adcskit.control.onoff import simulate_batch, simulate_trace
 from adcskit.control.tuning import (
-    PAPER_SCALE,
     RobustTuningScale,
     estimate_tuning_time,
     evaluate_gains,
@@ -311,10 +310,10 @@ def _deterministic(config: Config, base, settings, bounds, seed):
 
 
 def _ga_settings(config: Config) -> dict[str, Any]:
-    """GA population, generation cap, LHS training samples and evaluation runs (paper-scale aware)."""
-    if config.paper_scale:
-        ps = PAPER_SCALE  # S4's protocol (issue 14): 70, 1000 generations, 1000 LHS, 10 000 runs
-        return {"pop": ps.pop_size, "max_gen": ps.max_gen, "n_lhs": ps.n_samples, "n_mc": ps.n_eval}
+    """GA population, generation cap, LHS training samples and evaluation runs of the claims.
+
+    ``paper_scale=True`` has already set these keys to S4's protocol (:class:`Config`).
+    """
     return {"pop": config.ga_pop, "max_gen": config.ga_max_gen, "n_lhs": config.n_lhs, "n_mc": config.n_mc}
 
 

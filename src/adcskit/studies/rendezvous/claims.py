@@ -2,15 +2,24 @@
 
 Each of the three is declared by one factory of the configuration — :func:`claim_specs`,
 :func:`finding_specs`, :func:`check_list` — because the thresholds, the quantity texts and the
-reading names follow the config (``jump_factor × adaptive_tol``, ``match_atol_s``, the
-readings), and a Table 4 claim exists only when its row is configured. The framework
+reading names follow the config (``jump_factor × adaptive_tol``, the readings) and the run
+(the measured solver repeatability, the tf claims' equivalence margin), and a Table 4 claim
+exists only when its row is configured. The framework
 (:class:`~adcskit.studies._verdict.ClaimSpec`) evaluates the specs over the readings
 (:func:`_decide`).
 
 Readings: the dynamics (eq. 2 as printed / full relative dynamics) move every claim; the tf
 claims are in addition read at two precisions — "printed digits" (half a unit of the 4th
-decimal plus ``match_atol_s``) and "same optimum" (closer to our best 20×3 optimum than to any
-other value of ours).
+decimal) and "same optimum" (closer to our best 20×3 optimum than to any other value of
+ours) — and ``agrees_with_gpops`` at two tolerances — "same optimum" (the two values of a row
+are one local optimum, up to mesh error) and S2's own "agree well" (our GPM ``tf`` within the
+1.5325 % that S2's Table 4 prints for its largest GPM-GPOPS difference and still calls good
+agreement).
+
+Margins (deterministic comparisons, issue 21): a tf claim's deciding quantity is
+``|paper − ours| − tolerance`` (s) with the solver repeatability measured in the run
+(:func:`~adcskit.studies.rendezvous.experiment.repeatability`) as its equivalence margin, so a
+value within it of the tolerance is a tie (inconclusive), never rescued by a cushion.
 
 References
 ----------
@@ -34,16 +43,28 @@ from adcskit.studies.rendezvous.paper import GPM_DECIMALS, GPOPS_DECIMALS, PAPER
 __all__ = ["CHECKS", "claim_specs", "finding_specs", "check_list"]
 
 _DIGITS, _OPTIMUM = "printed digits", "same optimum"
+_LOOSE = "S2's 'agree well' (<= 1.5325 %)"
+
+#: S2 Table 4, last column, row 5: the largest GPM-GPOPS difference S2 prints (1.5325 %), all
+#: of which Sec. 7 (after Table 4) and Sec. 8 call good agreement ("agree well").
+S2_AGREE_WELL_RTOL = 1.5325e-2
+
+#: The accuracy of a converged tf at adaptive_tol 1e-3, relative: the converged values moved by
+#: up to 1.5e-3 s (6e-5 relative) between refinement tolerances 1e-3 and 2e-4 and against the
+#: earlier 320x4 fixed meshes (docs/studies/rendezvous.md, "Accuracy of the converged values").
+_CONVERGED_RTOL = 6e-5
+_CONVERGED_REASON = ("the accuracy of a mesh-converged tf at adaptive_tol 1e-3: up to 1.5e-3 s (6e-5 relative) "
+                     "between refinement tolerances 1e-3 and 2e-4 and the old 320x4 meshes (page, 'Accuracy')")
 
 
 def _reading_name(dyn: str, precision: str | None = None) -> str:
     return READING_NAMES[dyn] if precision is None else f"{READING_NAMES[dyn]} / {precision}"
 
 
-def _optimum_distance(value: float, row, cfg: Config) -> float:
-    """``|value − best 20×3 optimum|`` in units of the 'same optimum' tolerance: half the
-    distance from that optimum to the nearest other value of ours (its own converged value,
-    the other branches), capped at ``jump_factor × adaptive_tol``. Below 1: ``value`` is that optimum."""
+def _optimum_tol(row, cfg: Config) -> float:
+    """The 'same optimum' tolerance of a row (s): half the distance from our best 20×3 optimum
+    to the nearest other value of ours (its own converged value, the other branches), capped at
+    ``jump_factor × adaptive_tol`` (relative). Within it of that optimum, a value *is* it."""
     vals = [(b.tf_paper_mesh_s, b.tf_converged_s) for b in row.branches]
     i_best = int(np.nanargmin([v[0] for v in vals]))
     best = vals[i_best][0]
@@ -51,35 +72,48 @@ def _optimum_distance(value: float, row, cfg: Config) -> float:
         v for j, pair in enumerate(vals) for k, v in enumerate(pair) if not (j == i_best and k == 0)
     ]
     half = 0.5 * min((abs(best - o) for o in others if math.isfinite(o)), default=math.inf)
-    tol = min(half, cfg.same_rtol * best)
-    return abs(value - best) / tol
+    return min(half, cfg.same_rtol * best)
 
 
-def _tf_distance(m: ReadingMeasure, i: int, value: float, cfg: Config) -> float:
-    """|value − our best 20×3 optimum of row i| in units of the reading's tolerance."""
+def _tf_excess(m: ReadingMeasure, i: int, value: float, cfg: Config) -> float:
+    """|value − our best 20×3 optimum of row i| minus the reading's tolerance (s): below 0 the
+    paper's value is ours under that reading."""
     row = m.rows[i]
-    if m.precision == _OPTIMUM:
-        return _optimum_distance(value, row, cfg)
-    return abs(value - row.best_paper_mesh_s) / match_tol(GPM_DECIMALS, cfg)
+    tol = _optimum_tol(row, cfg) if m.precision == _OPTIMUM else match_tol(GPM_DECIMALS)
+    return abs(value - row.best_paper_mesh_s) - tol
 
 
-def _tf_claim(cid: str, statement: str, where: str, i: int, cfg: Config, readings: tuple[str, ...]) -> ClaimSpec:
+def _repeat_margin(repeat_s: float) -> tuple[float, str]:
+    if not math.isfinite(repeat_s):
+        return 0.0, "the solver repeatability could not be measured in this run (no 20x3 optimum was re-solved)"
+    return float(repeat_s), (
+        f"the solver's repeatability on a 20x3 tf, measured in this run: {repeat_s:.2g} s, the largest spread of "
+        "IPOPT's tf for one 20x3 optimum over the starts that reached it and its primal-dual re-solve from itself"
+    )
+
+
+def _tf_claim(cid: str, statement: str, where: str, i: int, cfg: Config, readings: tuple[str, ...],
+              repeat_s: float) -> ClaimSpec:
     value = PAPER_ROWS[i][1]
+    margin, reason = _repeat_margin(repeat_s)
     return ClaimSpec(
         id=cid,
         statement=statement,
         where=where,
-        quantity=f"|{value} - our best 20x3 optimum over the documented starts| in units of the reading's "
-        f"tolerance (holds below 1): 'printed digits' = half a unit of the 4th decimal + match_atol_s "
-        f"({match_tol(GPM_DECIMALS, cfg):.1e} s); 'same optimum' = half the distance from our best 20x3 "
+        quantity=f"|{value} - our best 20x3 optimum over the documented starts| minus the reading's tolerance "
+        f"(s; holds below 0, a tie within the solver repeatability): 'printed digits' = half a unit of the 4th "
+        f"decimal ({match_tol(GPM_DECIMALS):.0e} s); 'same optimum' = half the distance from our best 20x3 "
         "optimum to the nearest other value of ours (its mesh-converged value, the other optima)",
-        value=lambda m, i=i, v=value: _tf_distance(m, i, v, cfg),
-        threshold=1.0,
+        value=lambda m, i=i, v=value: _tf_excess(m, i, v, cfg),
+        threshold=0.0,
         better="below",
         paper=value,
+        unit="s",
         stochastic=False,
         readings=readings,
-        protocol_keys=protocol_keys(Config, "claims", "multistart", "final-time"),
+        protocol_keys=protocol_keys(Config, "claims", "multistart"),
+        margin=margin,
+        margin_reason=reason,
     )
 
 
@@ -99,7 +133,7 @@ def _tf_detail(meas: dict[str, ReadingMeasure], i: int, cfg: Config) -> str:
     return "; ".join(parts)
 
 
-def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) -> list[ClaimSpec]:
+def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...], repeat_s: float) -> list[ClaimSpec]:
     """The main scenario's claims (S2 Sec. 6): tf, bang-bang, H = -1."""
     proto = protocol_keys(Config, "claims")
     return [
@@ -111,6 +145,7 @@ def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) ->
             0,
             cfg,
             rd_tf,
+            repeat_s,
         ),
         ClaimSpec(
             id="bang_bang",
@@ -137,11 +172,25 @@ def _main_row_specs(cfg: Config, rd: tuple[str, ...], rd_tf: tuple[str, ...]) ->
             stochastic=False,
             readings=rd,
             protocol_keys=proto,
+            margin=0.01,
+            margin_reason="the costate estimate of a bang-bang NLP carries an O(h) offset (non-unique KKT "
+            "multipliers, docs/studies/rendezvous.md 'Costate estimates'): H scatters by ~1e-2 about -1 on 20x3, "
+            "so a value within 0.01 of the threshold read off Fig. 15 is a tie",
         ),
     ]
 
 
-def _gpops_specs(cfg: Config, rd: tuple[str, ...]) -> list[ClaimSpec]:
+def _agree_excess(m: ReadingMeasure, cfg: Config) -> float:
+    """Largest relative GPM-GPOPS gap over the rows minus the reading's tolerance (below 0:
+    agrees). 'same optimum': the converged branch of the paper's GPM value against GPOPS, within
+    ``jump_factor × adaptive_tol``; S2's 'agree well': our GPM result (best 20×3 optimum) against
+    GPOPS relative to the GPM value (as S2's Table 4 difference column), within S2's own 1.5325 %."""
+    if m.precision == _LOOSE:
+        return max(m.gpm_best_gpops_gap) - S2_AGREE_WELL_RTOL
+    return max(m.gpm_gpops_gap) - cfg.same_rtol
+
+
+def _gpops_specs(cfg: Config, rd: tuple[str, ...], rd_agree: tuple[str, ...]) -> list[ClaimSpec]:
     """The claims on the GPOPS column (S2 Sec. 7-8), decidable only with all five rows."""
     same = cfg.same_rtol
     proto = protocol_keys(Config, "claims", "multistart")
@@ -150,22 +199,30 @@ def _gpops_specs(cfg: Config, rd: tuple[str, ...]) -> list[ClaimSpec]:
             id="agrees_with_gpops",
             statement="The results of the Gauss pseudospectral method agree well with those of GPOPS",
             where="Sec. 7 (after Table 4); Sec. 8",
-            quantity=f"max over rows of |tf of the converged branch of the GPM value - GPOPS| / GPOPS; "
-            f"holds below {same:.0e} (same local optimum up to mesh error; inf when the GPM value is no "
-            "optimum of ours)",
-            value=lambda m: max(m.gpm_gpops_gap),
-            threshold=same,
+            quantity="largest relative GPM-GPOPS gap over the rows minus the reading's tolerance (holds below 0): "
+            f"'same optimum' = |tf of the converged branch of the paper's GPM value - GPOPS| / GPOPS within {same:.0e} "
+            "(one local optimum up to mesh error; the paper's two values themselves where the GPM value is no optimum "
+            "of ours); "
+            f"{_LOOSE} = |our GPM tf (best 20x3 optimum) - GPOPS| / our GPM tf (S2's difference column) within "
+            f"{S2_AGREE_WELL_RTOL:.4%}, the "
+            "largest difference S2 prints (Table 4 row 5) and calls good agreement (Sec. 7, 8)",
+            value=lambda m: _agree_excess(m, cfg),
+            threshold=0.0,
             better="below",
             stochastic=False,
-            readings=rd,
+            readings=rd_agree,
             protocol_keys=proto,
+            margin=_CONVERGED_RTOL,
+            margin_reason=_CONVERGED_REASON + "; the larger of the two readings' (the 20x3 tf of the "
+            "'agree well' reading repeat to ~4e-8 relative)",
         ),
         ClaimSpec(
             id="gpm_sometimes_shorter",
             statement="In some cases the Gauss pseudospectral method even gives a shorter manoeuvre time "
             "than GPOPS",
             where="Sec. 7 (after Table 4)",
-            quantity="max over rows of (GPOPS - tf of the converged branch of the GPM value) / GPOPS; holds "
+            quantity="max over rows of (GPOPS - tf of the converged branch of the GPM value, or the GPM value itself "
+            "where it is no optimum of ours) / GPOPS; holds "
             f"above {same:.0e} (shorter by more than mesh error, i.e. a better optimum)",
             value=lambda m: max(m.gpm_gain_over_gpops),
             threshold=same,
@@ -173,11 +230,13 @@ def _gpops_specs(cfg: Config, rd: tuple[str, ...]) -> list[ClaimSpec]:
             stochastic=False,
             readings=rd,
             protocol_keys=proto,
+            margin=_CONVERGED_RTOL,
+            margin_reason=_CONVERGED_REASON,
         ),
     ]
 
 
-def claim_specs(cfg: Config, rows_present) -> list[tuple[ClaimSpec, str]]:
+def claim_specs(cfg: Config, rows_present, repeat_s: float = math.nan) -> list[tuple[ClaimSpec, str]]:
     """(spec, default reading) of every claim of S2 the configured rows can decide.
 
     Parameters
@@ -185,6 +244,9 @@ def claim_specs(cfg: Config, rows_present) -> list[tuple[ClaimSpec, str]]:
     cfg : Config
     rows_present : sequence of int
         Indices of the S2 Table 4 rows among the configured rows.
+    repeat_s : float, s
+        The solver repeatability measured in the run: the tf claims' equivalence margin
+        (NaN: not measured, margin 0 with that reason).
 
     Returns
     -------
@@ -199,10 +261,11 @@ def claim_specs(cfg: Config, rows_present) -> list[tuple[ClaimSpec, str]]:
     readings = tuple(READING_NAMES[r] for r in cfg.readings)
     rd = readings if len(readings) > 1 else ()
     rd_tf = tuple(_reading_name(d, p) for d in cfg.readings for p in (_DIGITS, _OPTIMUM))
+    rd_agree = tuple(_reading_name(d, p) for d in cfg.readings for p in (_OPTIMUM, _LOOSE))
     d_tf, d_dyn = _reading_name(first, _DIGITS), READING_NAMES[first]
     specs: list[tuple[ClaimSpec, str]] = []
     if 0 in rows_present:
-        main = _main_row_specs(cfg, rd, rd_tf)
+        main = _main_row_specs(cfg, rd, rd_tf, repeat_s)
         specs += [(main[0], d_tf), (main[1], d_dyn), (main[2], d_dyn)]
     for i in rows_present:
         if i == 0:
@@ -216,10 +279,12 @@ def claim_specs(cfg: Config, rows_present) -> list[tuple[ClaimSpec, str]]:
             i,
             cfg,
             rd_tf,
+            repeat_s,
         )
         specs.append((spec, d_tf))
     if len(rows_present) == len(PAPER_ROWS):
-        specs += [(s, d_dyn) for s in _gpops_specs(cfg, rd)]
+        agree, shorter = _gpops_specs(cfg, rd, rd_agree)
+        specs += [(agree, _reading_name(first, _OPTIMUM)), (shorter, d_dyn)]
     return specs
 
 
@@ -233,7 +298,7 @@ def _gpops_text(m: ReadingMeasure, i: int, cfg: Config) -> str:
     tf = row.branches[k].tf_converged_s
     rank = sum(v < tf * (1 - cfg.same_rtol) for v in row.converged_optima_s) + 1
     digits = (
-        "equal to its printed digits" if abs(y - tf) <= match_tol(GPOPS_DECIMALS[i], cfg) else "not to its digits"
+        "equal to its printed digits" if abs(y - tf) <= match_tol(GPOPS_DECIMALS[i]) else "not to its digits"
     )
     return f"row {i + 1}: {y} s = converged optimum #{rank} {tf:.5f} s ({y - tf:+.1e} s, {digits})"
 
@@ -258,6 +323,8 @@ def finding_specs(cfg: Config, rows_present) -> list[FindingSpec]:
             threshold=1.5,
             stochastic=False,
             readings=rd,
+            margin=0.0,
+            margin_reason="an exact count",
         ),
         FindingSpec(
             id="second_optima_persist",
@@ -269,6 +336,8 @@ def finding_specs(cfg: Config, rows_present) -> list[FindingSpec]:
             threshold=0.999,
             stochastic=False,
             readings=rd,
+            margin=0.0,
+            margin_reason="an exact count",
         ),
     ]
     if len(rows_present) == len(PAPER_ROWS):
@@ -282,6 +351,8 @@ def finding_specs(cfg: Config, rows_present) -> list[FindingSpec]:
                 threshold=len(PAPER_ROWS) - 0.5,
                 stochastic=False,
                 readings=rd,
+                margin=0.0,
+                margin_reason="an exact count of rows",
             )
         )
         out.append(
@@ -294,6 +365,8 @@ def finding_specs(cfg: Config, rows_present) -> list[FindingSpec]:
                 threshold=len(PAPER_ROWS) - 0.5,
                 stochastic=False,
                 readings=rd,
+                margin=0.0,
+                margin_reason="an exact count of rows",
             )
         )
     return out
@@ -311,10 +384,11 @@ def _decide(meas: dict[str, ReadingMeasure], cfg: Config, rows_present):
     runs: dict[str, list[ReadingMeasure]] = {}
     for r in cfg.readings:
         runs[READING_NAMES[r]] = [meas[r]]
-        for prec in (_DIGITS, _OPTIMUM):
+        for prec in (_DIGITS, _OPTIMUM, _LOOSE):
             runs[_reading_name(r, prec)] = [replace(meas[r], precision=prec)]
+    reps = [meas[r].repeatability_s for r in cfg.readings if math.isfinite(meas[r].repeatability_s)]
     claims = []
-    for spec, default in claim_specs(cfg, rows_present):
+    for spec, default in claim_specs(cfg, rows_present, max(reps) if reps else math.nan):
         detail = ""
         if spec.id == "tf_main" or spec.id.startswith("table4_gpm_row"):
             i = 0 if spec.id == "tf_main" else int(spec.id.removeprefix("table4_gpm_row")) - 1
@@ -408,7 +482,7 @@ def _tf_main_tolerance(cfg: Config, exp: Experiment) -> Check | None:
     if mm is None or 0 not in exp.rows_present:
         return None
     d = abs(mm.tf_paper_mesh_s - mm.tf_converged_s)
-    tol0 = match_tol(GPM_DECIMALS, cfg)
+    tol0 = match_tol(GPM_DECIMALS)
     return Check(
         name="The tf_main tolerance separates the 20x3 value from the mesh-converged one",
         passed=d > 2 * tol0,

@@ -66,6 +66,6 @@ STUDY = Study(
     paper="S3: Kosari, Kaviri, Moshiri, Fakoor - optimal thruster configuration for a GEO satellite",
     config_cls=Config,
     run=run,
-    quick={"n_gen": 60, "pop_size": 24, "n_random_layouts": 40},
+    quick={"n_gen": 60, "pop_size": 24, "n_random_layouts": 40, "timing_repeats": 1},
     doc="docs/studies/thruster-layout.md",
 )

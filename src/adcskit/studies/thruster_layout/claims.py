@@ -25,10 +25,14 @@ import numpy as np
 from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import ClaimSpec, Declared, FindingSpec, decide_declared
 from adcskit.studies.thruster_layout.config import Config
-from adcskit.studies.thruster_layout.experiment import FUEL_DEFAULT, Measurements
+from adcskit.studies.thruster_layout.experiment import (
+    FUEL_DEFAULT,
+    Measurements,
+    torque_tolerance_nm,
+)
 from adcskit.studies.thruster_layout.paper import PAPER
 
-__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate"]
+__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "Declared", "evaluate", "torque_tolerance_nm"]
 
 
 
@@ -78,17 +82,20 @@ def _de_more_accurate(cfg: Config, m: Measurements) -> Declared | None:
 def _de_faster(cfg: Config, m: Measurements) -> Declared | None:
     if not {"ga", "de"} <= set(cfg.algorithms):
         return None
+    reps = cfg.timing_repeats
     return Declared(ClaimSpec(
         id="de-faster",
         statement="the differential evolution algorithm has a shorter run time than the genetic algorithm",
         where="abstract; §6, Fig. 3",
-        quantity="per seed, the largest DE/GA ratio of CPU time per optimisation over n (equal "
-                 f"evaluations: {cfg.n_gen} generations x {cfg.pop_size}); holds below 1",
-        value=lambda r: r.value, threshold=1.0, better="below", unit="-",
+        quantity="per seed, the largest DE/GA ratio over n of the process CPU time per optimisation "
+                 f"(time.process_time of the process that runs it, median of {reps} repeat{'s' if reps != 1 else ''} "
+                 f"of the same seeded run inside this run; equal evaluations: {cfg.n_gen} generations x "
+                 f"{cfg.pop_size}); holds below 1",
+        value=lambda r: r.value, threshold=1.0, better="below", unit="-", timing=True,
         protocol_keys=protocol_keys(Config, "de-faster"),
         describe=lambda r: "DE/GA CPU-time ratio (worst n) per seed: " + ", ".join(f"{v:.2f}" for v in r.values)
         + " (same number of evaluations: the difference is pymoo's per-generation overhead)",
-    ), {"default": _ratios(cfg, m, "cpu_s", cfg.n_thrusters)})
+    ), {"default": _ratios(cfg, m, "cpu_s_median", cfg.n_thrusters)})
 
 
 def _six_thrusters_best(cfg: Config, m: Measurements) -> Declared | None:
@@ -113,17 +120,18 @@ def _optimal_layout_less_fuel(cfg: Config, m: Measurements) -> Declared | None:
     runs = m.fuel_by_reading()
     if not runs:
         return None
+    mag, tol = float(np.linalg.norm(m.demands[0])), torque_tolerance_nm(cfg)
     return Declared(ClaimSpec(
         id="optimal-layout-less-fuel",
         statement="the fuel consumption of the optimal layout is lower than that of the empirically chosen "
                   "(reference) layout",
         where="§6, Fig. 5",
         quantity="per seed, summed on-time of the optimal 6-thruster layout / that of the reference "
-                 f"(mean over {cfg.n_fuel_demands} random demand directions of |M| = "
-                 f"{np.linalg.norm(m.demands[0]):.3f} N m); holds below 1 if the optimal layout also meets the "
-                 "torque as well as the reference",
-        value=lambda r: r.ratio, threshold=1.0, better="below",
-        held=lambda r: r.opt_error_nm <= r.ref_error_nm + 1e-6, unit="-",
+                 f"(mean over {cfg.n_fuel_demands} random demand directions of |M| = {mag:.3f} N m); holds "
+                 f"below 1. Equal torque is its own check (every demand met within {tol:.3f} N m = "
+                 f"{100 * tol / mag:.1f} % of |M|, the reference's minimum torque impulse per sample "
+                 "F_max Delta t_min / t_s, S3 eq. 9-10)",
+        value=lambda r: r.ratio, threshold=1.0, better="below", unit="-",
         readings=tuple(k for k in runs if k != FUEL_DEFAULT),
         protocol_keys=protocol_keys(Config, "optimal-layout-less-fuel"),
         describe=lambda r: "optimal/reference on-time per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
@@ -203,7 +211,7 @@ def _faces_respected(cfg: Config, m: Measurements) -> Check:
     designs = [*m.runs, *m.paired_runs]
     return Check(
         name="every designed layout respects the mounting faces and thrust-leaves-face limits",
-        passed=all(_face_ok(r, m.half, max_cant) for r in designs), kind="check",
+        passed=all(_face_ok(r, m.half, max_cant) for r in designs),
         detail=f"{len(designs)} layouts: positions on allowed faces {cfg.faces}, d . n_out <= 0, "
                f"cant <= {cfg.max_cant_deg} deg",
     )
@@ -230,7 +238,7 @@ def _paired_couples(cfg: Config, m: Measurements) -> Check | None:
                   for r in m.paired_runs)
     return Check(
         name="paired reading: every gene is a couple (twin at -r on the parallel face, no net force)",
-        passed=twin_ok and worst_force < 1e-12, kind="check",
+        passed=twin_ok and worst_force < 1e-12,
         detail=f"{len(m.paired_runs)} paired layouts; largest |sum of force directions| {worst_force:.1e}",
     )
 
@@ -239,8 +247,41 @@ def _exact_allocators(cfg: Config, m: Measurements) -> Check:
     exact = max(m.miss.by_method["nnls"].max_rel_error, m.miss.by_method["lp-min-fuel"].max_rel_error)
     return Check(
         name="nnls and lp-min-fuel reproduce feasible demands to 1e-9 relative",
-        passed=exact <= 1e-9, kind="check",
+        passed=exact <= 1e-9,
         detail=f"max relative torque error {exact:.2e} on {m.miss.n_layouts} random 8-thruster layouts",
+    )
+
+
+def _fuel_equal_torque(cfg: Config, m: Measurements) -> Check | None:
+    # the fuel claim compares on-times; this is its premise (equal torque), checked on its own
+    if not m.fuel:
+        return None
+    mag, tol = float(np.linalg.norm(m.demands[0])), torque_tolerance_nm(cfg)
+    by = m.fuel_by_reading()
+    worst = {k: max(r.opt_max_error_nm for r in v) for k, v in by.items()}
+    missed = {k: (sum(r.opt_n_missed for r in v), sum(r.n_demands for r in v)) for k, v in by.items()}
+    ref = max(r.ref_max_error_nm for r in m.fuel)
+    return Check(
+        name="fuel comparison on equal torque: in every reading, every demand is met by the optimal and the "
+             f"reference layout within {tol:.3f} N m ({100 * tol / mag:.1f} % of |M|; S3 eq. 9-10's minimum "
+             "torque impulse of the reference per sample)",
+        passed=all(v <= tol for v in worst.values()) and ref <= tol,
+        detail="optimal layout, demands missed beyond the tolerance (all seeds) and the largest miss: "
+               + "; ".join(f"{k}: {missed[k][0]}/{missed[k][1]}, {v:.3g} N m ({100 * v / mag:.2g} % of |M|)"
+                           for k, v in worst.items())
+               + f"; reference: largest miss {ref:.1e} N m",
+    )
+
+
+def _timing_repeats_identical(cfg: Config, m: Measurements) -> Check | None:
+    if not m.timing_runs:
+        return None
+    same = all(r.f_best == m.run(r.n, r.alg, r.seed_index).f_best for r in m.timing_runs)
+    return Check(
+        name="every timing repeat re-ran the same seeded optimisation (identical F_best)",
+        passed=same,
+        detail=f"{len(m.timing_runs)} repeats of {len(m.runs)} designs ({cfg.timing_repeats} runs each); the "
+               "de-faster claim reads the median process CPU time of each",
     )
 
 
@@ -250,7 +291,7 @@ def _best_layouts_controllable(cfg: Config, m: Measurements) -> Check:
     ctrl = {n: check_controllability(np.asarray(r.torque_matrix)).success for n, r in m.best_per_n.items()}
     return Check(
         name="best layout of every n is controllable (positive span)",
-        passed=all(ctrl.values()), kind="check", detail=", ".join(f"n={n}: {v}" for n, v in ctrl.items()),
+        passed=all(ctrl.values()), detail=", ".join(f"n={n}: {v}" for n, v in ctrl.items()),
     )
 
 
@@ -259,7 +300,7 @@ def _reference_meets_demands(cfg: Config, m: Measurements) -> Check | None:
         return None
     return Check(
         name="the reference layout meets every demand of the manoeuvre",
-        passed=m.reference_vs_optimal.by_allocation["lp-min-fuel"].all_met_ref, kind="check",
+        passed=m.reference_vs_optimal.by_allocation["lp-min-fuel"].all_met_ref,
         detail=f"{cfg.correction_deg} deg corrections, |M| = {np.linalg.norm(m.demands[0]):.3f} N m; "
                "fuel comparison is then on equal (exact) torque",
     )
@@ -277,7 +318,7 @@ def _de_settings_same_seeds(cfg: Config, m: Measurements) -> Check | None:
         detail += f"; DE settings with a lower median than the GA: {sum(ranks)}/{len(ranks)}"
     return Check(
         name="every DE setting at n = 6 ran on the same seeds as the default DE and the GA",
-        passed=all(len(k.f_best_seeds) == cfg.n_seeds for k in m.sensitivity), kind="check", detail=detail,
+        passed=all(len(k.f_best_seeds) == cfg.n_seeds for k in m.sensitivity), detail=detail,
     )
 
 
@@ -289,7 +330,7 @@ CLAIMS = (_de_more_accurate, _de_faster, _six_thrusters_best, _optimal_layout_le
 FINDINGS = (_de_settings_n6, _printed_layouts_realisable, _pinv_redistribute_exact)
 #: Our consistency checks, in report order.
 CHECKS = (_faces_respected, _paired_couples, _exact_allocators, _best_layouts_controllable,
-          _reference_meets_demands, _de_settings_same_seeds)
+          _reference_meets_demands, _fuel_equal_torque, _de_settings_same_seeds, _timing_repeats_identical)
 
 
 #: Decide the declared statements (the framework's :func:`~adcskit.studies._verdict.decide_declared`).

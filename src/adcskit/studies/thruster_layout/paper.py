@@ -17,9 +17,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from adcskit.studies._pages import Statement
 from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
-__all__ = ["A_REF", "PAPER", "manoeuvre_demands"]
+__all__ = ["A_REF", "PAPER", "STATEMENTS", "manoeuvre_demands"]
 
 #: S3 §6: reference 6-thruster layout (:data:`adcskit.thrusters.S3_REFERENCE_A`) and the manoeuvre
 #: (:func:`adcskit.thrusters.s3_manoeuvre_demands`), kept under the study's names.
@@ -54,3 +55,37 @@ PAPER: dict[str, Any] = {
         "reference": A_REF.tolist(),
     },
 }
+
+
+#: S3's statements within this study's scope, each to the claim that decides it or to the
+#: reason it is not decided (issue 21 item 3: the page's statement-to-claim table).
+STATEMENTS = (
+    Statement(where="abstract; §6, Figs 3-4", text="DE outperforms GA in accuracy (lower fitness F_best)",
+              claim="de-more-accurate"),
+    Statement(where="abstract; §6, Fig. 3", text="DE has a shorter run (CPU) time than GA",
+              claim="de-faster"),
+    Statement(where="§6, Fig. 3", text="for both algorithms the computation time grows with the number of "
+              "thrusters", claim=None,
+              reason="we time every n (figure runtime_vs_n.png) but declare no claim: at equal evaluations the "
+              "growth follows from the larger decision vector"),
+    Statement(where="§6, Fig. 4", text="for both algorithms the lowest fitness is obtained with 6 thrusters",
+              claim="six-thrusters-best"),
+    Statement(where="§6, Fig. 5", text="the fuel consumption (on-time) of the optimal layout is lower than that of "
+              "the empirically chosen reference layout", claim="optimal-layout-less-fuel"),
+    Statement(where="§6, Table 8", text="e_min of the four DE layouts 0.00084, 0.00083, 0.00082, 0.00083 rad, "
+              "an acceptable level", claim="table8-e-min"),
+    Statement(where="§6", text="printed F_best 4.5 (4, GA), 3.1 (4, DE), 3.4 (6, DE), 3.6 (8, DE)", claim=None,
+              reason="absolute F_best depends on S3's manoeuvre, which is not printed; ours are in the comparison "
+              "table, the ranking statements are the claims above"),
+    Statement(where="§6", text="printed layout matrices of the 4-, 6- and 8-thruster designs", claim=None,
+              reason="a layout matrix is not a statement that can hold; our finding printed-layouts-realisable "
+              "checks whether the 6- and 8-thruster matrices fit the 2 x 2 x 2 m box"),
+    Statement(where="§6", text="for 4 thrusters the GA and DE results agree with each other", claim=None,
+              reason="no measure of agreement is given; the layouts of both are printed and compared with ours "
+              "only through F_best (de-more-accurate)"),
+    Statement(where="§7", text="in both algorithms the fitness converges to the optimum with the same trend",
+              claim=None, reason="qualitative, no measure given; our convergence curves are in figure "
+              "convergence.png"),
+    Statement(where="§5", text="six thrusters are needed in general; four can suffice in a special layout",
+              claim=None, reason="a statement from S3's reference [18], not a result of S3's experiment"),
+)

@@ -79,7 +79,7 @@ STUDY = Study(
     paper="S0",
     config_cls=Config,
     run=run,
-    quick={"n_seeds": 2, "n_trials": 12, "n_iterative": 3, "pop_size": 24, "n_gen": 20,
-           "sweep_bounds": (0.02, 0.1, 0.2), "sweep_trials": 6},
+    quick={"n_seeds": 2, "n_trials": 12, "n_iterative": 3, "pop_size": 24, "n_gen": 20, "nsga2_big_n_gen": 60,
+           "n_big_epochs": 3, "sweep_bounds": (0.02, 0.1, 0.2), "sweep_trials": 6},
     doc="docs/studies/wahba-table1.md",
 )

@@ -10,6 +10,11 @@ and with the paper's pick by the true attitude (not deployable), the worst-case 
 (Ahmed & Kerrigan), and QUEST/SVD as sanity rows. A noise-bound sweep gives the slope reading
 of the "200× less dependence on input accuracy" claim.
 
+Run times are **CPU times of the solving thread** (``time.thread_time``: the CPU seconds the
+calling thread spent in the solve, so other processes' load and other executor threads do not
+count; wall times on the shared machine moved the speed ratio by 2x between runs). A row's time
+per replica is the median over that replica's epochs (>= 3 timed solves).
+
 Interval given to the robust solvers: midpoint = the measured (noisy, normalised) vector,
 radius = ``noise_bound`` × |measured component| (S0 §4-1: "bounds ±b^r, ±r^r ... 20 % of
 the input value").
@@ -47,8 +52,10 @@ CHEAP_ROWS = (
     "q-method", "minmax", "worst-case", "quest", "svd",
     "minmax-box-at-exact-triad", "minmax-box-at-truth",
 )
-#: Iterative rows, run on the first ``n_iterative`` trials of each replica.
-ITER_ROWS = ("minmax-slsqp", "nsga2-knee", "nsga2-truth-pick")
+#: Iterative rows, run on the first ``n_iterative`` trials of each replica; ``nsga2-big-knee``
+#: (NSGA-II at ``pop_size x nsga2_big_n_gen`` evaluations, knee pick) only on the first
+#: ``n_big_epochs`` of them: it is timed for the big-budget readings of ``speed-600x``.
+ITER_ROWS = ("minmax-slsqp", "nsga2-knee", "nsga2-truth-pick", "nsga2-big-knee")
 ROWS = CHEAP_ROWS[:3] + ITER_ROWS + CHEAP_ROWS[3:]
 #: Rows of the noise-bound sweep.
 SWEEP_ROWS = ("q-method", "minmax", "worst-case", "minmax-box-at-exact-triad", "minmax-box-at-truth")
@@ -115,10 +122,12 @@ def qmethod_in_box(b: np.ndarray, r: np.ndarray, search_range: float) -> bool:
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
 class Solve(Result):
-    """One row's solve of one trial: attitude error vs ``q_exact`` [deg] and run time [s]."""
+    """One row's solve of one trial: attitude error vs ``q_exact`` [deg], CPU time [s] and the
+    number of objective evaluations (NSGA-II rows; 0 otherwise)."""
 
     error_deg: float
     runtime_s: float
+    nfev: int = 0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
@@ -139,13 +148,15 @@ class Trial(Result):
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
 class RowStats(Result):
-    """Statistics of one row over a set of trials (a Table 1 row)."""
+    """Statistics of one row over a set of trials (a Table 1 row); ``runtime_s`` is the median
+    CPU time per epoch, ``nfev`` the median objective evaluations per epoch (NSGA-II rows)."""
 
     mean_deg: float
     var_deg2: float
     max_deg: float
     runtime_s: float
     n_trials: int
+    nfev: float = 0.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
@@ -165,6 +176,12 @@ class Replica(Result):
     slope_ratio: float
     speed_ratio: float
     speed_ratio_closed_form: float
+    speed_ratio_big: float
+    speed_ratio_closed_form_big: float
+    minmax_over_nsga_truth: float
+    minmax_over_nsga_knee: float
+    var_minmax_over_nsga_truth: float
+    var_minmax_over_nsga_knee: float
     frac_in_box: float
     cf_vs_slsqp_max_deg: float
     box_truth_mean_deg: float
@@ -203,20 +220,22 @@ class Measurements(Result):
 
 
 def _timed(fn):
-    t0 = time.perf_counter()
+    """``fn()`` and the CPU time the calling thread spent in it [s] (``time.thread_time``)."""
+    t0 = time.thread_time()
     out = fn()
-    return out, time.perf_counter() - t0
+    return out, time.thread_time() - t0
 
 
 def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, ...]]) -> Trial:
     """One perturbed epoch solved by every requested row.
 
-    ``task`` is ``(seed, noise bound, {"search_range", "pop_size", "n_gen"}, rows)``.
+    ``task`` is ``(seed, noise bound, {"search_range", "pop_size", "n_gen", "big_n_gen"}, rows)``;
+    run times are CPU times of this thread (``time.thread_time``).
 
     Examples
     --------
-    >>> t = trial((np.random.SeedSequence(0), 0.2, {"search_range": 0.1, "pop_size": 8, "n_gen": 4},
-    ...            ("q-method", "quest")))
+    >>> t = trial((np.random.SeedSequence(0), 0.2, {"search_range": 0.1, "pop_size": 8, "n_gen": 4,
+    ...            "big_n_gen": 8}, ("q-method", "quest")))
     >>> sorted(t.solves), abs(t.solves["quest"].error_deg - t.solves["q-method"].error_deg) < 1e-6
     (['q-method', 'quest'], True)
     """
@@ -230,8 +249,8 @@ def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, 
     in_box = qmethod_in_box(b, r, sr)
     out: dict[str, Solve] = {}
 
-    def put(row: str, q: np.ndarray, dt: float) -> None:
-        out[row] = Solve(error_deg=angle_deg(q, qt), runtime_s=dt)
+    def put(row: str, q: np.ndarray, dt: float, nfev: int = 0) -> None:
+        out[row] = Solve(error_deg=angle_deg(q, qt), runtime_s=dt, nfev=int(nfev))
 
     for m in ("q-method", "quest", "svd"):
         if m in rows:
@@ -258,9 +277,16 @@ def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, 
             lambda: robust_wahba(b, br, r, rr, method="nsga2", search_range=sr,
                                  pop_size=cfg["pop_size"], n_gen=cfg["n_gen"], rng=seed_ns)
         )
-        put("nsga2-knee", res.q, dt)
+        put("nsga2-knee", res.q, dt, res.nfev)
         # the paper's selection: the Pareto point closest to the TRUE attitude (needs truth)
-        out["nsga2-truth-pick"] = Solve(error_deg=float(min(angle_deg(q, qt) for q in res.pareto_q)), runtime_s=dt)
+        out["nsga2-truth-pick"] = Solve(error_deg=float(min(angle_deg(q, qt) for q in res.pareto_q)), runtime_s=dt,
+                                        nfev=int(res.nfev))
+    if "nsga2-big-knee" in rows:  # the big-budget reading of speed-600x: same population, more generations
+        res, dt = _timed(
+            lambda: robust_wahba(b, br, r, rr, method="nsga2", search_range=sr,
+                                 pop_size=cfg["pop_size"], n_gen=cfg["big_n_gen"], rng=seed_ns)
+        )
+        put("nsga2-big-knee", res.q, dt, res.nfev)
     return Trial(solves=out, in_box=in_box, cf_vs_slsqp_deg=cf_vs_slsqp)
 
 
@@ -269,12 +295,14 @@ def _stats(results: list[Trial], rows) -> dict[str, RowStats]:
     for m in rows:
         e = np.array([res.solves[m].error_deg for res in results if m in res])
         t = np.array([res.solves[m].runtime_s for res in results if m in res])
+        nf = np.array([res.solves[m].nfev for res in results if m in res])
         stats[m] = RowStats(
             mean_deg=float(e.mean()),
             var_deg2=float(e.var(ddof=1)) if e.size > 1 else float("nan"),
             max_deg=float(e.max()),
             runtime_s=float(np.median(t)),
             n_trials=int(e.size),
+            nfev=float(np.median(nf)),
         )
     return stats
 
@@ -283,11 +311,18 @@ def _sweep_mean(points: list[list[Trial]], m: str) -> float:
     return float(np.mean([res.solves[m].error_deg for pt in points for res in pt]))
 
 
-def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray, n_iter: int) -> Replica:
-    """The deciding quantities of one replica (one seed of the whole pipeline)."""
+def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray, n_iter: int, n_big: int) -> Replica:
+    """The deciding quantities of one replica (one seed of the whole pipeline).
+
+    Speed ratios are ratios of median CPU times per epoch on the same epochs: the ``n_iter``
+    iterative epochs for the budget readings, the first ``n_big`` of them for the big-budget
+    readings.
+    """
     st = _stats(results, CHEAP_ROWS)
     sub = results[:n_iter]
     si = _stats(sub, ("q-method", "minmax", *ITER_ROWS))
+    sb = _stats(results[:n_big], ("minmax", "minmax-slsqp", "nsga2-big-knee"))
+    big = sb["nsga2-big-knee"].runtime_s
     sw = {m: [_sweep_mean([pt], m) for pt in sweep] for m in SWEEP_ROWS}
     slopes = {m: float(np.polyfit(bounds, np.array(sw[m]), 1)[0]) for m in SWEEP_ROWS}
     q, mm, paper_mm = st["q-method"], st["minmax"], PAPER_TABLE1["minmax"]["mean_deg"]
@@ -305,6 +340,12 @@ def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray,
         slope_ratio=slopes["q-method"] / max(slopes["minmax"], _TINY),
         speed_ratio=si["nsga2-knee"].runtime_s / max(si["minmax-slsqp"].runtime_s, _TINY),
         speed_ratio_closed_form=si["nsga2-knee"].runtime_s / max(si["minmax"].runtime_s, _TINY),
+        speed_ratio_big=big / max(sb["minmax-slsqp"].runtime_s, _TINY),
+        speed_ratio_closed_form_big=big / max(sb["minmax"].runtime_s, _TINY),
+        minmax_over_nsga_truth=si["minmax"].mean_deg / max(si["nsga2-truth-pick"].mean_deg, _TINY),
+        minmax_over_nsga_knee=si["minmax"].mean_deg / max(si["nsga2-knee"].mean_deg, _TINY),
+        var_minmax_over_nsga_truth=si["minmax"].var_deg2 / max(si["nsga2-truth-pick"].var_deg2, _TINY),
+        var_minmax_over_nsga_knee=si["minmax"].var_deg2 / max(si["nsga2-knee"].var_deg2, _TINY),
         frac_in_box=float(np.mean([res.in_box for res in results])),
         cf_vs_slsqp_max_deg=float(max(res.cf_vs_slsqp_deg for res in sub)),
         box_truth_mean_deg=st["minmax-box-at-truth"].mean_deg,
@@ -331,17 +372,18 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
 
     Examples
     --------
-    >>> cfg = Config(n_seeds=1, n_trials=2, n_iterative=2, pop_size=4, n_gen=4, sweep_bounds=(0.1, 0.2),
-    ...              sweep_trials=2)
+    >>> cfg = Config(n_seeds=1, n_trials=3, n_iterative=3, pop_size=4, n_gen=4, nsga2_big_n_gen=6,
+    ...              n_big_epochs=3, sweep_bounds=(0.1, 0.2), sweep_trials=2)
     >>> m = measure(cfg, rng=0)
-    >>> len(m.replicas), m.stats["nsga2-knee"].n_trials
-    (1, 2)
+    >>> len(m.replicas), m.stats["nsga2-knee"].n_trials, m.stats["nsga2-big-knee"].nfev
+    (1, 3, 24.0)
     """
     from adcskit.uncertainty.executor import make_executor
 
     rng = np.random.default_rng(0) if rng is None else np.random.default_rng(rng)
     ex = executor if executor is not None else make_executor("serial")
-    cfg = {"search_range": config.search_range, "pop_size": config.pop_size, "n_gen": config.n_gen}
+    cfg = {"search_range": config.search_range, "pop_size": config.pop_size, "n_gen": config.n_gen,
+           "big_n_gen": config.nsga2_big_n_gen}
     root = np.random.SeedSequence(int(rng.integers(2**63 - 1)))
     bounds = np.array(config.sweep_bounds, float)
     nb, n_iter = len(bounds), config.n_iterative
@@ -349,7 +391,8 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
     for j, rep in enumerate(root.spawn(config.n_seeds)):
         main_ss, sweep_ss = rep.spawn(2)
         for i, s in enumerate(main_ss.spawn(config.n_trials)):
-            rows = CHEAP_ROWS + ITER_ROWS if i < n_iter else CHEAP_ROWS
+            rows = CHEAP_ROWS + ITER_ROWS[:3] if i < n_iter else CHEAP_ROWS
+            rows += ("nsga2-big-knee",) if i < config.n_big_epochs else ()
             tasks.append((s, config.noise_bound, cfg, rows))
             where.append((j, "table", 0))
         for k, ss in enumerate(sweep_ss.spawn(nb)):
@@ -361,7 +404,7 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
     sweep: list[list[list[Trial]]] = [[[] for _ in range(nb)] for _ in range(config.n_seeds)]
     for (j, kind, k), res in zip(where, out):
         (table[j] if kind == "table" else sweep[j][k]).append(res)
-    reps = tuple(_replica(table[j], sweep[j], bounds, n_iter) for j in range(config.n_seeds))
+    reps = tuple(_replica(table[j], sweep[j], bounds, n_iter, config.n_big_epochs) for j in range(config.n_seeds))
     # pooled statistics (all replicas' trials)
     stats = _stats([res for rep in table for res in rep], CHEAP_ROWS)
     stats.update(_stats([r for rep in table for r in rep[:n_iter]], ITER_ROWS))
