@@ -346,3 +346,15 @@ def test_scenario_loads_from_toml(tmp_path):
     sc = load_wheel_scenario(str(path))
     assert sc.wheels.n == 4 and sc.wheels.failed == (3,) and sc.wheels.initial_speed_rpm[2] == 300.0
     assert simulate_wheels(sc, 1, rng=0).success
+
+
+def test_the_simulators_envelope_figure_reads_wheel_results():
+    # adcskit.simulation.envelope_figure (issue 25 item 5) takes a WheelSimulationResult too:
+    # an indexed group such as the wheel speeds gives one panel per wheel
+    from adcskit.simulation import envelope_figure
+
+    sc = _free(wheels=WheelSpec.pyramid(initial_speed_rpm=100.0), control=WheelControlSpec(law="pd", period_s=0.1),
+               sim=SimSpec(dt=0.1, t_final=3.0, metrics_from_s=1.0, record_every=5), initial_rotvec_deg=(1.0, 0.0, 0.0))
+    res = simulate_wheels(sc, 4, rng=0, record=True)
+    assert len(envelope_figure(res, "speed", scale=1 / RPM, units="rpm").axes) == 4
+    assert len(envelope_figure(res, "rate", worst_by="max_rate_deg_s").axes) == 1
