@@ -13,7 +13,9 @@ kernel (``prange`` over samples).
 * :mod:`~adcskit.simulation.profiles` — reference tables from optimal-control slews;
 * :mod:`~adcskit.simulation.export` — xarray Dataset, netCDF and Zarr export (``adcskit[export]``);
 * :mod:`~adcskit.simulation.envelopes` — Monte-Carlo envelope figures of the traces;
-* :mod:`~adcskit.simulation.signoff` — a requirement table checked on a result.
+* :mod:`~adcskit.simulation.signoff` — a requirement table checked on a result;
+* :mod:`~adcskit.simulation.wheels` — reaction wheels, magnetorquers, momentum management and
+  a detumble -> sun -> nadir mode sequence in their own batched kernel (:func:`simulate_wheels`).
 
 Layering: this package composes attitude, dynamics, environment, sensors, determination,
 estimation, thrusters, control and uncertainty; nothing below imports it.
@@ -44,6 +46,20 @@ from adcskit.simulation.scenario import (
     load_scenario,
 )
 from adcskit.simulation.signoff import SignOffTable, check_simulation
+from adcskit.simulation.wheels import (
+    MODE_NAMES,
+    WHEEL_METRIC_NAMES,
+    MagnetorquerSpec,
+    ModeSpec,
+    WheelControlSpec,
+    WheelDispersionSpec,
+    WheelScenario,
+    WheelSimulationResult,
+    WheelSpec,
+    load_wheel_scenario,
+    simulate_wheels,
+    wheel_envelope_figure,
+)
 
 __all__ = [
     "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
@@ -52,4 +68,7 @@ __all__ = [
     "to_dataset", "write_netcdf", "write_zarr", "read_dataset",
     "envelope_figure", "attitude_error_figure", "body_rate_figure",
     "SignOffTable", "check_simulation",
+    "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
+    "WheelScenario", "WheelSimulationResult", "WheelSpec", "wheel_envelope_figure", "load_wheel_scenario",
+    "simulate_wheels",
 ]

@@ -38,6 +38,11 @@ from adcskit._validation import check_choice, check_finite, check_flag, check_in
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation.core import SimulationResult
 from adcskit.simulation.export import CHANNEL_INFO, _group_channels
+from adcskit.simulation.wheels import WheelSimulationResult
+
+#: Result types whose traces the envelope functions read (same ``t``, ``trace``, ``channels``,
+#: ``metrics``, ``n_samples`` fields).
+_RESULTS = (SimulationResult, WheelSimulationResult)
 
 __all__ = [
     "Envelope",
@@ -137,8 +142,9 @@ def envelope(values: Any, t: Any) -> Envelope:
 
 
 def _check_result(result: Any) -> SimulationResult:
-    if not isinstance(result, SimulationResult):
-        raise InputTypeError(f"result must be a SimulationResult (from adcskit.simulation.simulate); "
+    if not isinstance(result, _RESULTS):
+        raise InputTypeError(f"result must be a SimulationResult or WheelSimulationResult (from "
+                             f"adcskit.simulation.simulate or simulate_wheels); "
                              f"got {type(result).__name__}")
     if result.trace is None or result.t is None:
         raise InputError("result must hold traces for an envelope figure: run simulate(..., record=True); "
@@ -191,8 +197,8 @@ def worst_samples(result: SimulationResult, n: int = 3, *, by: str = "pointing_m
     >>> bool(res.metrics["pointing_max_deg"][idx[0]] == res.metrics["pointing_max_deg"].max())
     True
     """
-    if not isinstance(result, SimulationResult):
-        raise InputTypeError(f"result must be a SimulationResult; got {type(result).__name__}")
+    if not isinstance(result, _RESULTS):
+        raise InputTypeError(f"result must be a SimulationResult or WheelSimulationResult; got {type(result).__name__}")
     n = check_int("n", n, minimum=0)
     return _worst(result, n, by, channel, largest, "by")
 
@@ -230,8 +236,9 @@ def envelope_figure(
 
     Parameters
     ----------
-    result : SimulationResult
-        With traces (``simulate(..., record=True)``).
+    result : SimulationResult or WheelSimulationResult
+        With traces (``simulate(..., record=True)`` or ``simulate_wheels(..., record=True)``:
+        e.g. ``"speed"`` for the wheel speeds ``speed_0`` ... one panel each).
     channel : str
         A channel of ``result.channels`` (``"pointing_error"``, ``"omega_x"``) or the base of
         an indexed group (``"thrust"`` for ``thrust_0`` ... ``thrust_5``: one panel each);

@@ -1,0 +1,719 @@
+"""Private batch kernel of the wheel / magnetorquer loop: one sample per parallel lane.
+
+The per-sample function :func:`wheel_sample` is declared as a
+:class:`adcskit._targets.PerSample` (``SAMPLE``) and the CPU driver :func:`run_wheels` runs
+blocks of samples on threads, each through the compiled, GIL-free :func:`run_block` that calls
+``SAMPLE.cpu`` (not a ``prange`` driver: see :func:`run_wheels`); its helpers are
+:func:`adcskit._targets.device` functions. Rules of the one-source idiom: scalars, ``math``
+and indexing of arrays passed in; the per-sample scratch rows (``X``, ``XT``, ``KS``,
+``KD``, ``TM``) are allocated by the Python driver (:mod:`adcskit.simulation.wheels`). Only
+the CPU driver is built; the function calls only device helpers (no CPU-only dispatcher), but
+no CUDA driver exists and ``SAMPLE.cuda()`` has not been compiled or tested.
+
+Plant (Markley & Crassidis 2014, §3.3.5, eqs. 3.147-3.150 in their notation; Wie 2008,
+§7.2): a rigid spacecraft with ``n_w`` reaction wheels along unit axes ``a_j`` (columns of
+``A``). ``h_j = J_w,j (a_j . omega + Omega_j)`` is wheel ``j``'s *absolute* axial angular
+momentum and ``Omega_j`` its speed relative to the body; ``J`` is the spacecraft inertia
+without the wheels' axial inertia. Then ::
+
+    H_body = J omega + A h                                   (total angular momentum, body)
+    J omega' = -omega x (J omega + A h) - A tau_w + tau_ext
+    h'       = tau_w,         tau_w = tau_motor - tau_friction(Omega)
+    q'       = 1/2 [omega; 0] (x) q                          (Markley's product, scalar last)
+
+``tau_friction = c_v Omega + c_c Omega / sqrt(Omega^2 + eps^2)`` (viscous + smoothed
+Coulomb, eps = :data:`COULOMB_EPS`). Without external torque ``A(q)^T H_body`` is constant
+(tested to 1e-10). Integration: classical RK4 with the motor torques and the external torque
+held over a step; the quaternion is renormalised (``q4 >= 0``).
+
+Randomness: a SplitMix64 stream per sample (Steele, Lea & Flood 2014) seeded with one 64-bit
+integer, normals by Box-Muller; the generator is the simulator's (:mod:`adcskit.simulation._kernels`,
+a copy of its ten lines, because that module is being rewritten and its helpers are private).
+
+Conventions: quaternion scalar last, ``A(q)`` maps ECI to body; SI units, rad.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from adcskit._targets import PerSample, device
+from adcskit.attitude._device import compose_rotvec, rotate
+
+# ----------------------------------------------------------------- shared coefficients C
+(
+    DT, N_STEPS, H_CTRL, H_GYRO, H_SUN, H_MAG, H_ST, NW, N2ORB, D_OMEGA,
+    SIG_SUN, SIG_MAG, SIG_ST, SIG_V, SIG_U,
+    LAW, K_GAIN, C_GAIN, RATE_MAX, TAU_MAX, OMEGA_MAX, C_VISC, C_COUL, TQ_QUANT, TQ_NOISE,
+    NULL_GAIN, MTQ_MAX, MTQ_ON_STEPS, MAG_MODE, MAG_COUPLING, BDOT_GAIN, UNLOAD_GAIN,
+    MODE0, SEQUENCE, RATE_THR, DWELL_STEPS, SUN_THR_COS, SUN_AX0, SUN_AX1, SUN_AX2,
+    POINT_KIND, ORBIT_RATE, K_WIN, SETTLE_BAND, REC_EVERY,
+    JN0,  # nominal inertia, 9 entries JN0..JN0+8
+) = range(46)
+N_COEFS = 46 + 9
+
+LAW_PD, LAW_WIE, LAW_OPEN = 0, 1, 2
+MODE_DETUMBLE, MODE_SUN, MODE_POINT = 0, 1, 2
+MAG_BLANK, MAG_CORRUPT = 0, 1
+POINT_NADIR, POINT_INERTIAL = 0, 1
+
+#: Smoothing rate of the Coulomb friction sign, rad/s.
+COULOMB_EPS = 0.01
+
+# ----------------------------------------------------------------- per-sample parameters P
+# J (9), Jinv (9), q0 (4), w0 (3), gyro bias (3), noise scale, d0 (3), damp (3), dphase (3)
+(P_J, P_JI, P_Q0, P_W0, P_BIAS, P_NS, P_D0, P_DAMP, P_DPH) = (0, 9, 18, 22, 25, 28, 29, 32, 35)
+N_PARAMS = 38
+
+# ----------------------------------------------------------------- ENV columns (per step)
+# r_hat (3), sun (3), B ECI in T (3), lit, q_ref (4): LVLH (nadir) or the inertial target
+E_R, E_SUN, E_B, E_LIT, E_QREF = 0, 3, 6, 9, 10
+N_ENV = 14
+
+# ----------------------------------------------------------------- WPAR columns (per wheel)
+W_JW, W_FAILED, W_OMEGA0, W_OPEN = 0, 1, 2, 3
+N_WPAR = 4
+
+# ----------------------------------------------------------------- metrics
+(M_T_DETUMBLED, M_T_ACQUIRED, M_FINAL_MODE, M_POINT_MEAN, M_POINT_RMS, M_POINT_MAX, M_POINT_FRAC,
+ M_SETTLE, M_KNOW_RMS, M_FINAL_RATE, M_MAX_RATE_WIN, M_MAX_SPEED, M_MAX_HW, M_FINAL_HW, M_MAX_DIPOLE,
+ M_H_DRIFT, M_SUN_FINAL) = range(17)
+N_METRICS = 17
+
+# ----------------------------------------------------------------- trace channels
+(R_ERR, R_WX, R_WY, R_WZ, R_RATE, R_HX, R_HY, R_HZ, R_HW, R_HIX, R_HIY, R_HIZ, R_MX, R_MY, R_MZ,
+ R_MODE, R_KNOW) = range(17)
+N_REC_FIXED = 17  # + wheel speeds (n_w) + wheel momenta (n_w)
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+_S30 = np.uint64(30)
+_S27 = np.uint64(27)
+_S31 = np.uint64(31)
+_S11 = np.uint64(11)
+_TWO_M53 = 1.0 / 9007199254740992.0
+_TWO_PI = 2.0 * math.pi
+
+
+@device
+def _uniform(s):
+    """SplitMix64 step: (new state, uniform in (0, 1))."""
+    s = s + _GOLDEN
+    z = s
+    z = (z ^ (z >> _S30)) * _MIX1
+    z = (z ^ (z >> _S27)) * _MIX2
+    z = z ^ (z >> _S31)
+    return s, (float(z >> _S11) + 0.5) * _TWO_M53
+
+
+@device
+def _normal(s):
+    """(new state, standard normal) by Box-Muller (one of the pair is used)."""
+    s, u1 = _uniform(s)
+    s, u2 = _uniform(s)
+    return s, math.sqrt(-2.0 * math.log(u1)) * math.cos(_TWO_PI * u2)
+
+
+@device
+def _normal2(s):
+    """(new state, two independent standard normals) by Box-Muller (both of the pair)."""
+    s, u1 = _uniform(s)
+    s, u2 = _uniform(s)
+    rr = math.sqrt(-2.0 * math.log(u1))
+    return s, rr * math.cos(_TWO_PI * u2), rr * math.sin(_TWO_PI * u2)
+
+
+@device
+def _normal3(s):
+    """(new state, three independent standard normals)."""
+    s, z0, z1 = _normal2(s)
+    s, z2 = _normal(s)
+    return s, z0, z1, z2
+
+
+@device
+def _mat3(M, o, x0, x1, x2):
+    """``M[o:o+9]`` (row-major 3x3) times ``x``."""
+    return (M[o] * x0 + M[o + 1] * x1 + M[o + 2] * x2,
+            M[o + 3] * x0 + M[o + 4] * x1 + M[o + 5] * x2,
+            M[o + 6] * x0 + M[o + 7] * x1 + M[o + 8] * x2)
+
+
+@device
+def rhs(X, D, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2):
+    """Gyrostat derivative of ``X = [q (4), omega (3), h (n_w)]`` into ``D`` (module docstring)."""
+    q0, q1, q2, q3 = X[0], X[1], X[2], X[3]
+    w0, w1, w2 = X[4], X[5], X[6]
+    ah0 = 0.0
+    ah1 = 0.0
+    ah2 = 0.0
+    at0 = 0.0
+    at1 = 0.0
+    at2 = 0.0
+    for j in range(nw):
+        a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+        h = X[7 + j]
+        om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
+        tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
+        D[7 + j] = tw
+        ah0 += a0 * h
+        ah1 += a1 * h
+        ah2 += a2 * h
+        at0 += a0 * tw
+        at1 += a1 * tw
+        at2 += a2 * tw
+    j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
+    H0 = j0 + ah0
+    H1 = j1 + ah1
+    H2 = j2 + ah2
+    m0 = t0 - at0 - (w1 * H2 - w2 * H1)
+    m1 = t1 - at1 - (w2 * H0 - w0 * H2)
+    m2 = t2 - at2 - (w0 * H1 - w1 * H0)
+    d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
+    D[0] = 0.5 * (q3 * w0 - (w1 * q2 - w2 * q1))
+    D[1] = 0.5 * (q3 * w1 - (w2 * q0 - w0 * q2))
+    D[2] = 0.5 * (q3 * w2 - (w0 * q1 - w1 * q0))
+    D[3] = -0.5 * (w0 * q0 + w1 * q1 + w2 * q2)
+    D[4] = d0
+    D[5] = d1
+    D[6] = d2
+
+
+@device
+def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
+    """One classical RK4 step of the gyrostat in place (torques held); ``q`` renormalised."""
+    n = 7 + nw
+    rhs(X, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+    for m in range(n):
+        KS[m] = KD[m]
+        XT[m] = X[m] + 0.5 * dt * KD[m]
+    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+    for m in range(n):
+        KS[m] += 2.0 * KD[m]
+        XT[m] = X[m] + 0.5 * dt * KD[m]
+    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+    for m in range(n):
+        KS[m] += 2.0 * KD[m]
+        XT[m] = X[m] + dt * KD[m]
+    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+    s = dt / 6.0
+    for m in range(n):
+        X[m] = X[m] + s * (KS[m] + KD[m])
+    nrm = math.sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2] + X[3] * X[3])
+    if X[3] < 0.0:
+        nrm = -nrm
+    for m in range(4):
+        X[m] = X[m] / nrm
+
+
+@device
+def qdiff(a0, a1, a2, a3, b0, b1, b2, b3):
+    """``qa (x) qb^-1`` (Markley's product), sign fixed to ``q4 >= 0``."""
+    c0, c1, c2, c3 = -b0, -b1, -b2, b3
+    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
+    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
+    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
+    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
+    if d3 < 0.0:
+        return -d0, -d1, -d2, -d3
+    return d0, d1, d2, d3
+
+
+@device
+def _angle(d0, d1, d2, d3):
+    return 2.0 * math.atan2(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), abs(d3))
+
+
+@device
+def _wheel_momentum(X, AX, nw):
+    h0 = 0.0
+    h1 = 0.0
+    h2 = 0.0
+    for j in range(nw):
+        h0 += AX[0, j] * X[7 + j]
+        h1 += AX[1, j] * X[7 + j]
+        h2 += AX[2, j] * X[7 + j]
+    return h0, h1, h2
+
+
+@device
+def _clip_norm(x0, x1, x2, lim):
+    """Scale a vector to norm ``lim`` if longer (direction kept)."""
+    n = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    if n > lim:
+        f = lim / n
+        return x0 * f, x1 * f, x2 * f
+    return x0, x1, x2
+
+
+@device
+def _clip_max(x0, x1, x2, lim):
+    """Scale a vector so that its largest component is at most ``lim`` (direction kept)."""
+    m = max(abs(x0), abs(x1), abs(x2))
+    if m > lim:
+        f = lim / m
+        return x0 * f, x1 * f, x2 * f
+    return x0, x1, x2
+
+
+@device
+def allocate(C, X, PINV, NULLP, HSTAR, nw, TM, c0, c1, c2):
+    """Body torque demand ``c`` (N m, on the body) -> motor torques ``TM`` on the wheels:
+    ``-A^+ c`` (working wheels only: ``PINV`` has zero rows for known failures) plus the
+    null motion ``-k_n N (h - h*)`` (``N = I - A^+ A``), scaled uniformly to the torque limit."""
+    tmax = C[TAU_MAX]
+    kn = C[NULL_GAIN]
+    big = 0.0
+    for j in range(nw):
+        v = -(PINV[j, 0] * c0 + PINV[j, 1] * c1 + PINV[j, 2] * c2)
+        if kn > 0.0:
+            acc = 0.0
+            for m in range(nw):
+                acc += NULLP[j, m] * (X[7 + m] - HSTAR[m])
+            v -= kn * acc
+        TM[j] = v
+        if abs(v) > big:
+            big = abs(v)
+    if big > tmax:
+        f = tmax / big
+        for j in range(nw):
+            TM[j] *= f
+
+
+@device
+def actuate(C, X, AX, WPAR, nw, TM, s):
+    """Wheel drive electronics: quantisation, noise, torque and speed limits, failures."""
+    tmax = C[TAU_MAX]
+    qs = C[TQ_QUANT]
+    sig = C[TQ_NOISE]
+    wmax = C[OMEGA_MAX]
+    w0, w1, w2 = X[4], X[5], X[6]
+    for j in range(nw):
+        v = TM[j]
+        if qs > 0.0:
+            v = qs * math.floor(v / qs + 0.5)
+        if sig > 0.0:
+            s, z = _normal(s)
+            v += sig * z
+        if v > tmax:
+            v = tmax
+        elif v < -tmax:
+            v = -tmax
+        om = X[7 + j] / WPAR[j, W_JW] - (AX[0, j] * w0 + AX[1, j] * w1 + AX[2, j] * w2)
+        if abs(om) >= wmax and v * om > 0.0:
+            v = 0.0
+        if WPAR[j, W_FAILED] > 0.0:
+            v = 0.0
+        TM[j] = v
+    return s
+
+
+def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC):
+    """Simulate sample ``i`` over the whole grid (modes, sensors, control, plant, metrics)."""
+    dt = C[DT]
+    n_steps = int(C[N_STEPS])
+    hc = int(C[H_CTRL])
+    hg = int(C[H_GYRO])
+    hs = int(C[H_SUN])
+    hm = int(C[H_MAG])
+    hst = int(C[H_ST])
+    nw = int(C[NW])
+    law = int(C[LAW])
+    kk = C[K_GAIN]
+    cc_ = C[C_GAIN]
+    rmax = C[RATE_MAX]
+    on_steps = int(C[MTQ_ON_STEPS])
+    mmax = C[MTQ_MAX]
+    seq = C[SEQUENCE] > 0.0
+    dwell_steps = int(C[DWELL_STEPS])
+    rec_every = int(C[REC_EVERY])
+    k_win = int(C[K_WIN])
+    rec_on = REC.shape[1] > 0
+    ns = P[i, P_NS]
+    sig_g = C[SIG_V] * ns / math.sqrt(hg * dt)
+    sig_b = C[SIG_U] * ns * math.sqrt(hg * dt)
+    s = SEEDS[i]
+    Xi = X[i]
+    XTi = XT[i]
+    KSi = KS[i]
+    KDi = KD[i]
+    TMi = TM[i]
+    Ji = P[i, P_J:P_J + 9]
+    JIi = P[i, P_JI:P_JI + 9]
+    AXi = AX[i]
+    # ---- initial state
+    for m in range(4):
+        Xi[m] = P[i, P_Q0 + m]
+    for m in range(3):
+        Xi[4 + m] = P[i, P_W0 + m]
+    for j in range(nw):
+        Xi[7 + j] = JW[j] * (WPAR[j, W_OMEGA0] + AXi[0, j] * Xi[4] + AXi[1, j] * Xi[5] + AXi[2, j] * Xi[6])
+        TMi[j] = 0.0
+    b0, b1, b2 = P[i, P_BIAS], P[i, P_BIAS + 1], P[i, P_BIAS + 2]
+    wm0, wm1, wm2 = Xi[4] + b0, Xi[5] + b1, Xi[6] + b2
+    qe0, qe1, qe2, qe3 = Xi[0], Xi[1], Xi[2], Xi[3]
+    sv = 0  # sun measurement valid
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 1.0
+    nmag = 0
+    bm0 = 0.0
+    bm1 = 0.0
+    bm2 = 0.0
+    bp0 = 0.0
+    bp1 = 0.0
+    bp2 = 0.0
+    tmag = 0.0
+    tprev = 0.0
+    newmag = 0
+    mode = int(C[MODE0])
+    dwell = 0
+    m0 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    t_det = math.nan
+    t_acq = math.nan
+    # metrics accumulators
+    n_win = 0
+    n_pt = 0
+    sum_e = 0.0
+    sum_e2 = 0.0
+    max_e = 0.0
+    sum_k2 = 0.0
+    last_out = -1.0
+    max_rate_win = 0.0
+    max_speed = 0.0
+    max_hw = 0.0
+    max_dip = 0.0
+    max_drift = 0.0
+    hi0 = 0.0
+    hi1 = 0.0
+    hi2 = 0.0
+    hin = 0.0
+    sun_err = math.nan
+    hb0 = 0.0
+    hb1 = 0.0
+    hb2 = 0.0
+    hw = 0.0
+    H0 = 0.0
+    H1 = 0.0
+    H2 = 0.0
+    r = 0
+    has_sine = P[i, P_DAMP] != 0.0 or P[i, P_DAMP + 1] != 0.0 or P[i, P_DAMP + 2] != 0.0
+    for k in range(n_steps + 1):
+        t = k * dt
+        q0, q1, q2, q3 = Xi[0], Xi[1], Xi[2], Xi[3]
+        w0, w1, w2 = Xi[4], Xi[5], Xi[6]
+        # ---- truth quantities of this step (each only where a metric or the trace needs it)
+        grid = k % rec_every == 0 or k == n_steps
+        point = mode == MODE_POINT
+        in_win = k >= k_win
+        rate = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        qr0, qr1, qr2, qr3 = ENV[k, E_QREF], ENV[k, E_QREF + 1], ENV[k, E_QREF + 2], ENV[k, E_QREF + 3]
+        perr = math.nan
+        kerr = math.nan
+        if point or grid:
+            d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, qr0, qr1, qr2, qr3)
+            perr = _angle(d0, d1, d2, d3)
+        if (point and in_win) or grid:
+            d0, d1, d2, d3 = qdiff(qe0, qe1, qe2, qe3, q0, q1, q2, q3)
+            kerr = _angle(d0, d1, d2, d3)
+        if grid or k % hc == 0:
+            hb0, hb1, hb2 = _wheel_momentum(Xi, AXi, nw)
+            hw = math.sqrt(hb0 * hb0 + hb1 * hb1 + hb2 * hb2)
+            if hw > max_hw:
+                max_hw = hw
+            for j in range(nw):
+                om = abs(Xi[7 + j] / JW[j] - (AXi[0, j] * w0 + AXi[1, j] * w1 + AXi[2, j] * w2))
+                if om > max_speed:
+                    max_speed = om
+        if grid:
+            # inertial total angular momentum A(q)^T (J w + A h) (rotation by the conjugate)
+            j0, j1, j2 = _mat3(Ji, 0, w0, w1, w2)
+            H0, H1, H2 = rotate(-q0, -q1, -q2, q3, j0 + hb0, j1 + hb1, j2 + hb2)
+            if k == 0:
+                hi0, hi1, hi2 = H0, H1, H2
+                hin = math.sqrt(H0 * H0 + H1 * H1 + H2 * H2)
+            dr = math.sqrt((H0 - hi0) ** 2 + (H1 - hi1) ** 2 + (H2 - hi2) ** 2) / max(hin, 1e-300)
+            if dr > max_drift:
+                max_drift = dr
+            st0, st1, st2 = rotate(q0, q1, q2, q3, ENV[k, E_SUN], ENV[k, E_SUN + 1], ENV[k, E_SUN + 2])
+            ca = st0 * C[SUN_AX0] + st1 * C[SUN_AX1] + st2 * C[SUN_AX2]
+            sun_err = math.acos(min(1.0, max(-1.0, ca)))
+        # ---- metrics over the window, pointing only while in the pointing mode
+        if in_win:
+            n_win += 1
+            if rate > max_rate_win:
+                max_rate_win = rate
+            if point:
+                n_pt += 1
+                sum_e += perr
+                sum_e2 += perr * perr
+                sum_k2 += kerr * kerr
+                if perr > max_e:
+                    max_e = perr
+        if point and perr > C[SETTLE_BAND]:
+            last_out = t
+        if rec_on and k % rec_every == 0:
+            if point:
+                REC[i, r, R_ERR] = perr
+            elif mode == MODE_SUN:
+                REC[i, r, R_ERR] = sun_err
+            else:
+                REC[i, r, R_ERR] = math.nan
+            REC[i, r, R_WX] = w0
+            REC[i, r, R_WY] = w1
+            REC[i, r, R_WZ] = w2
+            REC[i, r, R_RATE] = rate
+            REC[i, r, R_HX] = hb0
+            REC[i, r, R_HY] = hb1
+            REC[i, r, R_HZ] = hb2
+            REC[i, r, R_HW] = hw
+            REC[i, r, R_HIX] = H0
+            REC[i, r, R_HIY] = H1
+            REC[i, r, R_HIZ] = H2
+            REC[i, r, R_MX] = m0
+            REC[i, r, R_MY] = m1
+            REC[i, r, R_MZ] = m2
+            REC[i, r, R_MODE] = mode
+            REC[i, r, R_KNOW] = kerr
+            for j in range(nw):
+                REC[i, r, N_REC_FIXED + j] = Xi[7 + j] / JW[j] - (AXi[0, j] * w0 + AXi[1, j] * w1 + AXi[2, j] * w2)
+                REC[i, r, N_REC_FIXED + nw + j] = Xi[7 + j]
+            r += 1
+        if k == n_steps:
+            break
+        # ---- sensors
+        Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
+        # the rods were on during the previous step (the sample is taken before this step's command)
+        firing = k > 0 and ((k - 1) % hc) < on_steps and (m0 != 0.0 or m1 != 0.0 or m2 != 0.0)
+        if k % hg == 0:
+            s, z0, z1 = _normal2(s)
+            s, z2, z3 = _normal2(s)
+            s, z4, z5 = _normal2(s)
+            wm0 = w0 + b0 + sig_g * z0
+            wm1 = w1 + b1 + sig_g * z1
+            wm2 = w2 + b2 + sig_g * z2
+            z0, z1, z2 = z3, z4, z5
+            b0 += sig_b * z0
+            b1 += sig_b * z1
+            b2 += sig_b * z2
+        if hst > 0 and k % hst == 0:
+            s, z0, z1, z2 = _normal3(s)
+            sg = C[SIG_ST] * ns
+            XTi[0], XTi[1], XTi[2], XTi[3] = q0, q1, q2, q3
+            compose_rotvec(XTi, sg * z0, sg * z1, sg * z2)
+            qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
+        elif hst == 0:
+            qe0, qe1, qe2, qe3 = q0, q1, q2, q3
+        if hs > 0 and k % hs == 0:
+            if ENV[k, E_LIT] > 0.5:
+                st0, st1, st2 = rotate(q0, q1, q2, q3, ENV[k, E_SUN], ENV[k, E_SUN + 1], ENV[k, E_SUN + 2])
+                sg = C[SIG_SUN] * ns
+                s, z0, z1, z2 = _normal3(s)
+                x0 = st0 + sg * z0
+                x1 = st1 + sg * z1
+                x2 = st2 + sg * z2
+                nn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+                s0, s1, s2 = x0 / nn, x1 / nn, x2 / nn
+                sv = 1
+            else:
+                sv = 0
+        if hm > 0 and k % hm == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
+            bn = math.sqrt(Bb0 * Bb0 + Bb1 * Bb1 + Bb2 * Bb2)
+            sg = C[SIG_MAG] * ns * bn
+            s, z0, z1, z2 = _normal3(s)
+            bp0, bp1, bp2, tprev = bm0, bm1, bm2, tmag
+            bm0 = Bb0 + sg * z0
+            bm1 = Bb1 + sg * z1
+            bm2 = Bb2 + sg * z2
+            if firing:
+                bm0 += C[MAG_COUPLING] * m0
+                bm1 += C[MAG_COUPLING] * m1
+                bm2 += C[MAG_COUPLING] * m2
+            tmag = t
+            nmag += 1
+            newmag = 1
+        # ---- control and modes, every control period
+        if k % hc == 0:
+            rm = math.sqrt(wm0 * wm0 + wm1 * wm1 + wm2 * wm2)
+            if seq and mode == MODE_DETUMBLE:
+                if rm < C[RATE_THR]:
+                    dwell += hc
+                else:
+                    dwell = 0
+                if dwell >= dwell_steps:
+                    mode = MODE_SUN
+                    dwell = 0
+                    t_det = t
+            elif seq and mode == MODE_SUN:
+                if sv == 1 and s0 * C[SUN_AX0] + s1 * C[SUN_AX1] + s2 * C[SUN_AX2] >= C[SUN_THR_COS]:
+                    dwell += hc
+                else:
+                    dwell = 0
+                if dwell >= dwell_steps:
+                    mode = MODE_POINT
+                    dwell = 0
+                    t_acq = t
+            m0 = 0.0
+            m1 = 0.0
+            m2 = 0.0
+            if law == LAW_OPEN:
+                for j in range(nw):
+                    TMi[j] = WPAR[j, W_OPEN]
+            elif mode == MODE_DETUMBLE:
+                for j in range(nw):
+                    TMi[j] = 0.0
+                if nmag >= 2 and newmag == 1 and tmag > tprev:
+                    inv = C[BDOT_GAIN] / (tmag - tprev)
+                    m0, m1, m2 = _clip_max(-inv * (bm0 - bp0), -inv * (bm1 - bp1), -inv * (bm2 - bp2), mmax)
+            else:
+                hn0, hn1, hn2 = _wheel_momentum(Xi, AXN, nw)
+                jw0, jw1, jw2 = _mat3(C, JN0, wm0, wm1, wm2)
+                g0 = wm1 * (jw2 + hn2) - wm2 * (jw1 + hn1)
+                g1 = wm2 * (jw0 + hn0) - wm0 * (jw2 + hn2)
+                g2 = wm0 * (jw1 + hn1) - wm1 * (jw0 + hn0)
+                if mode == MODE_SUN:
+                    if sv == 1:
+                        ax0, ax1, ax2 = C[SUN_AX0], C[SUN_AX1], C[SUN_AX2]
+                        e0 = kk * (ax1 * s2 - ax2 * s1)
+                        e1 = kk * (ax2 * s0 - ax0 * s2)
+                        e2 = kk * (ax0 * s1 - ax1 * s0)
+                        if law == LAW_WIE:
+                            e0, e1, e2 = _clip_norm(e0, e1, e2, cc_ * rmax)
+                    else:
+                        e0 = 0.0
+                        e1 = 0.0
+                        e2 = 0.0
+                    a0 = e0 - cc_ * wm0
+                    a1 = e1 - cc_ * wm1
+                    a2 = e2 - cc_ * wm2
+                else:
+                    f0, f1, f2, f3 = qdiff(qe0, qe1, qe2, qe3, qr0, qr1, qr2, qr3)
+                    if C[POINT_KIND] == POINT_NADIR:
+                        # reference rate (0, -n, 0) in the LVLH frame, seen in the body
+                        o0, o1, o2 = rotate(f0, f1, f2, f3, 0.0, -C[ORBIT_RATE], 0.0)
+                    else:
+                        o0 = 0.0
+                        o1 = 0.0
+                        o2 = 0.0
+                    e0 = 2.0 * kk * f0
+                    e1 = 2.0 * kk * f1
+                    e2 = 2.0 * kk * f2
+                    if law == LAW_WIE:
+                        e0, e1, e2 = _clip_norm(e0, e1, e2, cc_ * rmax)
+                    a0 = -e0 - cc_ * (wm0 - o0)
+                    a1 = -e1 - cc_ * (wm1 - o1)
+                    a2 = -e2 - cc_ * (wm2 - o2)
+                u0, u1, u2 = _mat3(C, JN0, a0, a1, a2)
+                allocate(C, Xi, PINV, NULLP, HSTAR, nw, TMi, u0 + g0, u1 + g1, u2 + g2)
+                # magnetic unloading, cross-product law m = k (h x B) / |B|^2
+                if C[UNLOAD_GAIN] > 0.0 and nmag >= 1:
+                    bb = bm0 * bm0 + bm1 * bm1 + bm2 * bm2
+                    if bb > 0.0:
+                        ku = C[UNLOAD_GAIN] / bb
+                        m0, m1, m2 = _clip_max(ku * (hn1 * bm2 - hn2 * bm1), ku * (hn2 * bm0 - hn0 * bm2),
+                                               ku * (hn0 * bm1 - hn1 * bm0), mmax)
+            s = actuate(C, Xi, AXi, WPAR, nw, TMi, s)
+            newmag = 0
+            dip = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+            if dip > max_dip:
+                max_dip = dip
+        # ---- external torque held over the step: gravity gradient, disturbance, dipole x B
+        x0, x1, x2 = rotate(q0, q1, q2, q3, ENV[k, E_R], ENV[k, E_R + 1], ENV[k, E_R + 2])
+        jx0, jx1, jx2 = _mat3(Ji, 0, x0, x1, x2)
+        g = 3.0 * C[N2ORB]
+        t0 = g * (x1 * jx2 - x2 * jx1) + P[i, P_D0]
+        t1 = g * (x2 * jx0 - x0 * jx2) + P[i, P_D0 + 1]
+        t2 = g * (x0 * jx1 - x1 * jx0) + P[i, P_D0 + 2]
+        if has_sine:
+            ph = C[D_OMEGA] * t
+            t0 += P[i, P_DAMP] * math.sin(ph + P[i, P_DPH])
+            t1 += P[i, P_DAMP + 1] * math.sin(ph + P[i, P_DPH + 1])
+            t2 += P[i, P_DAMP + 2] * math.sin(ph + P[i, P_DPH + 2])
+        if (k % hc) < on_steps:
+            t0 += m1 * Bb2 - m2 * Bb1
+            t1 += m2 * Bb0 - m0 * Bb2
+            t2 += m0 * Bb1 - m1 * Bb0
+        rk4(Xi, XTi, KSi, KDi, Ji, JIi, AXi, nw, TMi, JW, C[C_VISC], C[C_COUL], t0, t1, t2, dt)
+        # gyro-propagated knowledge between star-tracker updates
+        if hst > 0:
+            XTi[0], XTi[1], XTi[2], XTi[3] = qe0, qe1, qe2, qe3
+            compose_rotvec(XTi, wm0 * dt, wm1 * dt, wm2 * dt)
+            qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
+    # ---- metrics
+    OUT[i, M_T_DETUMBLED] = t_det
+    OUT[i, M_T_ACQUIRED] = t_acq
+    OUT[i, M_FINAL_MODE] = mode
+    if n_pt > 0:
+        OUT[i, M_POINT_MEAN] = sum_e / n_pt
+        OUT[i, M_POINT_RMS] = math.sqrt(sum_e2 / n_pt)
+        OUT[i, M_POINT_MAX] = max_e
+        OUT[i, M_KNOW_RMS] = math.sqrt(sum_k2 / n_pt)
+    else:
+        OUT[i, M_POINT_MEAN] = math.nan
+        OUT[i, M_POINT_RMS] = math.nan
+        OUT[i, M_POINT_MAX] = math.nan
+        OUT[i, M_KNOW_RMS] = math.nan
+    OUT[i, M_POINT_FRAC] = n_pt / n_win if n_win > 0 else 0.0
+    if mode != MODE_POINT:
+        OUT[i, M_SETTLE] = math.nan
+    elif last_out < 0.0:
+        OUT[i, M_SETTLE] = 0.0
+    elif last_out >= n_steps * dt:
+        OUT[i, M_SETTLE] = math.nan
+    else:
+        OUT[i, M_SETTLE] = last_out
+    OUT[i, M_FINAL_RATE] = math.sqrt(Xi[4] * Xi[4] + Xi[5] * Xi[5] + Xi[6] * Xi[6])
+    OUT[i, M_MAX_RATE_WIN] = max_rate_win
+    OUT[i, M_MAX_SPEED] = max_speed
+    OUT[i, M_MAX_HW] = max_hw
+    hb0, hb1, hb2 = _wheel_momentum(Xi, AXi, nw)
+    OUT[i, M_FINAL_HW] = math.sqrt(hb0 * hb0 + hb1 * hb1 + hb2 * hb2)
+    OUT[i, M_MAX_DIPOLE] = max_dip
+    OUT[i, M_H_DRIFT] = max_drift
+    OUT[i, M_SUN_FINAL] = sun_err
+
+
+#: The per-sample function, one source for the CPU (and a future CUDA) driver.
+SAMPLE = PerSample(wheel_sample, inline="never")
+wheel_sample_jit = SAMPLE.cpu
+
+
+@njit(cache=True, nogil=True)
+def run_block(lo, hi, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC):
+    """CPU block driver: samples ``lo`` to ``hi - 1``, each through :func:`wheel_sample` (serial,
+    GIL released: :func:`run_wheels` runs blocks on threads)."""
+    for i in range(lo, hi):
+        wheel_sample_jit(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC)
+
+
+def run_wheels(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC,
+               n_threads=0):
+    """CPU driver: blocks of samples on ``n_threads`` threads (0: numba's thread count), each
+    block one call of the compiled, GIL-free :func:`run_block`.
+
+    A thread pool over a serial compiled driver instead of a ``numba.prange`` driver: the same
+    parallelism and numbers (samples are independent), but the parallel (parfor) driver cost
+    about 15 s of extra compilation on a cold cache, the serial one about 1 s.
+    """
+    import numba
+
+    n = P.shape[0]
+    nt = int(n_threads) if n_threads > 0 else numba.get_num_threads()
+    nt = max(1, min(nt, n))
+    args = (P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC)
+    if nt == 1:
+        run_block(0, n, *args)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    edges = np.linspace(0, n, min(n, 4 * nt) + 1).astype(np.int64)  # 4 blocks per thread: balance
+    with ThreadPoolExecutor(max_workers=nt) as pool:
+        futures = [pool.submit(run_block, int(lo), int(hi), *args) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
+        for f in futures:
+            f.result()
