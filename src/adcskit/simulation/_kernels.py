@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
-from adcskit._targets import PerSample, device
+from adcskit._targets import PerSample
 from adcskit.attitude._device import compose_rotvec, qerr, rotate
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -107,15 +107,9 @@ N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 
 # ----------------------------------------------------------------- per-sample scratch TS
 # x1 (n), x2 (n), tp/dt (n), tp_prev (n), F (n), free (n), torque arms r x d (3n, per
-# thruster a0, a1, a2), then the allocation's S (9), r (3), y (3), idx (3), then the metric
-# accumulators (MS_*)
+# thruster a0, a1, a2), then S (9), r (3), y (3), idx (3)
 N_TS_PER_THR = 9
-N_TS_ALLOC = 18
-(MS_ACC, MS_ACC2, MS_AX2, MS_AY2, MS_AZ2, MS_EMAX, MS_KACC2, MS_NKW, MS_NWIN, MS_LAST, MS_PROP,
- MS_FIR, MS_ONT, MS_NEES_SUM, MS_NEES_N, MS_NEES_LAST, MS_WMAX2, MS_NDET, MS_NBOX,
- MS_ERR) = range(20)
-N_MS = 20
-N_TS_EXTRA = N_TS_ALLOC + N_MS
+N_TS_EXTRA = 18
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 _MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -453,57 +447,79 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
     return nit
 
 
-# ----------------------------------------------------------------- the per-sample step functions
-# sample_loop calls them in this order at every step k. Hot values (plant state, noise state,
-# estimated rate, controller state) travel as arguments and return values (tuples of floats:
-# kept in registers once numba inlines the functions, ``inline="always"``); the coefficients
-# are read once before the time loop into one tuple per step function (_coefs); the metric
-# accumulators, which no other value depends on within a step, live in the lane's scratch row
-# (``ms``, layout MS_*). Same floating-point operations, in the same order, as the former
-# single-function loop.
+def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
+                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
+    """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
 
-
-@device(inline="always")
-def _coefs(i, C, P):
-    """The coefficient tuples of the step functions, read once per sample."""
+    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
+    this lane's own memory.
+    """
+    n = POS.shape[0]
     dt = C[DT]
+    n_steps = int(C[N_STEPS])
+    h_ctrl = int(C[H_CTRL])
     h_gyro = int(C[H_GYRO])
+    h_sun = int(C[H_SUN])
+    h_mag = int(C[H_MAG])
+    h_st = int(C[H_ST])
+    a11 = C[A11]
+    b1 = C[B1]
+    a21 = C[A21]
+    a22 = C[A22]
+    b2 = C[B2]
+    v1 = C[V1]
+    v2 = C[V2]
+    vu = C[VU]
+    n2orb = C[N2ORB]
+    d_omega = C[D_OMEGA]
+    sig_sun = C[SIG_SUN]
+    sig_mag = C[SIG_MAG]
+    sig_st = C[SIG_ST]
     uni = C[NOISE_UNIFORM] > 0.0
-    sen = (int(C[EST_MODE]), h_gyro, h_gyro * dt, C[SIG_V], C[SIG_U], int(C[H_SUN]),
-           int(C[H_MAG]), int(C[H_ST]), C[SIG_SUN], C[SIG_MAG], C[SIG_ST], uni,
-           # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
-           1.0 / math.sqrt(3.0) if uni else 1.0, C[UNDERWEIGHT], C[W_SUN], C[W_MAG],
-           int(C[WAHBA_METHOD]), C[SEARCH_RANGE], int(C[K_NEES]))
-    ctl = (int(C[CTRL_MODE]), int(C[ALLOC_MODE]), int(C[H_CTRL]), C[KP0], C[KP1], C[KP2],
-           C[KI0], C[KI1], C[KI2], C[KD0], C[KD1], C[KD2], C[TL0], C[TL1], C[TL2], C[U_ON],
-           C[U_OFF], C[T_S], C[T_MIN], C[PULSE_ROUND] > 0.0, C[RPI_EPS], dt)
-    delay_steps = P[i, P_DELAY] / dt
-    nd = int(math.floor(delay_steps))
-    act = (dt, int(C[BUF_MASK]), nd, delay_steps - nd, C[A11], C[B1], C[A21], C[A22], C[B2],
-           C[V1], C[V2], C[VU])
-    env = (dt, C[D_OMEGA], P[i, P_D0], P[i, P_D0 + 1], P[i, P_D0 + 2], P[i, P_DAMP],
-           P[i, P_DAMP + 1], P[i, P_DAMP + 2], P[i, P_DPH], P[i, P_DPH + 1], P[i, P_DPH + 2],
-           C[N2ORB])
+    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
+    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
+    sig_v = C[SIG_V]
+    sig_u = C[SIG_U]
+    uw = C[UNDERWEIGHT]
+    est_mode = int(C[EST_MODE])
+    wmethod = int(C[WAHBA_METHOD])
+    ctrl_mode = int(C[CTRL_MODE])
+    u_on = C[U_ON]
+    u_off = C[U_OFF]
+    t_s = C[T_S]
+    t_min = C[T_MIN]
+    pround = C[PULSE_ROUND] > 0.0
+    k_win = int(C[K_WIN])
     band = C[SETTLE_BAND]
-    # settling: |error| > band decided without atan2 away from the band's edge (_outside)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    met = (int(C[K_WIN]), int(C[N_STEPS]), band, tb2 * (1.0 - 1e-6), tb2 * (1.0 + 1e-6),
-           int(C[REC_EVERY]))
-    return sen, ctl, act, env, met
-
-
-@device(inline="always")
-def _init(i, P, QREF, DIRS, POS, TS, BUF, QE, BE, PE, GY, BIAS, REC, TOT, met, n):
-    """Zero the lane's scratch; torque arms; initial estimator state and metrics; first trace
-    row. Returns the initial plant state ``(q, omega)``."""
-    k_win, n_steps, band, tb_lo, tb_hi, rec_every = met
-    ts = TS[i]
+    rec_every = int(C[REC_EVERY])
+    k_nees = int(C[K_NEES])
+    bmask = int(C[BUF_MASK])
+    eps = C[RPI_EPS]
+    alloc_mode = int(C[ALLOC_MODE])
+    search_range = C[SEARCH_RANGE]
+    dt_g = h_gyro * dt
+    record = REC.shape[0] > 0
+    J = P[i, P_J:P_J + 9]
+    Ji = P[i, P_JI:P_JI + 9]
     buf = BUF[i]
+    ts = TS[i]
+    x1o = 0
+    x2o = n
+    tpo = 2 * n
+    tppo = 3 * n
+    fo = 4 * n
+    freeo = 5 * n
+    armo = 6 * n
+    so = 9 * n
+    F = ts[fo:fo + n]
+    free = ts[freeo:freeo + n]
+    Ssc = ts[so:so + 9]
+    rsc = ts[so + 9:so + 12]
+    ysc = ts[so + 12:so + 15]
+    isc = ts[so + 15:so + 18]
     for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
-    for a in range(buf.shape[0]):
-        for j in range(n):
-            buf[a, j] = 0.0
     for j in range(n):  # torque arm r x d of each (dispersed) thruster, N m per N
         d0 = DIRS[i, j, 0]
         d1 = DIRS[i, j, 1]
@@ -511,12 +527,42 @@ def _init(i, P, QREF, DIRS, POS, TS, BUF, QE, BE, PE, GY, BIAS, REC, TOT, met, n
         r0 = POS[j, 0]
         r1 = POS[j, 1]
         r2 = POS[j, 2]
-        ts[6 * n + 3 * j] = r1 * d2 - r2 * d1
-        ts[6 * n + 3 * j + 1] = r2 * d0 - r0 * d2
-        ts[6 * n + 3 * j + 2] = r0 * d1 - r1 * d0
+        ts[armo + 3 * j] = r1 * d2 - r2 * d1
+        ts[armo + 3 * j + 1] = r2 * d0 - r0 * d2
+        ts[armo + 3 * j + 2] = r0 * d1 - r1 * d0
+    dc0 = P[i, P_D0]
+    dc1 = P[i, P_D0 + 1]
+    dc2 = P[i, P_D0 + 2]
+    da0 = P[i, P_DAMP]
+    da1 = P[i, P_DAMP + 1]
+    da2 = P[i, P_DAMP + 2]
+    dp0 = P[i, P_DPH]
+    dp1 = P[i, P_DPH + 1]
+    dp2 = P[i, P_DPH + 2]
+    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_hi = tb2 * (1.0 + 1e-6)
+    tb_lo = tb2 * (1.0 - 1e-6)
+    for a in range(buf.shape[0]):
+        for j in range(n):
+            buf[a, j] = 0.0
+    # plant state
+    q0 = P[i, P_Q0]
+    q1 = P[i, P_Q0 + 1]
+    q2 = P[i, P_Q0 + 2]
+    q3 = P[i, P_Q0 + 3]
+    w0 = P[i, P_W0]
+    w1 = P[i, P_W0 + 1]
+    w2 = P[i, P_W0 + 2]
+    delay_steps = P[i, P_DELAY] / dt
+    nd = int(math.floor(delay_steps))
+    dfrac = delay_steps - nd
+    s = SEEDS[i]
+    # estimator state
     qe = QE[i]
     be = BE[i]
     Pe = PE[i]
+    wk = WK[i]
     gy = GY[i]
     bias = BIAS[i]
     for a in range(4):
@@ -535,413 +581,58 @@ def _init(i, P, QREF, DIRS, POS, TS, BUF, QE, BE, PE, GY, BIAS, REC, TOT, met, n
     for a in range(3):
         Pe[a, a] = sa2
         Pe[3 + a, 3 + a] = sb2
-    q0 = P[i, P_Q0]
-    q1 = P[i, P_Q0 + 1]
-    q2 = P[i, P_Q0 + 2]
-    q3 = P[i, P_Q0 + 3]
-    w0 = P[i, P_W0]
-    w1 = P[i, P_W0 + 1]
-    w2 = P[i, P_W0 + 2]
-    ms = ts[N_TS_PER_THR * n + N_TS_ALLOC:]
-    ms[MS_LAST] = -1.0
-    ms[MS_NEES_LAST] = math.nan
-    ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
-    _, _, _, errf = qerr(q0, q1, q2, q3, QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2],
-                         QREF[n_steps, 3])
-    if errf > band:
-        ms[MS_LAST] = 0.0
-    ms[MS_ERR] = err
-    for j in range(n):
-        TOT[i, j] = 0.0
-    if REC.shape[0] > 0:
-        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
-                n, n)
-    return q0, q1, q2, q3, w0, w1, w2
-
-
-@device(inline="always")
-def _sense_estimate(i, k, s, q0, q1, q2, q3, w0, w1, w2, ws0, ws1, ws2, sen, ENV, est, det, ms):
-    """Gyro epoch ``k`` (``w``: the true rate, used at k = 0; ``ws``: the summed true rate
-    over the last gyro interval): gyro, sun sensor, magnetometer, star tracker; MEKF, Wahba or
-    min-max. Returns the new noise state ``s`` and the estimated rate."""
-    (est_mode, h_gyro, dt_g, sig_v, sig_u, h_sun, h_mag, h_st, sig_sun, sig_mag, sig_st, uni,
-     fil, uw, w_sun, w_mag, wmethod, search_range, k_nees) = sen
-    QE, BE, PE, WK, GY, BIAS, SQ = est
-    VB, VR, WW, WQ, WO, WC, SB, SR, SBB, SFF, SKK, SAA, SBK, SQP, RS = det
-    qe = QE[i]
-    be = BE[i]
-    Pe = PE[i]
-    wk = WK[i]
-    gy = GY[i]
-    bias = BIAS[i]
-    # gyro reading at t_k: Farrenkopf model on the mean true rate over the last interval (a
-    # rate-integrating gyro's delta-angle / dt); the attitude is then propagated over that
-    # interval with it
-    if k > 0:
-        gy[3] = ws0 / h_gyro
-        gy[4] = ws1 / h_gyro
-        gy[5] = ws2 / h_gyro
-    else:
-        gy[3] = w0
-        gy[4] = w1
-        gy[5] = w2
-    s, z0 = _normal(s)
-    s, z1 = _normal(s)
-    s, z2 = _normal(s)
-    gy[6] = z0
-    gy[7] = z1
-    gy[8] = z2
-    s, z0 = _normal(s)
-    s, z1 = _normal(s)
-    s, z2 = _normal(s)
-    gy[9] = z0
-    gy[10] = z1
-    gy[11] = z2
-    gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
-    if k > 0:
-        if est_mode == EST_MEKF:
-            mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
-        else:
-            _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
-    # vector sensors at this epoch
-    nobs = 0
-    if h_sun > 0 and k % h_sun == 0 and ENV[k, 9] > 0.5:
-        s = _vector_obs(i, nobs, s, q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5], sig_sun,
-                        uni, w_sun, VB, VR, WW)
-        nobs += 1
-        if est_mode == EST_MEKF:
-            mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
-    if h_mag > 0 and k % h_mag == 0:
-        s = _vector_obs(i, nobs, s, q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8], sig_mag,
-                        uni, w_mag, VB, VR, WW)
-        if est_mode == EST_MEKF:
-            mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
-        nobs += 1
-    if h_st > 0 and k % h_st == 0:
-        s, n0 = _normal(s)
-        s, n1 = _normal(s)
-        s, n2 = _normal(s)
-        for a in range(4):
-            SQ[i, a] = 0.0
-        SQ[i, 0] = q0
-        SQ[i, 1] = q1
-        SQ[i, 2] = q2
-        SQ[i, 3] = q3
-        _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
-        if est_mode == EST_MEKF:
-            mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
-        else:
-            for a in range(4):
-                qe[a] = SQ[i, a]
-    if est_mode == EST_WAHBA and nobs == 2:
-        st = wahba_one(VB, VR, WW, i, wmethod, WQ, WO, WC, SB[i], SR[i], SQP[i, 0:4], SBB[i],
-                       SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
-        if st == 0:
-            for a in range(4):
-                qe[a] = WQ[i, a]
-    elif est_mode == EST_MINMAX and nobs == 2:
-        st, active = minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, SB[i], SR[i],
-                                SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
-                                SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12], RS[i, 12:16])
-        ms[MS_NDET] += 1.0
-        if active:
-            ms[MS_NBOX] += 1.0
-        if st == 0:
-            for a in range(4):
-                qe[a] = WQ[i, a]
-    if est_mode == EST_MEKF:
-        if k >= k_nees:
-            nees = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
-            ms[MS_NEES_LAST] = nees
-            if nees == nees:
-                ms[MS_NEES_SUM] += nees
-                ms[MS_NEES_N] += 1.0
-        return s, gy[0] - be[0], gy[1] - be[1], gy[2] - be[2]
-    return s, gy[0], gy[1], gy[2]
-
-
-@device(inline="always")
-def _vector_obs(i, nobs, s, q0, q1, q2, q3, r0, r1, r2, sig, uni, w, VB, VR, WW):
-    """A vector sensor's reading of the reference direction ``r`` into observation ``nobs``
-    (``A(q) r`` plus noise ``sig`` per component); returns the new noise state."""
-    b0, b1, b2 = rotate(q0, q1, q2, q3, r0, r1, r2)
-    s, n0 = _noise(s, uni)
-    s, n1 = _noise(s, uni)
-    s, n2 = _noise(s, uni)
-    VB[i, nobs, 0] = b0 + sig * n0
-    VB[i, nobs, 1] = b1 + sig * n1
-    VB[i, nobs, 2] = b2 + sig * n2
-    VR[i, nobs, 0] = r0
-    VR[i, nobs, 1] = r1
-    VR[i, nobs, 2] = r2
-    WW[i, nobs] = w
-    return s
-
-
-@device(inline="always")
-def _control(i, k, sx, sy, sz, ix, iy, iz, we0, we1, we2, ctl, qe, QREF, WREF, ATAB, ANOM,
-             FNOM, AMASK, ts, TOT, ms, n):
-    """Command instant ``k``: PID on the estimate, then Schmitt + allocation table, open-loop
-    table, or PWM through the in-kernel allocation; pulse widths (in steps) into ``ts``.
-    Returns the Schmitt outputs and the PID integrals."""
-    (ctrl_mode, alloc_mode, h_ctrl, kp0, kp1, kp2, ki0, ki1, ki2, kd0, kd1, kd2, tl0, tl1, tl2,
-     u_on, u_off, t_s, t_min, pround, eps, dt) = ctl
-    cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
-                         QREF[k, 3])
-    exk = -cx
-    eyk = -cy
-    ezk = -cz
-    dx = WREF[k, 0] - we0
-    dy = WREF[k, 1] - we1
-    dz = WREF[k, 2] - we2
-    ux = kp0 * exk + ki0 * ix + kd0 * dx
-    uy = kp1 * eyk + ki1 * iy + kd1 * dy
-    uz = kp2 * ezk + ki2 * iz + kd2 * dz
-    ix += exk * t_s
-    iy += eyk * t_s
-    iz += ezk * t_s
-    F = ts[4 * n:5 * n]
-    so = N_TS_PER_THR * n
-    if ctrl_mode == CTRL_SCHMITT:
-        sx = schmitt(sx, ux, u_on, u_off)
-        sy = schmitt(sy, uy, u_on, u_off)
-        sz = schmitt(sz, uz, u_on, u_off)
-        row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
-        for j in range(n):
-            F[j] = ATAB[row, j]
-    elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
-        row = k // h_ctrl
-        for j in range(n):
-            F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
-    elif alloc_mode == ALLOC_BVLS:
-        bvls_allocate(ANOM, tl0 * ux, tl1 * uy, tl2 * uz, FNOM, AMASK, F, ts[5 * n:6 * n],
-                      ts[so:so + 9], ts[so + 9:so + 12], ts[so + 12:so + 15], ts[so + 15:so + 18],
-                      eps)
-    else:
-        rpi_allocate(ANOM, tl0 * ux, tl1 * uy, tl2 * uz, FNOM, AMASK, F, ts[5 * n:6 * n],
-                     ts[so:so + 9], ts[so + 9:so + 12], ts[so + 12:so + 15], eps)
-    firings = ms[MS_FIR]
-    ontime = ms[MS_ONT]
-    for j in range(n):
-        tp = F[j] / FNOM[j] * t_s
-        if tp > t_s:
-            tp = t_s
-        if tp < t_min:
-            if pround and tp >= 0.5 * t_min:
-                tp = t_min
-            else:
-                tp = 0.0
-        if AMASK[j] <= 0.0:
-            tp = 0.0
-        # a new pulse unless the previous one ran to the end of its period
-        if tp > 0.0 and ts[3 * n + j] < t_s:
-            firings += 1.0
-        ts[3 * n + j] = tp
-        ts[2 * n + j] = tp / dt  # the pulse in steps (read at every step by _actuate)
-        TOT[i, j] += tp
-        ontime += tp
-    ms[MS_FIR] = firings
-    ms[MS_ONT] = ontime
-    return sx, sy, sz, ix, iy, iz
-
-
-@device(inline="always")
-def _actuate(i, k, m, prop, act, ts, buf, FAILED, FLEV, MDOT, n):
-    """Thrusters over step ``k``, ``m`` steps after the command instant: pulse -> delay -> two
-    lags (S4 actuator) -> mean forces. Returns the thruster torque (N m, body) and the
-    propellant ``prop`` (kg) with this step's added."""
-    dt, bmask, nd, dfrac, a11, b1, a21, a22, b2, v1, v2, vu = act
-    t0 = 0.0
-    t1 = 0.0
-    t2 = 0.0
-    for j in range(n):
-        c = ts[2 * n + j] - m
-        if c > 1.0:
-            c = 1.0
-        elif c < 0.0:
-            c = 0.0
-        if FAILED[j] > 0.0:
-            c = 0.0
-        buf[k & bmask, j] = c
-        if k - nd >= 0:
-            ua = buf[(k - nd) & bmask, j]
-        else:
-            ua = 0.0
-        if k - nd - 1 >= 0:
-            ub = buf[(k - nd - 1) & bmask, j]
-        else:
-            ub = 0.0
-        ud = delay_mix(ua, ub, dfrac)
-        v, x1, x2 = lag_step(ts[j], ts[n + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
-        ts[n + j] = x2
-        ts[j] = x1
-        if v != 0.0:  # an idle thruster adds (signed) zeros: skipped, same sums
-            fav = FLEV[i, j] * v / dt  # mean force over the step (N)
-            prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
-            t0 += fav * ts[6 * n + 3 * j]
-            t1 += fav * ts[6 * n + 3 * j + 1]
-            t2 += fav * ts[6 * n + 3 * j + 2]
-    return t0, t1, t2, prop
-
-
-@device(inline="always")
-def _environment_torque(k, q0, q1, q2, q3, t0, t1, t2, env, ENV, J):
-    """Adds the disturbance (constant + sinusoid) and the gravity-gradient torque (N m) at
-    step ``k``; a zero amplitude adds a signed zero to the constant, so its sine is skipped."""
-    dt, d_omega, dc0, dc1, dc2, da0, da1, da2, dp0, dp1, dp2, n2orb = env
-    tk = k * dt
-    t0 += dc0 + da0 * math.sin(d_omega * tk + dp0) if da0 != 0.0 else dc0
-    t1 += dc1 + da1 * math.sin(d_omega * tk + dp1) if da1 != 0.0 else dc1
-    t2 += dc2 + da2 * math.sin(d_omega * tk + dp2) if da2 != 0.0 else dc2
-    if n2orb > 0.0:
-        c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
-        h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
-        h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
-        h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
-        t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
-        t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
-        t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-    return t0, t1, t2
-
-
-@device(inline="always")
-def _integrate(q0, q1, q2, q3, w0, w1, w2, ws0, ws1, ws2, J, Ji, t0, t1, t2, dt):
-    """One RK4 step of the rigid body; adds the step's mean rate (trapezoid) to the gyro's sum
-    ``ws``. Returns the new ``(q, omega, ws)``."""
-    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt)
-    ws0 += 0.5 * (w0 + w0n)
-    ws1 += 0.5 * (w1 + w1n)
-    ws2 += 0.5 * (w2 + w2n)
-    return q0, q1, q2, q3, w0n, w1n, w2n, ws0, ws1, ws2
-
-
-@device(inline="always")
-def _knowledge(q0, q1, q2, q3, qe, kacc2):
-    """Knowledge error at t_k, after this epoch's estimation (in the metric window): returns
-    ``kacc2`` plus its square."""
-    _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
-    return kacc2 + kerr * kerr
-
-
-@device(inline="always")
-def _metrics(i, kk, q0, q1, q2, q3, w0, w1, w2, acc, met, prop, QREF, qe, ts, REC, ms, n):
-    """Pointing metrics at t_{kk} (window, settling, max rate) and the trace row. ``acc``:
-    (sum err, sum err^2, sum ex^2, ey^2, ez^2, max err, last step out of band, max |w|^2,
-    last err); returns it updated."""
-    k_win, n_steps, band, tb_lo, tb_hi, rec_every = met
-    s1, s2, sx2, sy2, sz2, emax, last_out, wmax2, err = acc
-    rec_now = REC.shape[0] > 0 and kk % rec_every == 0
-    if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
-        ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2],
-                               QREF[kk, 3])
-        if kk >= k_win:
-            s1 += err
-            s2 += err * err
-            sx2 += ex * ex
-            sy2 += ey * ey
-            sz2 += ez * ez
-            if err > emax:
-                emax = err
-        if rec_now:
-            _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
-                    ms[MS_NEES_LAST], prop, ts, n, n)
-    if _outside(q0, q1, q2, q3, QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2],
-                QREF[n_steps, 3], band, tb_lo, tb_hi):
-        last_out = kk
-    wn2 = w0 * w0 + w1 * w1 + w2 * w2  # max |w| = sqrt(max |w|^2): one sqrt at the end
-    if wn2 > wmax2:
-        wmax2 = wn2
-    return s1, s2, sx2, sy2, sz2, emax, last_out, wmax2, err
-
-
-@device(inline="always")
-def _finish(i, OUT, acc, prop, kacc2, nkw, nwin, ms, n_steps, dt):
-    """The sample's metrics row from the accumulators."""
-    ms[MS_ACC], ms[MS_ACC2], ms[MS_AX2], ms[MS_AY2], ms[MS_AZ2], ms[MS_EMAX], ms[MS_LAST], \
-        ms[MS_WMAX2], ms[MS_ERR] = acc
-    ms[MS_PROP] = prop
-    ms[MS_KACC2] = kacc2
-    ms[MS_NKW] = nkw
-    ms[MS_NWIN] = nwin
-    fw = 1.0 / nwin if nwin > 0 else math.nan
-    OUT[i, M_MEAN_ERR] = ms[MS_ACC] * fw
-    OUT[i, M_RMS_ERR] = math.sqrt(ms[MS_ACC2] * fw)
-    OUT[i, M_MAX_ERR] = ms[MS_EMAX] if nwin > 0 else math.nan
-    OUT[i, M_RMS_X] = math.sqrt(ms[MS_AX2] * fw)
-    OUT[i, M_RMS_Y] = math.sqrt(ms[MS_AY2] * fw)
-    OUT[i, M_RMS_Z] = math.sqrt(ms[MS_AZ2] * fw)
-    last_out = ms[MS_LAST]
-    if last_out < 0:
-        OUT[i, M_SETTLE] = 0.0
-    elif last_out >= n_steps:
-        OUT[i, M_SETTLE] = math.nan
-    else:
-        OUT[i, M_SETTLE] = (last_out + 1) * dt
-    OUT[i, M_FINAL_ERR] = ms[MS_ERR]
-    OUT[i, M_PROP] = ms[MS_PROP]
-    OUT[i, M_FIRINGS] = ms[MS_FIR]
-    OUT[i, M_ONTIME] = ms[MS_ONT]
-    nkw = ms[MS_NKW]
-    OUT[i, M_KNOW_RMS] = math.sqrt(ms[MS_KACC2] / nkw) if nkw > 0 else math.nan
-    nees_n = ms[MS_NEES_N]
-    OUT[i, M_NEES] = ms[MS_NEES_SUM] / nees_n if nees_n > 0 else math.nan
-    OUT[i, M_NEES_N] = nees_n
-    OUT[i, M_MAX_RATE] = math.sqrt(ms[MS_WMAX2])
-    n_det = ms[MS_NDET]
-    OUT[i, M_BOX_ACTIVE] = ms[MS_NBOX] / n_det if n_det > 0 else math.nan
-
-
-def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
-                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
-                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
-    """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
-
-    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
-    this lane's own memory. Each step ``k``: :func:`_sense_estimate` (at the gyro epochs),
-    :func:`_knowledge`, :func:`_control` (at the command instants), :func:`_actuate`,
-    :func:`_environment_torque`, :func:`_integrate`, :func:`_metrics`.
-    """
-    n = POS.shape[0]
-    dt = C[DT]
-    n_steps = int(C[N_STEPS])
-    h_gyro = int(C[H_GYRO])
-    h_ctrl = int(C[H_CTRL])
-    est_mode = int(C[EST_MODE])
-    k_win = int(C[K_WIN])
-    sen, ctl, act, env, met = _coefs(i, C, P)
-    J = P[i, P_J:P_J + 9]
-    Ji = P[i, P_JI:P_JI + 9]
-    ts = TS[i]
-    buf = BUF[i]
-    qe = QE[i]
-    ms = ts[N_TS_PER_THR * n + N_TS_ALLOC:]
-    # the estimator's and the determination's lane memory, grouped (an inlined call takes
-    # at most 30 arguments: CPython passes more as *args, which numba cannot inline)
-    est = (QE, BE, PE, WK, GY, BIAS, SQ)
-    det = (VB, VR, WW, WQ, WO, WC, SB, SR, SBB, SFF, SKK, SAA, SBK, SQP, RS)
-    q0, q1, q2, q3, w0, w1, w2 = _init(i, P, QREF, DIRS, POS, TS, BUF, QE, BE, PE, GY, BIAS,
-                                       REC, TOT, met, n)
-    s = SEEDS[i]
-    we0 = 0.0  # estimated rate
+    we0 = 0.0
     we1 = 0.0
     we2 = 0.0
-    ws0 = 0.0  # true rate summed over the current gyro interval
+    ws0 = 0.0
     ws1 = 0.0
     ws2 = 0.0
-    sx = 0.0  # Schmitt outputs
+    # controller state
+    sx = 0.0
     sy = 0.0
     sz = 0.0
-    ix = 0.0  # PID integrals
+    ix = 0.0
     iy = 0.0
     iz = 0.0
-    kc = 0  # last command instant
-    k_gyro = 0  # next gyro epoch
-    prop = 0.0  # propellant (kg)
-    kacc2 = 0.0  # knowledge error: sum of squares, count
+    kc = 0
+    # metrics
+    acc = 0.0
+    acc2 = 0.0
+    ax2 = 0.0
+    ay2 = 0.0
+    az2 = 0.0
+    emax = 0.0
+    kacc2 = 0.0
     nkw = 0
-    nwin = 0  # steps in the metric window
-    acc = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ms[MS_LAST], 0.0, ms[MS_ERR])  # see _metrics
+    nwin = 0
+    last_out = -1
+    prop = 0.0
+    firings = 0.0
+    ontime = 0.0
+    nees_sum = 0.0
+    nees_n = 0
+    nees_last = math.nan
+    wmax2 = 0.0
+    n_det = 0
+    n_box = 0
+    qf0 = QREF[n_steps, 0]
+    qf1 = QREF[n_steps, 1]
+    qf2 = QREF[n_steps, 2]
+    qf3 = QREF[n_steps, 3]
+    ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+    _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
+    if errf > band:
+        last_out = 0
+    for j in range(n):
+        TOT[i, j] = 0.0
+    if record:
+        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
+                x2o, n)
+    k_gyro = 0  # next gyro epoch
+    k_ctrl = 0  # next command instant
     for k in range(n_steps + 1):
+        lit = ENV[k, 9] > 0.5
+        # ---------------------------------------------------------------- sensors + estimation
         if est_mode == EST_TRUTH:
             qe[0] = q0
             qe[1] = q1
@@ -952,30 +643,275 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             we2 = w2
         elif k == k_gyro:
             k_gyro += h_gyro
-            s, we0, we1, we2 = _sense_estimate(i, k, s, q0, q1, q2, q3, w0, w1, w2, ws0, ws1,
-                                               ws2, sen, ENV, est, det, ms)
+            # gyro reading at t_k: Farrenkopf model on the mean true rate over the last
+            # interval (a rate-integrating gyro's delta-angle / dt); the attitude is then
+            # propagated over that interval with it
+            if k > 0:
+                gy[3] = ws0 / h_gyro
+                gy[4] = ws1 / h_gyro
+                gy[5] = ws2 / h_gyro
+            else:
+                gy[3] = w0
+                gy[4] = w1
+                gy[5] = w2
             ws0 = 0.0
             ws1 = 0.0
             ws2 = 0.0
-        if k >= k_win:
-            kacc2 = _knowledge(q0, q1, q2, q3, qe, kacc2)
+            s, z0 = _normal(s)
+            s, z1 = _normal(s)
+            s, z2 = _normal(s)
+            gy[6] = z0
+            gy[7] = z1
+            gy[8] = z2
+            s, z0 = _normal(s)
+            s, z1 = _normal(s)
+            s, z2 = _normal(s)
+            gy[9] = z0
+            gy[10] = z1
+            gy[11] = z2
+            gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
+            if k > 0:
+                if est_mode == EST_MEKF:
+                    mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
+                else:
+                    _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
+            # vector sensors at this epoch
+            nobs = 0
+            if h_sun > 0 and k % h_sun == 0 and lit:
+                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
+                s, n0 = _noise(s, uni)
+                s, n1 = _noise(s, uni)
+                s, n2 = _noise(s, uni)
+                VB[i, nobs, 0] = b0 + sig_sun * n0
+                VB[i, nobs, 1] = b1_ + sig_sun * n1
+                VB[i, nobs, 2] = b2_ + sig_sun * n2
+                VR[i, nobs, 0] = ENV[k, 3]
+                VR[i, nobs, 1] = ENV[k, 4]
+                VR[i, nobs, 2] = ENV[k, 5]
+                WW[i, nobs] = C[W_SUN]
+                nobs += 1
+                if est_mode == EST_MEKF:
+                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
+            if h_mag > 0 and k % h_mag == 0:
+                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
+                s, n0 = _noise(s, uni)
+                s, n1 = _noise(s, uni)
+                s, n2 = _noise(s, uni)
+                VB[i, nobs, 0] = b0 + sig_mag * n0
+                VB[i, nobs, 1] = b1_ + sig_mag * n1
+                VB[i, nobs, 2] = b2_ + sig_mag * n2
+                VR[i, nobs, 0] = ENV[k, 6]
+                VR[i, nobs, 1] = ENV[k, 7]
+                VR[i, nobs, 2] = ENV[k, 8]
+                WW[i, nobs] = C[W_MAG]
+                if est_mode == EST_MEKF:
+                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
+                nobs += 1
+            if h_st > 0 and k % h_st == 0:
+                s, n0 = _normal(s)
+                s, n1 = _normal(s)
+                s, n2 = _normal(s)
+                for a in range(4):
+                    SQ[i, a] = 0.0
+                SQ[i, 0] = q0
+                SQ[i, 1] = q1
+                SQ[i, 2] = q2
+                SQ[i, 3] = q3
+                _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
+                if est_mode == EST_MEKF:
+                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
+                else:
+                    for a in range(4):
+                        qe[a] = SQ[i, a]
+            if est_mode == EST_WAHBA and nobs == 2:
+                st = wahba_one(VB, VR, WW, i, wmethod, WQ, WO, WC, SB[i], SR[i], SQP[i, 0:4],
+                               SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
+                if st == 0:
+                    for a in range(4):
+                        qe[a] = WQ[i, a]
+            elif est_mode == EST_MINMAX and nobs == 2:
+                st, active = minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, SB[i], SR[i],
+                                        SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
+                                        SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12],
+                                        RS[i, 12:16])
+                n_det += 1
+                if active:
+                    n_box += 1
+                if st == 0:
+                    for a in range(4):
+                        qe[a] = WQ[i, a]
+            if est_mode == EST_MEKF:
+                we0 = gy[0] - be[0]
+                we1 = gy[1] - be[1]
+                we2 = gy[2] - be[2]
+                if k >= k_nees:
+                    nees_last = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
+                    if nees_last == nees_last:
+                        nees_sum += nees_last
+                        nees_n += 1
+            else:
+                we0 = gy[0]
+                we1 = gy[1]
+                we2 = gy[2]
+        if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
+            _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
+            kacc2 += kerr * kerr
             nkw += 1
         if k == n_steps:
             break
-        if k - kc == h_ctrl or k == 0:
+        # ---------------------------------------------------------------- control
+        if k == k_ctrl:
+            k_ctrl += h_ctrl
             kc = k
-            sx, sy, sz, ix, iy, iz = _control(i, k, sx, sy, sz, ix, iy, iz, we0, we1, we2, ctl,
-                                              qe, QREF, WREF, ATAB, ANOM, FNOM, AMASK, ts, TOT,
-                                              ms, n)
-        t0, t1, t2, prop = _actuate(i, k, k - kc, prop, act, ts, buf, FAILED, FLEV, MDOT, n)
-        t0, t1, t2 = _environment_torque(k, q0, q1, q2, q3, t0, t1, t2, env, ENV, J)
-        q0, q1, q2, q3, w0, w1, w2, ws0, ws1, ws2 = _integrate(q0, q1, q2, q3, w0, w1, w2, ws0,
-                                                               ws1, ws2, J, Ji, t0, t1, t2, dt)
-        acc = _metrics(i, k + 1, q0, q1, q2, q3, w0, w1, w2, acc, met, prop, QREF, qe, ts, REC,
-                       ms, n)
-        if k + 1 >= k_win:
+            cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+                                  QREF[k, 3])
+            exk = -cx
+            eyk = -cy
+            ezk = -cz
+            dx = WREF[k, 0] - we0
+            dy = WREF[k, 1] - we1
+            dz = WREF[k, 2] - we2
+            ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
+            uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
+            uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
+            ix += exk * t_s
+            iy += eyk * t_s
+            iz += ezk * t_s
+            if ctrl_mode == CTRL_SCHMITT:
+                sx = schmitt(sx, ux, u_on, u_off)
+                sy = schmitt(sy, uy, u_on, u_off)
+                sz = schmitt(sz, uz, u_on, u_off)
+                row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
+                for j in range(n):
+                    F[j] = ATAB[row, j]
+            elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
+                row = k // h_ctrl
+                for j in range(n):
+                    F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
+            elif alloc_mode == ALLOC_BVLS:
+                bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                              Ssc, rsc, ysc, isc, eps)
+            else:
+                rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                             Ssc, rsc, ysc, eps)
+            for j in range(n):
+                tp = F[j] / FNOM[j] * t_s
+                if tp > t_s:
+                    tp = t_s
+                if tp < t_min:
+                    if pround and tp >= 0.5 * t_min:
+                        tp = t_min
+                    else:
+                        tp = 0.0
+                if AMASK[j] <= 0.0:
+                    tp = 0.0
+                # a new pulse unless the previous one ran to the end of its period
+                if tp > 0.0 and ts[tppo + j] < t_s:
+                    firings += 1.0
+                ts[tppo + j] = tp
+                ts[tpo + j] = tp / dt  # the pulse in steps (read at every step below)
+                TOT[i, j] += tp
+                ontime += tp
+        # ---------------------------------------------------------------- thrusters
+        m = k - kc
+        t0 = 0.0
+        t1 = 0.0
+        t2 = 0.0
+        for j in range(n):
+            c = ts[tpo + j] - m
+            if c > 1.0:
+                c = 1.0
+            elif c < 0.0:
+                c = 0.0
+            if FAILED[j] > 0.0:
+                c = 0.0
+            buf[k & bmask, j] = c
+            if k - nd >= 0:
+                ua = buf[(k - nd) & bmask, j]
+            else:
+                ua = 0.0
+            if k - nd - 1 >= 0:
+                ub = buf[(k - nd - 1) & bmask, j]
+            else:
+                ub = 0.0
+            ud = delay_mix(ua, ub, dfrac)
+            v, x1, x2 = lag_step(ts[x1o + j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
+            ts[x2o + j] = x2
+            ts[x1o + j] = x1
+            if v != 0.0:  # an idle thruster adds (signed) zeros: skipped, same sums
+                fav = FLEV[i, j] * v / dt  # mean force over the step (N)
+                prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
+                t0 += fav * ts[armo + 3 * j]
+                t1 += fav * ts[armo + 3 * j + 1]
+                t2 += fav * ts[armo + 3 * j + 2]
+        # ---------------------------------------------------------------- environment torques
+        # (a zero amplitude adds a signed zero to the constant: its sine is skipped, same sum)
+        tk = k * dt
+        t0 += dc0 + da0 * math.sin(d_omega * tk + dp0) if da0 != 0.0 else dc0
+        t1 += dc1 + da1 * math.sin(d_omega * tk + dp1) if da1 != 0.0 else dc1
+        t2 += dc2 + da2 * math.sin(d_omega * tk + dp2) if da2 != 0.0 else dc2
+        if n2orb > 0.0:
+            c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
+            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
+            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
+            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+            t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+            t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+            t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+        # ---------------------------------------------------------------- dynamics
+        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt)
+        # mean rate over the step (trapezoid) for the rate-integrating gyro
+        ws0 += 0.5 * (w0 + w0n)
+        ws1 += 0.5 * (w1 + w1n)
+        ws2 += 0.5 * (w2 + w2n)
+        w0 = w0n
+        w1 = w1n
+        w2 = w2n
+        # ---------------------------------------------------------------- metrics at t_{k+1}
+        kk = k + 1
+        rec_now = record and kk % rec_every == 0
+        if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
+            ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2],
+                                   QREF[kk, 3])
+        if _outside(q0, q1, q2, q3, qf0, qf1, qf2, qf3, band, tb_lo, tb_hi):
+            last_out = kk
+        wn2 = w0 * w0 + w1 * w1 + w2 * w2  # max |w| = sqrt(max |w|^2): one sqrt at the end
+        if wn2 > wmax2:
+            wmax2 = wn2
+        if kk >= k_win:
+            acc += err
+            acc2 += err * err
+            ax2 += ex * ex
+            ay2 += ey * ey
+            az2 += ez * ez
+            if err > emax:
+                emax = err
             nwin += 1
-    _finish(i, OUT, acc, prop, kacc2, nkw, nwin, ms, n_steps, dt)
+        if rec_now:
+            _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
+                    nees_last, prop, ts, x2o, n)
+    fw = 1.0 / nwin if nwin > 0 else math.nan
+    OUT[i, M_MEAN_ERR] = acc * fw
+    OUT[i, M_RMS_ERR] = math.sqrt(acc2 * fw)
+    OUT[i, M_MAX_ERR] = emax if nwin > 0 else math.nan
+    OUT[i, M_RMS_X] = math.sqrt(ax2 * fw)
+    OUT[i, M_RMS_Y] = math.sqrt(ay2 * fw)
+    OUT[i, M_RMS_Z] = math.sqrt(az2 * fw)
+    if last_out < 0:
+        OUT[i, M_SETTLE] = 0.0
+    elif last_out >= n_steps:
+        OUT[i, M_SETTLE] = math.nan
+    else:
+        OUT[i, M_SETTLE] = (last_out + 1) * dt
+    OUT[i, M_FINAL_ERR] = err
+    OUT[i, M_PROP] = prop
+    OUT[i, M_FIRINGS] = firings
+    OUT[i, M_ONTIME] = ontime
+    OUT[i, M_KNOW_RMS] = math.sqrt(kacc2 / nkw) if nkw > 0 else math.nan
+    OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
+    OUT[i, M_NEES_N] = nees_n
+    OUT[i, M_MAX_RATE] = math.sqrt(wmax2)
+    OUT[i, M_BOX_ACTIVE] = n_box / n_det if n_det > 0 else math.nan
 
 
 @register_jitable
