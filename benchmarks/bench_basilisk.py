@@ -20,7 +20,13 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
 3. **Speed.** Sample-steps per second of the closed loop: Basilisk one sample at a time (it
    has no batch kernel), ours for a batch of samples in one kernel call, with the same
    elements and with the full chain (sun sensor + magnetometer + gyro + MEKF + Schmitt
-   control + allocation + dynamics). Ratio measured in this one run.
+   control + allocation + dynamics). ``--repeats R`` (default 3) interleaved repeats of
+   (Basilisk, ours same elements, ours full chain); each Basilisk repeat simulates the closed
+   loop for at least ``--bsk-cpu-s`` (default 2) CPU-seconds (whole multiples of the 150 s
+   run), so Basilisk is timed over >= 6 s in all. Rates are per wall second and per
+   CPU-second of the process (``time.process_time``: all threads); the ratios printed are
+   medians over the repeats, measured in this one run: full chain per CPU-second (Basilisk is
+   one thread) and per wall second (our kernel uses every core, Basilisk one).
 """
 
 from __future__ import annotations
@@ -217,8 +223,10 @@ def closed_loop(t_final: float, n_samples: int, with_basilisk: bool = True) -> d
     sim.InitializeSimulation()
     sim.ConfigureStopTime(macros.sec2nano(t_final))
     t0 = time.perf_counter()
+    c0 = time.process_time()
     sim.ExecuteSimulation()
     wall_b = time.perf_counter() - t0
+    cpu_b = time.process_time() - c0
     qb = _mrp_to_quat(np.asarray(b["rec"].sigma_BN))
     err_b = 2 * np.arccos(np.clip(np.abs(qb[:, 3]), 0, 1))
     tb = np.arange(len(err_b)) * T_S
@@ -228,55 +236,98 @@ def closed_loop(t_final: float, n_samples: int, with_basilisk: bool = True) -> d
     settle_b = float(tb[out_b[-1] + 1]) if out_b.size and out_b[-1] + 1 < len(tb) else (0.0 if not out_b.size else math.nan)
     bsk = {"settling_time_s": settle_b, "final_error_deg": float(np.degrees(err_b[-1])),
            "total_on_time_s": float(on_b.sum()), "propellant_kg": float(on_b.sum() * MDOT),
-           "wall_s": wall_b, "sample_steps_per_s": steps / wall_b, "t": tb.tolist(),
+           "wall_s": wall_b, "cpu_s": cpu_b, "sample_steps_per_s": steps / wall_b, "t": tb.tolist(),
            "err_deg": np.degrees(err_b).tolist()}
     return _ours(t_final, n_samples, layout, K, Pg, axis, ang0, steps, bsk)
 
 
-def _ours(t_final, n_samples, layout, K, Pg, axis, ang0, steps, bsk) -> dict:
+def bsk_speed(t_final: float, min_cpu_s: float) -> dict:
+    """Basilisk's closed loop (the chain of :func:`closed_loop`) continued in ``t_final``
+    chunks until it has used ``min_cpu_s`` CPU-seconds: (steps, wall s, CPU s)."""
+    layout = _layout().replace(t_min=3e-3)
+    axis = np.array([1.0, 1.0, 0.5]) / np.linalg.norm([1.0, 1.0, 0.5])
+    sigma0 = axis * math.tan(math.radians(10.0) / 4)
+    b = _bsk_setup(layout, sigma0, (0.0, 0.0, 0.0), closed=True, gains=(120.0, 400.0))
+    sim, macros = b["sim"], b["macros"]
+    sim.InitializeSimulation()
+    wall = cpu = 0.0
+    m = 0
+    while cpu < min_cpu_s:
+        m += 1
+        sim.ConfigureStopTime(macros.sec2nano(m * t_final))
+        t0 = time.perf_counter()
+        c0 = time.process_time()
+        sim.ExecuteSimulation()
+        wall += time.perf_counter() - t0
+        cpu += time.process_time() - c0
+    steps = m * int(round(t_final / DT))
+    return {"steps": steps, "wall_s": wall, "cpu_s": cpu, "sample_steps_per_s": steps / wall,
+            "sample_steps_per_cpu_s": steps / cpu}
+
+
+def _speed_scenarios(t_final: float):
+    layout = _layout().replace(t_min=3e-3)
+    K, Pg = 120.0, 400.0
+    axis = np.array([1.0, 1.0, 0.5]) / np.linalg.norm([1.0, 1.0, 0.5])
     base = dict(
         spacecraft=SpacecraftSpec(inertia=INERTIA), thrusters=layout, orbit=OrbitSpec(gravity_gradient=False),
         guidance=GuidanceSpec(kind="hold"),
         sim=SimSpec(dt=DT, t_final=t_final, metrics_from_s=0.75 * t_final, settle_band_deg=0.5,
                     record_every=int(round(T_S / DT))),
-        initial_rotvec_deg=tuple(np.degrees(axis * ang0)),
+        initial_rotvec_deg=tuple(np.degrees(axis * math.radians(10.0))),
     )
     same = Scenario(**base, estimator=EstimatorSpec(kind="truth"),
                     controller=ControllerSpec(kind="pwm", period_s=T_S, kp=(K / 4,) * 3, ki=(0.0,) * 3, kd=(Pg,) * 3))
-    one = simulate(same, 1, rng=0, record=True)
-    simulate(same, n_samples, rng=0)  # compile / warm
-    t0 = time.perf_counter()
-    batch = simulate(same, n_samples, rng=1)
-    wall_same = time.perf_counter() - t0
     full = Scenario(**base, estimator=EstimatorSpec(kind="mekf", init_error_deg=0.2),
                     sensors=SensorSpec(sun_rate_hz=2.0, mag_rate_hz=2.0, gyro_rate_hz=10.0, sun_noise_deg=0.05,
                                        mag_noise_deg=0.5),
                     controller=ControllerSpec(kind="schmitt", period_s=T_S, torque_level=(10.0, 10.0, 10.0)))
-    simulate(full, min(n_samples, 64), rng=0)
+    return same, full
+
+
+def _ours_speed(sc: Scenario, n_samples: int, seed: int) -> dict:
     t0 = time.perf_counter()
     c0 = time.process_time()
-    fres = simulate(full, n_samples, rng=2)
-    wall_full = time.perf_counter() - t0
-    cpu_full = time.process_time() - c0  # all threads of this process
+    res = simulate(sc, n_samples, rng=seed)
+    wall = time.perf_counter() - t0
+    cpu = time.process_time() - c0  # all threads of this process
+    ss = n_samples * res.n_steps
+    return {"wall_s": wall, "cpu_s": cpu, "sample_steps_per_s": ss / wall, "sample_steps_per_cpu_s": ss / cpu}
+
+
+def speed(t_final: float, n_samples: int, repeats: int, bsk_cpu_s: float, with_basilisk: bool = True) -> dict:
+    """Interleaved repeats of (Basilisk, ours same elements, ours full chain); medians and ratios."""
+    same, full = _speed_scenarios(t_final)
+    simulate(same, min(n_samples, 64), rng=0)  # compile / warm
+    simulate(full, min(n_samples, 64), rng=0)
+    runs = {"basilisk": [], "same": [], "full": []}
+    for r in range(repeats):
+        if with_basilisk:
+            runs["basilisk"].append(bsk_speed(t_final, bsk_cpu_s))
+        runs["same"].append(_ours_speed(same, n_samples, 10 + r))
+        runs["full"].append(_ours_speed(full, n_samples, 20 + r))
+    med = {k: {q: float(np.median([x[q] for x in v])) for q in ("sample_steps_per_s", "sample_steps_per_cpu_s")}
+           for k, v in runs.items() if v}
+    out = {"repeats": repeats, "n_samples": n_samples, "t_final_s": t_final, "runs": runs, "median": med}
+    if with_basilisk:
+        b = med["basilisk"]
+        for k in ("same", "full"):
+            out[f"ratio_{k}_per_cpu_s"] = med[k]["sample_steps_per_cpu_s"] / b["sample_steps_per_cpu_s"]
+            out[f"ratio_{k}_wall"] = med[k]["sample_steps_per_s"] / b["sample_steps_per_s"]
+    return out
+
+
+def _ours(t_final, n_samples, layout, K, Pg, axis, ang0, steps, bsk) -> dict:
+    same, _ = _speed_scenarios(t_final)
+    one = simulate(same, 1, rng=0, record=True)
     ours_err = one.trace[0, :, 3]
-    rate_same = n_samples * steps / wall_same
-    rate_full = n_samples * steps / wall_full
-    rate_b = bsk["sample_steps_per_s"] if bsk else math.nan
     return {
         "t_final_s": t_final, "steps": steps,
         "basilisk": {k: v for k, v in (bsk or {}).items() if k not in ("t", "err_deg")},
         "ours_same_elements": {"settling_time_s": float(one.metrics["settling_time_s"][0]),
                                "final_error_deg": float(np.degrees(ours_err[-1])),
                                "total_on_time_s": float(one.metrics["on_time_s"][0]),
-                               "propellant_kg": float(one.metrics["propellant_kg"][0]),
-                               "n_samples": n_samples, "wall_s": wall_same, "sample_steps_per_s": rate_same,
-                               "kernel_sample_steps_per_s": batch.sample_steps_per_s},
-        "ours_full_chain": {"n_samples": n_samples, "wall_s": wall_full, "sample_steps_per_s": rate_full,
-                            "cpu_s": cpu_full, "sample_steps_per_cpu_s": n_samples * steps / cpu_full,
-                            "kernel_sample_steps_per_s": fres.sample_steps_per_s,
-                            "mean_settling_time_s": float(np.nanmean(fres.metrics["settling_time_s"]))},
-        "speed_ratio_same_elements": rate_same / rate_b,
-        "speed_ratio_full_chain": rate_full / rate_b,
+                               "propellant_kg": float(one.metrics["propellant_kg"][0])},
         "traces": {"t": (bsk or {}).get("t", []), "basilisk_err_deg": (bsk or {}).get("err_deg", []),
                    "ours_t": one.t.tolist(), "ours_err_deg": np.degrees(ours_err).tolist()},
     }
@@ -287,6 +338,9 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--json")
     ap.add_argument("--fig-dir")
+    ap.add_argument("--repeats", type=int, default=3, help="interleaved speed repeats (median)")
+    ap.add_argument("--bsk-cpu-s", type=float, default=2.0, help="CPU-seconds per Basilisk speed repeat")
+    ap.add_argument("--speed-only", action="store_true", help="skip the open-loop and behaviour runs")
     args = ap.parse_args()
     t_open = 20.0 if args.quick else 120.0
     t_closed = 40.0 if args.quick else 150.0
@@ -300,12 +354,19 @@ def main() -> None:
         print("Basilisk is not installed (pip install 'adcskit[validate]', i.e. bsk from PyPI): "
               "only the adcskit kernel speed is measured")
     if not have_bsk:
-        cl = closed_loop(t_closed, n, with_basilisk=False)
-        print(f"adcskit same elements: {cl['ours_same_elements']['sample_steps_per_s']:.3g} sample-steps/s; "
-              f"full chain: {cl['ours_full_chain']['sample_steps_per_s']:.3g} sample-steps/s ({n} samples)")
+        sp = speed(t_closed, n, args.repeats, args.bsk_cpu_s, with_basilisk=False)
+        _print_speed(sp, n)
         if args.json:
             with open(args.json, "w") as fh:
-                json.dump({"closed_loop": cl, "basilisk": None}, fh, indent=1)
+                json.dump({"speed": sp, "basilisk": None}, fh, indent=1)
+        return
+    if args.speed_only:
+        sp = speed(t_closed, n, args.repeats, args.bsk_cpu_s)
+        _print_speed(sp, n)
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump({"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+                           "machine": platform.platform(), "cpus": os.cpu_count(), "speed": sp}, fh, indent=1)
         return
     ol = open_loop(t_open, seed=7)
     print(f"open loop ({ol['t_final_s']:.0f} s, {ol['n_thrusters']} thrusters, identical on-times): "
@@ -313,19 +374,16 @@ def main() -> None:
           f"{ol['max_rate_diff_rad_s']:.3e} rad/s (rates up to {ol['max_rate_rad_s']:.3e} rad/s, "
           f"{100 * ol['rel_rate_diff']:.2f} %; angles up to {ol['max_angle_rad']:.3f} rad)")
     cl = closed_loop(t_closed, n)
-    bb, oo, ff = cl["basilisk"], cl["ours_same_elements"], cl["ours_full_chain"]
+    bb, oo = cl["basilisk"], cl["ours_same_elements"]
     print(f"closed loop ({t_closed:.0f} s, 10 deg initial error):")
     print(f"  Basilisk : settle {bb['settling_time_s']:.1f} s, final {bb['final_error_deg']:.3f} deg, "
-          f"on-time {bb['total_on_time_s']:.2f} s, {bb['sample_steps_per_s']:.3g} sample-steps/s")
+          f"on-time {bb['total_on_time_s']:.2f} s")
     print(f"  adcskit  : settle {oo['settling_time_s']:.1f} s, final {oo['final_error_deg']:.3f} deg, "
-          f"on-time {oo['total_on_time_s']:.2f} s, {oo['sample_steps_per_s']:.3g} sample-steps/s ({n} samples)")
-    print(f"  adcskit full chain (sensors + MEKF + Schmitt + allocation + dynamics): "
-          f"{ff['sample_steps_per_s']:.3g} sample-steps/s wall, {ff['sample_steps_per_cpu_s']:.3g} per CPU-second "
-          f"(x {os.cpu_count()} cores = {ff['sample_steps_per_cpu_s'] * os.cpu_count():.3g}/s on an idle machine)")
-    print(f"  speed ratio (ours / Basilisk): same elements {cl['speed_ratio_same_elements']:.0f}x, "
-          f"full chain {cl['speed_ratio_full_chain']:.0f}x")
+          f"on-time {oo['total_on_time_s']:.2f} s")
+    sp = speed(t_closed, n, args.repeats, args.bsk_cpu_s)
+    _print_speed(sp, n)
     info = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "machine": platform.platform(),
-            "cpus": os.cpu_count(), "quick": args.quick, "open_loop": ol, "closed_loop": cl}
+            "cpus": os.cpu_count(), "quick": args.quick, "open_loop": ol, "closed_loop": cl, "speed": sp}
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(info, fh, indent=1)
@@ -343,6 +401,27 @@ def main() -> None:
         ax.set_title("Closed loop from 10 deg: S3 inertia, S3 reference layout", fontsize=10)
         os.makedirs(args.fig_dir, exist_ok=True)
         fig.savefig(os.path.join(args.fig_dir, "bench-basilisk-closed-loop.png"), dpi=150)
+
+
+def _print_speed(sp: dict, n: int) -> None:
+    med = sp["median"]
+    print(f"speed ({sp['repeats']} interleaved repeats, medians; {n} samples x {sp['t_final_s']:.0f} s in one call, "
+          f"{os.cpu_count()} cores; Basilisk one sample, one thread):")
+    if "basilisk" in med:
+        b = med["basilisk"]
+        tot = sum(r["cpu_s"] for r in sp["runs"]["basilisk"])
+        print(f"  Basilisk            : {b['sample_steps_per_s']:.3g} sample-steps/s wall, "
+              f"{b['sample_steps_per_cpu_s']:.3g} per CPU-second (timed over {tot:.1f} CPU-s in all)")
+    for k, label in (("same", "adcskit same elements"), ("full", "adcskit full chain  ")):
+        m = med[k]
+        ratio = (f"; ratio {sp[f'ratio_{k}_per_cpu_s']:.0f}x per CPU-second, {sp[f'ratio_{k}_wall']:.0f}x wall"
+                 if f"ratio_{k}_wall" in sp else "")
+        print(f"  {label}: {m['sample_steps_per_s']:.3g} sample-steps/s wall, "
+              f"{m['sample_steps_per_cpu_s']:.3g} per CPU-second{ratio}")
+    for k in ("basilisk", "same", "full"):
+        if sp["runs"][k]:
+            print(f"    {k:8s} per CPU-second by repeat: "
+                  + ", ".join(f"{r['sample_steps_per_cpu_s']:.3g}" for r in sp["runs"][k]))
 
 
 if __name__ == "__main__":

@@ -234,6 +234,10 @@ class PerSample:
         gives the drivers the single-thread speed of a hand-inlined loop; ``"never"`` keeps a
         long per-sample function (the closed-loop simulator's) one compiled function, which
         compiles several times faster and computes the same numbers.
+    error_model : {"python", "numpy"}
+        numba's ``error_model`` of the CPU compilation: ``"numpy"`` drops the zero-divisor
+        check (and its exception branch) of every division; a kernel that never divides by
+        zero computes the same numbers either way (the CUDA target never checks).
 
     Attributes
     ----------
@@ -254,11 +258,14 @@ class PerSample:
     6.0
     """
 
-    def __init__(self, fn: Callable[..., Any], *, cache: bool = True, inline: str = "always") -> None:
+    def __init__(self, fn: Callable[..., Any], *, cache: bool = True, inline: str = "always",
+                 error_model: str = "python") -> None:
         if inline not in ("always", "never"):
             raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
+        if error_model not in ("python", "numpy"):
+            raise InputError(f"error_model must be 'python' or 'numpy'; got {error_model!r}")
         self.py = fn
-        self.cpu = numba.njit(cache=cache, nogil=True, inline=inline)(fn)
+        self.cpu = numba.njit(cache=cache, nogil=True, inline=inline, error_model=error_model)(fn)
         self._cuda: Any = None
         self._lock = threading.Lock()
 

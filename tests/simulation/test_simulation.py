@@ -10,7 +10,11 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from adcskit._targets import PerSample
+from adcskit.attitude._device import qerr
 from adcskit.config import ConfigError
 from adcskit.dynamics import propagate_attitude
 from adcskit.errors import InputError, InputTypeError, UncontrollableWarning
@@ -131,6 +135,46 @@ def test_kernel_allocation_respects_failed_thruster():
         _k.rpi_allocate_jit(A, m[0], m[1], m[2], np.full(n, 10.0), mask, F, np.empty(n), np.empty(9),
                             np.empty(3), np.empty(3), 1e-12)
         assert F[2] == 0.0
+
+
+# ------------------------------------------------------------------------- settling shortcut
+
+
+def _rotvec_q(rv):
+    a = float(np.linalg.norm(rv))
+    e = rv / a if a > 0 else np.zeros(3)
+    return np.array([*(math.sin(a / 2) * e), math.cos(a / 2)])
+
+
+def _outside_args(band):
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    return band, tb2 * (1.0 - 1e-6), tb2 * (1.0 + 1e-6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(-1.0, 1.0), min_size=8, max_size=8),
+       st.floats(1e-9, 3.1), st.floats(-1e-5, 1e-5))
+def test_settling_test_without_atan2_equals_the_exact_one(c, band, rel):
+    # the kernel's settling decision (_outside: tan^2 of the half angle against the band's,
+    # atan2 only within 1e-6 of the edge) must equal qerr(q, r)[3] > band exactly, also for
+    # errors at the band's edge (rel ~ +-1e-5 around it) and for unnormalised quaternions
+    q = np.array(c[:4]) + np.array([0.0, 0.0, 0.0, 1e-3])
+    r = np.array(c[4:]) + np.array([0.0, 0.0, 0.0, 1e-3])
+    edge = _rotvec_q(np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * band * (1 + rel))
+    for a, b in ((q, r), (edge, np.array([0.0, 0.0, 0.0, 1.0])), (_k._tmp4(np.empty(4), *edge), edge)):
+        exact = qerr(*a, *b)[3] > band
+        assert _k._outside(*a, *b, *_outside_args(band)) == exact
+
+
+def test_per_sample_error_model_option():
+    def half(i, x, out):
+        out[i] = x[i] / 2.0
+
+    out = np.zeros(1)
+    PerSample(half, cache=False, error_model="numpy").cpu(0, np.array([3.0]), out)
+    assert out[0] == 1.5
+    with pytest.raises(InputError, match="error_model"):
+        PerSample(half, cache=False, error_model="fast")
 
 
 # ------------------------------------------------------------------------- simulate

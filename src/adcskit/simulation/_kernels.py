@@ -106,8 +106,9 @@ METRIC_NAMES = (
 N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 
 # ----------------------------------------------------------------- per-sample scratch TS
-# x1 (n), x2 (n), tp (n), tp_prev (n), F (n), free (n), then S (9), r (3), y (3), idx (3)
-N_TS_PER_THR = 6
+# x1 (n), x2 (n), tp/dt (n), tp_prev (n), F (n), free (n), torque arms r x d (3n, per
+# thruster a0, a1, a2), then S (9), r (3), y (3), idx (3)
+N_TS_PER_THR = 9
 N_TS_EXTRA = 18
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -509,7 +510,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     tppo = 3 * n
     fo = 4 * n
     freeo = 5 * n
-    so = 6 * n
+    armo = 6 * n
+    so = 9 * n
     F = ts[fo:fo + n]
     free = ts[freeo:freeo + n]
     Ssc = ts[so:so + 9]
@@ -518,6 +520,29 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     isc = ts[so + 15:so + 18]
     for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
+    for j in range(n):  # torque arm r x d of each (dispersed) thruster, N m per N
+        d0 = DIRS[i, j, 0]
+        d1 = DIRS[i, j, 1]
+        d2 = DIRS[i, j, 2]
+        r0 = POS[j, 0]
+        r1 = POS[j, 1]
+        r2 = POS[j, 2]
+        ts[armo + 3 * j] = r1 * d2 - r2 * d1
+        ts[armo + 3 * j + 1] = r2 * d0 - r0 * d2
+        ts[armo + 3 * j + 2] = r0 * d1 - r1 * d0
+    dc0 = P[i, P_D0]
+    dc1 = P[i, P_D0 + 1]
+    dc2 = P[i, P_D0 + 2]
+    da0 = P[i, P_DAMP]
+    da1 = P[i, P_DAMP + 1]
+    da2 = P[i, P_DAMP + 2]
+    dp0 = P[i, P_DPH]
+    dp1 = P[i, P_DPH + 1]
+    dp2 = P[i, P_DPH + 2]
+    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_hi = tb2 * (1.0 + 1e-6)
+    tb_lo = tb2 * (1.0 - 1e-6)
     for a in range(buf.shape[0]):
         for j in range(n):
             buf[a, j] = 0.0
@@ -587,7 +612,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     nees_sum = 0.0
     nees_n = 0
     nees_last = math.nan
-    wmax = 0.0
+    wmax2 = 0.0
     n_det = 0
     n_box = 0
     qf0 = QREF[n_steps, 0]
@@ -603,6 +628,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     if record:
         _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
                 x2o, n)
+    k_gyro = 0  # next gyro epoch
+    k_ctrl = 0  # next command instant
     for k in range(n_steps + 1):
         lit = ENV[k, 9] > 0.5
         # ---------------------------------------------------------------- sensors + estimation
@@ -614,7 +641,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             we0 = w0
             we1 = w1
             we2 = w2
-        elif k % h_gyro == 0:
+        elif k == k_gyro:
+            k_gyro += h_gyro
             # gyro reading at t_k: Farrenkopf model on the mean true rate over the last
             # interval (a rate-integrating gyro's delta-angle / dt); the attitude is then
             # propagated over that interval with it
@@ -732,7 +760,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         if k == n_steps:
             break
         # ---------------------------------------------------------------- control
-        if k % h_ctrl == 0:
+        if k == k_ctrl:
+            k_ctrl += h_ctrl
             kc = k
             cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
                                   QREF[k, 3])
@@ -780,7 +809,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 if tp > 0.0 and ts[tppo + j] < t_s:
                     firings += 1.0
                 ts[tppo + j] = tp
-                ts[tpo + j] = tp
+                ts[tpo + j] = tp / dt  # the pulse in steps (read at every step below)
                 TOT[i, j] += tp
                 ontime += tp
         # ---------------------------------------------------------------- thrusters
@@ -789,7 +818,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         t1 = 0.0
         t2 = 0.0
         for j in range(n):
-            c = ts[tpo + j] / dt - m
+            c = ts[tpo + j] - m
             if c > 1.0:
                 c = 1.0
             elif c < 0.0:
@@ -809,22 +838,18 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             v, x1, x2 = lag_step(ts[x1o + j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
             ts[x2o + j] = x2
             ts[x1o + j] = x1
-            fav = FLEV[i, j] * v / dt  # mean force over the step (N)
-            prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
-            d0 = DIRS[i, j, 0]
-            d1 = DIRS[i, j, 1]
-            d2 = DIRS[i, j, 2]
-            r0 = POS[j, 0]
-            r1 = POS[j, 1]
-            r2 = POS[j, 2]
-            t0 += fav * (r1 * d2 - r2 * d1)
-            t1 += fav * (r2 * d0 - r0 * d2)
-            t2 += fav * (r0 * d1 - r1 * d0)
+            if v != 0.0:  # an idle thruster adds (signed) zeros: skipped, same sums
+                fav = FLEV[i, j] * v / dt  # mean force over the step (N)
+                prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
+                t0 += fav * ts[armo + 3 * j]
+                t1 += fav * ts[armo + 3 * j + 1]
+                t2 += fav * ts[armo + 3 * j + 2]
         # ---------------------------------------------------------------- environment torques
+        # (a zero amplitude adds a signed zero to the constant: its sine is skipped, same sum)
         tk = k * dt
-        t0 += P[i, P_D0] + P[i, P_DAMP] * math.sin(d_omega * tk + P[i, P_DPH])
-        t1 += P[i, P_D0 + 1] + P[i, P_DAMP + 1] * math.sin(d_omega * tk + P[i, P_DPH + 1])
-        t2 += P[i, P_D0 + 2] + P[i, P_DAMP + 2] * math.sin(d_omega * tk + P[i, P_DPH + 2])
+        t0 += dc0 + da0 * math.sin(d_omega * tk + dp0) if da0 != 0.0 else dc0
+        t1 += dc1 + da1 * math.sin(d_omega * tk + dp1) if da1 != 0.0 else dc1
+        t2 += dc2 + da2 * math.sin(d_omega * tk + dp2) if da2 != 0.0 else dc2
         if n2orb > 0.0:
             c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
             h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
@@ -844,13 +869,15 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         w2 = w2n
         # ---------------------------------------------------------------- metrics at t_{k+1}
         kk = k + 1
-        ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
-        _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
-        if errf > band:
+        rec_now = record and kk % rec_every == 0
+        if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
+            ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2],
+                                   QREF[kk, 3])
+        if _outside(q0, q1, q2, q3, qf0, qf1, qf2, qf3, band, tb_lo, tb_hi):
             last_out = kk
-        wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-        if wn > wmax:
-            wmax = wn
+        wn2 = w0 * w0 + w1 * w1 + w2 * w2  # max |w| = sqrt(max |w|^2): one sqrt at the end
+        if wn2 > wmax2:
+            wmax2 = wn2
         if kk >= k_win:
             acc += err
             acc2 += err * err
@@ -860,7 +887,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             if err > emax:
                 emax = err
             nwin += 1
-        if record and kk % rec_every == 0:
+        if rec_now:
             _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
                     nees_last, prop, ts, x2o, n)
     fw = 1.0 / nwin if nwin > 0 else math.nan
@@ -883,8 +910,29 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     OUT[i, M_KNOW_RMS] = math.sqrt(kacc2 / nkw) if nkw > 0 else math.nan
     OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
     OUT[i, M_NEES_N] = nees_n
-    OUT[i, M_MAX_RATE] = wmax
+    OUT[i, M_MAX_RATE] = math.sqrt(wmax2)
     OUT[i, M_BOX_ACTIVE] = n_box / n_det if n_det > 0 else math.nan
+
+
+@register_jitable
+def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
+    """Whether the angle of ``q (x) r^-1`` exceeds ``band`` (rad): exactly
+    ``qerr(q, r)[3] > band``, with the ``atan2`` only within a relative 1e-6 of the edge
+    (``tan(angle/2)^2`` against ``tb_lo``/``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)``; a
+    negative ``tb_hi`` always takes the exact path)."""
+    d0 = q3 * -r0 + r3 * q0 - (q1 * -r2 - q2 * -r1)
+    d1 = q3 * -r1 + r3 * q1 - (q2 * -r0 - q0 * -r2)
+    d2 = q3 * -r2 + r3 * q2 - (q0 * -r1 - q1 * -r0)
+    d3 = q3 * r3 - (q0 * -r0 + q1 * -r1 + q2 * -r2)
+    e2 = d0 * d0 + d1 * d1 + d2 * d2
+    c2 = d3 * d3
+    if tb_hi > 0.0:
+        if e2 > tb_hi * c2:
+            return True
+        if e2 < tb_lo * c2:
+            return False
+    _, _, _, ang = qerr(q0, q1, q2, q3, r0, r1, r2, r3)
+    return ang > band
 
 
 @register_jitable
@@ -917,7 +965,7 @@ def _record(REC, i, r, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, nees, pr
 #: The per-sample function, declared through :mod:`adcskit._targets` (one source for the CPU
 #: and, later, the GPU driver). ``inline="never"``: the loop stays one compiled function
 #: called by :func:`run_parallel` (as before the declaration: same code, same numbers).
-SAMPLE = PerSample(sample_loop, inline="never")
+SAMPLE = PerSample(sample_loop, inline="never", error_model="numpy")
 sample_loop_jit = SAMPLE.cpu
 
 
