@@ -542,6 +542,7 @@ class ClaimSpec:
         check_callable("held", self.held, allow_none=True)
         check_choice("better", self.better, ("above", "below"))
         check_flag("stochastic", self.stochastic)
+        object.__setattr__(self, "timing", check_flag("timing", self.timing))
         object.__setattr__(self, "margin", check_range("margin", self.margin, 0.0, math.inf))
         if self.threshold is not None:
             object.__setattr__(self, "threshold", check_finite("threshold", self.threshold, max_abs=None))
