@@ -43,8 +43,13 @@ def test_claims_are_the_papers(quick):
     for c in claims.values():
         assert c["outcome"] in OUTCOMES and c["where"] and c["statement"]
         assert c["n_seeds"] == 1 and not c["indicative"]  # deterministic simulations: one run decides
-        # S4 prints no gains for §3 and no sweep grid: the quick grid is not below a printed value
-        assert c["protocol"] == "paper protocol", c["protocol_differences"]
+        # S4 prints no sweep grid, but the quick grid (10 x 8) is coarser than our full run's
+        # (40 x 37): claims on the grid read "reduced protocol" with what differs
+        if c["id"] == "pointing-accuracy-0.25deg":
+            assert c["protocol"] == "paper protocol", c["protocol_differences"]
+        else:
+            assert c["protocol"] == "reduced protocol", c["id"]
+            assert any("full run 40" in x for x in c["protocol_differences"]), c["protocol_differences"]
     # S4 text under Fig. 7: 0.25 deg; a deterministic comparison declares its margin (issue 21):
     # half a unit of the printed digit, 0.005 deg; our nominal run stays far inside it in both readings
     acc = claims["pointing-accuracy-0.25deg"]

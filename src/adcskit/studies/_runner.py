@@ -114,8 +114,11 @@ def _quick_reductions(name: str, config: Any) -> dict[str, dict[str, Any]]:
     full = config_to_dict(resolve_config(name, None, quick=False))
     ours = config_to_dict(config)
     printed = paper_protocol(get_study(name).config_cls)
+    neutral = set(get_study(name).neutral_keys)  # fewer seeds: indicative, not a reduced protocol
     out = {}
     for k in get_study(name).quick:
+        if k in neutral:
+            continue
         if k in ours and to_jsonable(ours[k]) != to_jsonable(full.get(k)):
             p = printed.get(k, NOT_PRINTED)
             shown = p if not (isinstance(p, str) and p == NOT_PRINTED) else f"not printed; full run {to_jsonable(full.get(k))!r}"
