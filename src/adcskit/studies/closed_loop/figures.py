@@ -114,13 +114,17 @@ def _bands(ax, t, values, colour, label, rank_from=None):
 
 
 def _fig_q5_error(rec_w: Trace, rec_t: Trace):
-    fig, axes = new_figure(2, 1, figsize=(6.4, 5.6), sharex=True, sharey=True)
+    fig, axes = new_figure(2, 1, figsize=(6.4, 5.6), sharex=True)
     err_t = np.degrees(rec_t.trace[:, :, rec_t.channels.index("pointing_error")])
     err_w = np.degrees(rec_w.trace[:, :, rec_w.channels.index("error")])
+    both = np.concatenate([err_t.ravel(), err_w.ravel()])
+    both = both[np.isfinite(both) & (both > 0)]
+    ylim = (0.5 * float(np.min(both)), 2.0 * float(np.max(both))) if both.size else (1e-3, 1e2)
     for ax, t, v, colour, name in ((axes[0], rec_t.t, err_t, "C1", "S4 thrusters (PID + Schmitt)"),
                                    (axes[1], rec_w.t, err_w, "C0", "wheels (quaternion PD)")):
         _bands(ax, t, v, colour, name.split(" (")[0], rank_from=t[-1] - 10.0)
         ax.set_yscale("log")
+        ax.set_ylim(*ylim)
         ax.set_ylabel("pointing error [deg]")
         ax.set_title(f"{name}, {v.shape[0]} samples", fontsize=9)
         ax.axvspan(t[-1] - 10.0, t[-1], color="0.9", zorder=0)
