@@ -2,8 +2,8 @@
 
 The papers leave open how their pieces behave together. With :mod:`adcskit.simulation`
 (nonlinear rigid body, gravity gradient and disturbance torques, thrusters with S4's lag and
-delay, sensors, Wahba / MEKF, guidance, S4's Schmitt loop, allocation) we answer four
-questions as findings, each decided over ``n_seeds`` independent seeds of the whole pipeline
+delay, sensors, Wahba / MEKF, guidance, S4's Schmitt loop, allocation) and
+:func:`adcskit.simulation.simulate_wheels` (reaction wheels) we answer five questions as findings, each decided over ``n_seeds`` independent seeds of the whole pipeline
 (layout design, dispersions, noise) with intervals:
 
 1. GEO (S3 inertia, gravity gradient + a solar-pressure-like torque): does the S3-optimised
@@ -16,6 +16,10 @@ questions as findings, each decided over ``n_seeds`` independent seeds of the wh
    nominal gains (Table 4)?
 4. GEO: does tracking a time-optimal slew profile (from :mod:`adcskit.optimal_control`)
    settle sooner and use less propellant than a step command?
+5. S4's spacecraft, orbit, disturbance, sensors and 15 deg step: do reaction wheels (4-wheel
+   pyramid, quaternion PD, S4's torque level per axis) point better after settling than S4's
+   on-off thruster loop (p99 over samples of the largest error in S4's last 10 s)? Its
+   requirement table for both loops is the ``q5_requirements`` table and part of the summary.
 
 The package: ``paper`` (the printed numbers the scenarios use), ``config`` (:class:`Config`),
 ``experiment`` (:func:`~.experiment.measure` and its frozen records), ``claims`` (findings and
@@ -26,7 +30,7 @@ References
 ----------
 S0 (LEO scenario, bounded errors), S2 (pseudospectral time-optimal guidance), S3 (GEO
 spacecraft, layouts, allocation), S4 (loop, gains, dispersions); Lefferts, Markley & Shuster
-(1982) for the MEKF.
+(1982) for the MEKF; Wie 2008, §7.3 (quaternion feedback, Q5).
 """
 
 from __future__ import annotations
@@ -42,7 +46,7 @@ __all__ = ["Config", "run", "STUDY"]
 
 
 def run(config: Config, *, quick: bool = False, rng: Any = None, executor: Any = None) -> StudyResult:
-    """Run the four closed-loop campaigns (see the package docstring): measure, decide, report."""
+    """Run the five closed-loop campaigns (see the package docstring): measure, decide, report."""
     cfg = config
     m = measure(cfg, rng=rng, executor=executor)
     findings = claims.evaluate(claims.FINDINGS, cfg, m)

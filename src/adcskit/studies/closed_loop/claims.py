@@ -2,7 +2,7 @@
 
 :data:`FINDINGS` and :data:`CHECKS` list one small factory per statement, in report order, each
 ``(config, measurements) -> Declared | Check``: a finding is a module-level
-:class:`~adcskit.studies._verdict.FindingSpec` (``F1`` ... ``F4B``) with its per-seed
+:class:`~adcskit.studies._verdict.FindingSpec` (``F1`` ... ``F5``) with its per-seed
 :class:`~.experiment.SeedRatio` runs keyed by reading, decided by the framework's
 :meth:`~adcskit.studies._verdict.ClaimSpec.evaluate`; a check is computed from the records (its
 text quotes measured numbers). :data:`CLAIMS` is empty. :func:`evaluate` decides a list.
@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit.studies._base import Check
+from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import Declared, FindingSpec, decide_declared
 from adcskit.studies.closed_loop.config import Config
 from adcskit.studies.closed_loop.experiment import (
@@ -24,8 +24,8 @@ from adcskit.studies.closed_loop.experiment import (
     Measurements,
 )
 
-__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "F1", "F2", "F2B", "F3", "F4A", "F4B", "Declared", "chi2_mean_band",
-           "evaluate"]
+__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "F1", "F2", "F2B", "F3", "F4A", "F4B", "F5", "Declared",
+           "chi2_mean_band", "evaluate"]
 
 
 def _ratio(run: Any) -> float:
@@ -77,6 +77,17 @@ F4B = FindingSpec(
     value=_ratio, threshold=1.0, better="below",
 )
 
+F5 = FindingSpec(
+    id="q5-wheels-vs-thrusters",
+    statement="on S4's spacecraft (same inertia, orbit, disturbance, sensors and 15 deg step), reaction wheels under "
+              "quaternion PD point better after settling than S4's on-off thruster loop (our question, not a paper's)",
+    where="S4 Tables 3-5 plant and nominal gains (Table 4) vs a 4-wheel pyramid with S4's torque level per axis",
+    quantity="p99 over samples of the largest pointing error in S4's last 10 s, wheels / thrusters",
+    value=_ratio, threshold=1.0, better="below",
+    # only Q5's keys and the S4 plant keys it shares: Q1-Q4's settings do not define it
+    protocol_keys=protocol_keys(Config, "q5-wheels-vs-thrusters"),
+)
+
 
 def chi2_mean_band(dof: int, n: int) -> tuple[float, float]:
     """95 % band of the mean of ``n`` independent chi2(``dof``) values.
@@ -116,6 +127,10 @@ def _q4_settling(cfg: Config, m: Measurements) -> Declared:
 
 def _q4_propellant(cfg: Config, m: Measurements) -> Declared:
     return Declared(F4B, {"default": m.slews.propellant_runs})
+
+
+def _q5(cfg: Config, m: Measurements) -> Declared:
+    return Declared(F5, {"default": m.wheels.runs})
 
 
 # ----------------------------------------------------------------------------- checks
@@ -163,7 +178,7 @@ def _feasible(cfg: Config, m: Measurements) -> Check:
 #: The papers' claims: none (the study answers questions they leave open).
 CLAIMS: tuple = ()
 #: Our findings, in report order.
-FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant)
+FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant, _q5)
 #: Our consistency checks, in report order.
 CHECKS = (_mekf_consistent, _bang_bang, _feasible)
 

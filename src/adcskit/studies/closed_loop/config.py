@@ -13,6 +13,10 @@ __all__ = ["Config"]
 #: so no paper prints these settings (the printed numbers the scenarios reuse are in ``paper.py``);
 #: the findings are our questions and their protocol is ours.
 _OURS = protocol("findings", paper=NOT_PRINTED)
+#: The keys of question 5 (wheels vs the S4 thruster loop; our question, no paper prints them).
+_Q5 = "q5-wheels-vs-thrusters"
+#: Keys shared by the findings and question 5 (the S4 plant's step, duration and sample count).
+_OURS_Q5 = protocol("findings", _Q5, paper=NOT_PRINTED)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,12 +58,24 @@ class Config:
     slew_accel_fraction : float
         Question 4: the optimal profile uses this fraction of the torque level's angular
         acceleration.
+    q5_wheel_bandwidth_rad_s : float, rad/s
+        Question 5: natural frequency ``omega_n`` of the wheels' quaternion PD on S4's
+        spacecraft (``k = omega_n^2``, ``c = 2 zeta omega_n``; Wie 2008, §7.3). The PD has no
+        integral: S4's constant disturbance ``d`` leaves a bias of about ``sqrt(3) d / (J omega_n^2)``
+        rad (0.50 deg at 1 rad/s, 0.13 deg at 2 rad/s), which decides Q5 (see the docs page).
+    q5_wheel_damping : float
+        Question 5: damping ratio ``zeta`` of the wheels' PD.
+    q5_wheel_momentum_nms : float, N m s
+        Question 5: momentum capacity of each of the four pyramid wheels at 6000 rpm.
+    q5_pointing_req_deg : float, deg
+        Question 5: requirement on the p99 over samples of the per-sample largest pointing
+        error over S4's last 10 s (the sign-off table of both loops; half of it bounds the RMS).
     record_samples : int
         Samples whose time histories are kept for the figures.
     """
 
     n_seeds: int = field(default=5, metadata=NEUTRAL)
-    n_samples: int = field(default=1000, metadata=_OURS)
+    n_samples: int = field(default=1000, metadata=_OURS_Q5)
     geo_dt_s: float = field(default=0.02, metadata=_OURS)
     geo_t_final_s: float = field(default=45.0, metadata=_OURS)
     geo_slew_deg: float = field(default=5.0, metadata=_OURS)
@@ -70,12 +86,16 @@ class Config:
     leo_dt_s: float = field(default=0.02, metadata=_OURS)
     leo_t_final_s: float = field(default=60.0, metadata=_OURS)
     leo_window_s: float = field(default=30.0, metadata=_OURS)
-    s4_dt_s: float = field(default=0.005, metadata=_OURS)
-    s4_t_final_s: float = field(default=30.0, metadata=_OURS)
+    s4_dt_s: float = field(default=0.005, metadata=_OURS_Q5)
+    s4_t_final_s: float = field(default=30.0, metadata=_OURS_Q5)
     switch_tc_s: float = field(default=5.0, metadata=_OURS)
     command_period_s: float = field(default=0.02, metadata=_OURS)
     slew_deg: float = field(default=20.0, metadata=_OURS)
     slew_accel_fraction: float = field(default=0.7, metadata=_OURS)
+    q5_wheel_bandwidth_rad_s: float = field(default=2.0, metadata=protocol(_Q5, paper=NOT_PRINTED))
+    q5_wheel_damping: float = field(default=0.9, metadata=protocol(_Q5, paper=NOT_PRINTED))
+    q5_wheel_momentum_nms: float = field(default=4.0, metadata=protocol(_Q5, paper=NOT_PRINTED))
+    q5_pointing_req_deg: float = field(default=0.25, metadata=protocol(_Q5, paper=NOT_PRINTED))
     # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
     record_samples: int = field(default=32, metadata=NEUTRAL)
 
@@ -83,7 +103,8 @@ class Config:
         if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:
             raise ConfigError("n_seeds must be >= 1, n_samples >= 2, record_samples >= 1")
         for name in ("geo_dt_s", "geo_t_final_s", "geo_slew_deg", "geo_torque_level_nm", "leo_dt_s", "leo_t_final_s",
-                     "leo_window_s", "s4_dt_s", "s4_t_final_s", "slew_deg", "switch_tc_s", "command_period_s"):
+                     "leo_window_s", "s4_dt_s", "s4_t_final_s", "slew_deg", "switch_tc_s", "command_period_s",
+                     "q5_wheel_bandwidth_rad_s", "q5_wheel_damping", "q5_wheel_momentum_nms", "q5_pointing_req_deg"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
         if not 0 < self.slew_accel_fraction <= 1:

@@ -1,10 +1,14 @@
-"""The closed-loop study's measurements: four Monte-Carlo campaigns as typed, frozen records.
+"""The closed-loop study's measurements: five Monte-Carlo campaigns as typed, frozen records.
 
-:func:`measure` runs every :func:`adcskit.simulation.simulate` call of the study, in one fixed
-order of the random stream (Q1 layouts, Q2 estimators and the NEES trace, Q3 gains, Q4 slews and
-the recorded slew traces), and returns :class:`Measurements`; the claims, tables and figures
-are functions of it. Each question's campaigns share one dispersion/noise ``SeedSequence`` per
-seed across the configurations they compare (common random numbers).
+:func:`measure` runs every :func:`adcskit.simulation.simulate` (and, for Q5,
+:func:`adcskit.simulation.simulate_wheels`) call of the study, in one fixed order of the random
+stream (Q1 layouts, Q2 estimators and the NEES trace, Q3 gains, Q4 slews and the recorded slew
+traces, Q5 wheels and the recorded Q5 traces), and returns :class:`Measurements`; the claims,
+tables and figures are functions of it. Each question's campaigns share one dispersion/noise
+``SeedSequence`` per seed across the configurations they compare (common random numbers; Q5's
+two loops are different kernels that draw their dispersions differently, so its seeds pair the
+campaigns but not the samples). Q5's thruster side is Q3's nominal-gain campaign (the same
+runs, not re-run).
 
 References
 ----------
@@ -32,13 +36,21 @@ from adcskit.simulation import (
     DisturbanceSpec,
     EstimatorSpec,
     GuidanceSpec,
+    MagnetorquerSpec,
+    ModeSpec,
     OrbitSpec,
     Scenario,
     SensorSpec,
     SimSpec,
     SpacecraftSpec,
     ThrusterSpec,
+    WheelControlSpec,
+    WheelDispersionSpec,
+    WheelScenario,
+    WheelSpec,
+    check_simulation,
     simulate,
+    simulate_wheels,
 )
 from adcskit.simulation.profiles import optimal_slew_table
 from adcskit.studies._s4 import S4_LOOP
@@ -53,7 +65,8 @@ from adcskit.studies.closed_loop.paper import (
 from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
 
 __all__ = ["Q1_READINGS", "Q2_READINGS", "Q2_MINMAX_READINGS", "SeedRatio", "Trace", "LayoutRow", "Layouts",
-           "EstimatorRow", "Estimators", "GainRow", "Gains", "SlewRow", "Slews", "Measurements", "measure"]
+           "EstimatorRow", "Estimators", "GainRow", "Gains", "SlewRow", "Slews", "LoopRow", "RequirementRow",
+           "WheelsVsThrusters", "Measurements", "measure", "q5_requirements"]
 
 _DEG = math.pi / 180.0
 
@@ -187,6 +200,48 @@ class Slews(Result):
 
 
 @dataclass(frozen=True, slots=True, repr=False)
+class LoopRow(Result):
+    """Q5, one seed x loop: a row of ``q5_wheels_vs_thrusters.csv`` (NaN: not this loop's)."""
+
+    seed: int
+    loop: str
+    pointing_max_p99_deg: float
+    pointing_max_p50_deg: float
+    pointing_rms_mean_deg: float
+    settling_p99_s: float
+    settled_fraction: float
+    max_wheel_speed_p99_rpm: float
+    max_wheel_momentum_p99_nms: float
+    propellant_mean_kg: float
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class RequirementRow(Result):
+    """Q5, one loop x requirement (last seed): a row of ``q5_requirements.csv``."""
+
+    loop: str
+    name: str
+    requirement: str
+    n: int
+    estimate: float
+    bound: float
+    outcome: str
+    verdict: str
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class WheelsVsThrusters(Result):
+    """Q5 (S4's spacecraft): reaction wheels (quaternion PD) vs S4's on-off thruster loop."""
+
+    runs: tuple[SeedRatio, ...]  # p99 over samples of the window's largest error, wheels / thrusters
+    rows: tuple[LoopRow, ...]
+    requirements: tuple[RequirementRow, ...]
+    wheel_trace: Trace
+    thruster_trace: Trace
+    wheel_sample_steps_per_s: float  # median over the wheel kernel's calls
+
+
+@dataclass(frozen=True, slots=True, repr=False)
 class Measurements(Result):
     """Everything the study measures, in campaign order."""
 
@@ -194,6 +249,7 @@ class Measurements(Result):
     estimators: Estimators
     gains: Gains
     slews: Slews
+    wheels: WheelsVsThrusters
     feasibility: Mapping[str, float]  # question -> smallest controllable fraction over its calls
     sample_steps_per_s: tuple[float, ...]  # one per simulate call
 
@@ -417,21 +473,24 @@ def _q2_estimators(cfg: Config, sim: _Sim, seeds: list) -> Estimators:
                       nees_trace=_trace(nres))
 
 
-def _q3_gains(cfg: Config, sim: _Sim, seeds: list) -> Gains:
+def _q3_gains(cfg: Config, sim: _Sim, seeds: list) -> tuple[Gains, list]:
+    """Q3's record and its nominal-gain results per seed (Q5's thruster side)."""
     status("closed-loop: Q3 S4 gains")
-    runs, rows = [], []
+    runs, rows, nominal = [], [], []
     for s_i, seq in enumerate(seeds):
         sub = seq.spawn(1)
         out = {}
         for name, g in S4_GAINS.items():
             r = sim(_s4_base(cfg, g), sub[0], question="q3")
+            if name == "nominal":
+                nominal.append(r)
             e = r.metrics["pointing_rms_deg"]
             out[name] = (float(np.nanstd(e, ddof=1)), _mean(e))
         runs.append(SeedRatio(ratio=out["robust"][0] / out["nominal"][0], numerator=out["robust"][0],
                               denominator=out["nominal"][0]))
         rows.append(GainRow(seed=s_i, std_nominal_deg=out["nominal"][0], std_robust_deg=out["robust"][0],
                             mean_nominal_deg=out["nominal"][1], mean_robust_deg=out["robust"][1]))
-    return Gains(runs=tuple(runs), rows=tuple(rows))
+    return Gains(runs=tuple(runs), rows=tuple(rows)), nominal
 
 
 def _q4_slews(cfg: Config, sim: _Sim, seeds: list, ref_layout: ThrusterSpec) -> Slews:
@@ -462,8 +521,109 @@ def _q4_slews(cfg: Config, sim: _Sim, seeds: list, ref_layout: ThrusterSpec) -> 
                  step_trace=_trace(rec_s), optimal_trace=_trace(rec_o))
 
 
+_RPM = math.pi / 30.0
+#: Q5: wheel speed limit (rpm) and the margin kept below it in the sign-off table.
+Q5_MAX_SPEED_RPM = 6000.0
+
+
+def _q5_wheel_scenario(cfg: Config) -> WheelScenario:
+    """S4's spacecraft, orbit, constant disturbance, sensors, 15 deg step and windows, pointed by
+    a 4-wheel pyramid under quaternion PD at S4's 50 Hz (no magnetorquers, no mode sequence).
+
+    The per-wheel torque limit gives every body axis S4's torque level through the
+    pseudo-inverse allocation (``|A^+ e_x|_inf = sqrt(3)/4`` for the default pyramid)."""
+    th = _s4_base(cfg, S4_GAINS["nominal"])
+    period = 1.0 / S4_LOOP.command_rate_hz
+    return WheelScenario(
+        spacecraft=th.spacecraft, orbit=th.orbit,
+        disturbance=th.disturbance,  # S4 Table 3: 0.05 N m per axis (not dispersed here, see the docs)
+        wheels=WheelSpec.pyramid(inertia_kgm2=cfg.q5_wheel_momentum_nms / (Q5_MAX_SPEED_RPM * _RPM),
+                                 max_torque_nm=math.sqrt(3.0) / 4.0 * S4_LOOP.torque_nm,
+                                 max_speed_rpm=Q5_MAX_SPEED_RPM),
+        magnetorquers=MagnetorquerSpec(max_dipole_am2=0.0, unload_gain=0.0),
+        sensors=th.sensors,
+        control=WheelControlSpec(law="pd", bandwidth_rad_s=cfg.q5_wheel_bandwidth_rad_s, damping=cfg.q5_wheel_damping,
+                                 period_s=period),
+        modes=ModeSpec(initial="point", sequence=False, pointing="inertial",
+                       target_rotvec_deg=(S4_LOOP.step_deg, 0.0, 0.0)),
+        dispersions=WheelDispersionSpec(inertia_rel=S4_TABLE5_DISPERSIONS["inertia_rel"]),
+        sim=SimSpec(dt=cfg.s4_dt_s, t_final=cfg.s4_t_final_s, metrics_from_s=cfg.s4_t_final_s - S4_LOOP.t_window_s,
+                    settle_band_deg=th.sim.settle_band_deg, record_every=th.sim.record_every),
+        initial_rate_deg_s=(0.0, 0.0, 0.0),
+    )
+
+
+def q5_requirements(cfg: Config) -> tuple[str, ...]:
+    """Q5's requirement table (one line each, :func:`adcskit.uncertainty.parse_requirement`).
+
+    Examples
+    --------
+    >>> from adcskit.studies.closed_loop import Config
+    >>> q5_requirements(Config())[0]
+    'Q5-1: pointing_max_deg p99 <= 0.25 after 20 s'
+    """
+    win = cfg.s4_t_final_s - S4_LOOP.t_window_s
+    return (f"Q5-1: pointing_max_deg p99 <= {cfg.q5_pointing_req_deg:g} after {win:g} s",
+            f"Q5-2: settling_time_s p99 <= {win:g}",
+            f"Q5-3: P(pointing_rms_deg > {0.6 * cfg.q5_pointing_req_deg:g}) <= 5 % after {win:g} s")
+
+
+def _p(x: np.ndarray, q: float) -> float:
+    """Percentile over samples; a NaN sample (never settled, never pointing) counts as infinite."""
+    return float(np.percentile(np.where(np.isnan(x), np.inf, x), q))
+
+
+def _loop_row(s_i: int, loop: str, r: Any) -> LoopRow:
+    m = r.metrics
+    st = m["settling_time_s"]
+    nan = math.nan
+    return LoopRow(seed=s_i, loop=loop, pointing_max_p99_deg=_p(m["pointing_max_deg"], 99),
+                   pointing_max_p50_deg=_p(m["pointing_max_deg"], 50), pointing_rms_mean_deg=_mean(m["pointing_rms_deg"]),
+                   settling_p99_s=_p(st, 99), settled_fraction=float(np.mean(np.isfinite(st))),
+                   max_wheel_speed_p99_rpm=_p(m["max_wheel_speed_rpm"], 99) if "max_wheel_speed_rpm" in m else nan,
+                   max_wheel_momentum_p99_nms=(_p(m["max_wheel_momentum_nms"], 99)
+                                               if "max_wheel_momentum_nms" in m else nan),
+                   propellant_mean_kg=_mean(m["propellant_kg"]) if "propellant_kg" in m else nan)
+
+
+def _requirement_rows(loop: str, rows: Any) -> list[RequirementRow]:
+    out = []
+    for v in rows:
+        d = v.table_row()
+        out.append(RequirementRow(loop=loop, name=d["name"] or "", requirement=d["requirement"], n=int(d["n"]),
+                                  estimate=float(d["estimate"]), bound=float(d["bound"]), outcome=v.outcome,
+                                  verdict=d["verdict"]))
+    return out
+
+
+def _q5_wheels(cfg: Config, sim: _Sim, seeds: list, s4_nominal: list) -> WheelsVsThrusters:
+    status("closed-loop: Q5 wheels vs S4 thrusters")
+    wsc = _q5_wheel_scenario(cfg)
+    runs, rows, rates = [], [], []
+    reqs = q5_requirements(cfg)
+    speed_req = f"Q5-4: max_wheel_speed_rpm max <= {0.9 * Q5_MAX_SPEED_RPM:g}"
+    req_rows: list[RequirementRow] = []
+    for s_i, (seq, rt) in enumerate(zip(seeds, s4_nominal)):
+        rw = simulate_wheels(wsc, cfg.n_samples, rng=seq.spawn(1)[0])
+        rates.append(rw.sample_steps_per_s)
+        w_row, t_row = _loop_row(s_i, "wheels (quaternion PD)", rw), _loop_row(s_i, "S4 thrusters", rt)
+        rows += [w_row, t_row]
+        runs.append(SeedRatio(ratio=w_row.pointing_max_p99_deg / t_row.pointing_max_p99_deg,
+                              numerator=w_row.pointing_max_p99_deg, denominator=t_row.pointing_max_p99_deg))
+        if s_i == len(seeds) - 1:  # the sign-off table of the last seed's campaigns
+            req_rows = (_requirement_rows(w_row.loop, rw.check_requirements([*reqs, speed_req]).rows)
+                        + _requirement_rows(t_row.loop, check_simulation(
+                            list(reqs), rt, _s4_base(cfg, S4_GAINS["nominal"])).rows))
+    rec = seeds[0].spawn(2)[1]
+    rec_w = simulate_wheels(wsc, cfg.record_samples, rng=rec, record=True)
+    rec_t = sim(_s4_base(cfg, S4_GAINS["nominal"]), rec, record=True, n=cfg.record_samples)
+    return WheelsVsThrusters(runs=tuple(runs), rows=tuple(rows), requirements=tuple(req_rows),
+                             wheel_trace=_trace(rec_w), thruster_trace=_trace(rec_t),
+                             wheel_sample_steps_per_s=float(np.median(rates)))
+
+
 def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measurements:
-    """Run the four campaigns (Q1-Q4, see the package docstring) and return their records.
+    """Run the five campaigns (Q1-Q5, see the package docstring) and return their records.
 
     Examples
     --------
@@ -477,8 +637,9 @@ def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measuremen
     ref_layout = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
     layouts = _q1_layouts(cfg, sim, seeds, ref_layout)
     estimators = _q2_estimators(cfg, sim, seeds)
-    gains = _q3_gains(cfg, sim, seeds)
+    gains, s4_nominal = _q3_gains(cfg, sim, seeds)
     slews = _q4_slews(cfg, sim, seeds, ref_layout)
-    return Measurements(layouts=layouts, estimators=estimators, gains=gains, slews=slews,
+    wheels = _q5_wheels(cfg, sim, seeds, s4_nominal)
+    return Measurements(layouts=layouts, estimators=estimators, gains=gains, slews=slews, wheels=wheels,
                         feasibility={q: float(np.min(v)) for q, v in sorted(sim.feasible.items())},
                         sample_steps_per_s=tuple(sim.rates))

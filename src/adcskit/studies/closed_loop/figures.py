@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit.simulation.envelopes import envelope
 from adcskit.studies._base import new_figure
 from adcskit.studies.closed_loop.claims import chi2_mean_band
 from adcskit.studies.closed_loop.experiment import Measurements, Trace
@@ -18,7 +19,7 @@ __all__ = ["figures"]
 
 
 def figures(m: Measurements) -> dict[str, Any]:
-    """The study's four figures, by file stem, in report order.
+    """The study's six figures, by file stem, in report order.
 
     Examples
     --------
@@ -31,6 +32,8 @@ def figures(m: Measurements) -> dict[str, Any]:
         "thruster-activity": _fig_thrusters(m.slews.step_trace, m.slews.optimal_trace),
         "nees": _fig_nees(m.estimators.nees_trace),
         "propellant": _fig_propellant(m.layouts.propellant_samples),
+        "q5-attitude-error": _fig_q5_error(m.wheels.wheel_trace, m.wheels.thruster_trace),
+        "q5-wheel-speed": _fig_q5_speed(m.wheels.wheel_trace),
     }
 
 
@@ -93,4 +96,52 @@ def _fig_propellant(prop: Any):
     ax.set_ylabel("samples")
     ax.set_title("GEO slew + hold, S4 loop, pinv-redistribute: propellant distribution")
     ax.legend(fontsize=8)
+    return fig
+
+
+def _bands(ax, t, values, colour, label, rank_from=None):
+    """Median, p5-p95 and p1-p99 bands over samples and the worst sample (largest peak ``|value|``,
+    over ``t >= rank_from`` when given)."""
+    e = envelope(values, t)
+    ax.fill_between(t, e.p1, e.p99, color=colour, alpha=0.15, lw=0, label=f"{label} p1-p99")
+    ax.fill_between(t, e.p5, e.p95, color=colour, alpha=0.35, lw=0, label=f"{label} p5-p95")
+    ax.plot(t, e.median, color=colour, lw=1.2, label=f"{label} median")
+    keep = np.ones(len(t), bool) if rank_from is None else np.asarray(t) >= rank_from
+    peak = np.max(np.where(np.isfinite(values[:, keep]), np.abs(values[:, keep]), -np.inf), axis=1)
+    w = int(np.argmax(peak))
+    where = "" if rank_from is None else f", largest after {rank_from:g} s"
+    ax.plot(t, values[w], color=colour, lw=0.6, ls=":", label=f"{label} worst (sample {w}{where})")
+
+
+def _fig_q5_error(rec_w: Trace, rec_t: Trace):
+    fig, axes = new_figure(2, 1, figsize=(6.4, 5.6), sharex=True)
+    err_t = np.degrees(rec_t.trace[:, :, rec_t.channels.index("pointing_error")])
+    err_w = np.degrees(rec_w.trace[:, :, rec_w.channels.index("error")])
+    both = np.concatenate([err_t.ravel(), err_w.ravel()])
+    both = both[np.isfinite(both) & (both > 0)]
+    ylim = (0.5 * float(np.min(both)), 2.0 * float(np.max(both))) if both.size else (1e-3, 1e2)
+    for ax, t, v, colour, name in ((axes[0], rec_t.t, err_t, "C1", "S4 thrusters (PID + Schmitt)"),
+                                   (axes[1], rec_w.t, err_w, "C0", "wheels (quaternion PD)")):
+        _bands(ax, t, v, colour, name.split(" (")[0], rank_from=t[-1] - 10.0)
+        ax.set_yscale("log")
+        ax.set_ylim(*ylim)
+        ax.set_ylabel("pointing error [deg]")
+        ax.set_title(f"{name}, {v.shape[0]} samples", fontsize=9)
+        ax.axvspan(t[-1] - 10.0, t[-1], color="0.9", zorder=0)
+        ax.legend(fontsize=6, loc="upper right")
+    axes[-1].set_xlabel("time [s] (grey: S4's 10 s statistics window)")
+    fig.suptitle("Q5: S4's spacecraft, 15 deg step, Monte-Carlo envelopes", fontsize=10)
+    return fig
+
+
+def _fig_q5_speed(rec_w: Trace):
+    idx = [i for i, c in enumerate(rec_w.channels) if c.startswith("speed_")]
+    fig, axes = new_figure(len(idx), 1, figsize=(6.4, 1.6 * len(idx) + 0.8), sharex=True)
+    for ax, i in zip(np.atleast_1d(axes), idx):
+        _bands(ax, rec_w.t, rec_w.trace[:, :, i] * 30.0 / np.pi, "C0", "")
+        ax.set_ylabel(f"wheel {rec_w.channels[i][6:]} [rpm]", fontsize=8)
+    np.atleast_1d(axes)[0].legend(fontsize=6, loc="upper left", ncol=2)
+    np.atleast_1d(axes)[-1].set_xlabel("time [s]")
+    fig.suptitle(f"Q5: wheel speeds relative to the body, {rec_w.n_samples} samples (median, p5-p95, p1-p99, worst)",
+                 fontsize=9)
     return fig
