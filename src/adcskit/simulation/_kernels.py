@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
@@ -46,6 +45,8 @@ from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
 from adcskit.determination._kernels import _solve_one
 from adcskit.estimation import _mekf_kernels as _mk
+from adcskit.simulation._random import normal as _normal
+from adcskit.simulation._random import uniform as _uniform
 
 # The heavy per-sample pieces of other packages are called through their own compiled
 # (and disk-cached) numba dispatchers rather than inlined into this kernel, so numba compiles
@@ -110,36 +111,6 @@ N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 # thruster a0, a1, a2), then S (9), r (3), y (3), idx (3)
 N_TS_PER_THR = 9
 N_TS_EXTRA = 18
-
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
-_MIX2 = np.uint64(0x94D049BB133111EB)
-_S30 = np.uint64(30)
-_S27 = np.uint64(27)
-_S31 = np.uint64(31)
-_S11 = np.uint64(11)
-_TWO_M53 = 1.0 / 9007199254740992.0
-_TWO_PI = 2.0 * math.pi
-
-
-@register_jitable
-def _uniform(s):
-    """SplitMix64 step: returns (new state, uniform in (0, 1))."""
-    s = s + _GOLDEN
-    z = s
-    z = (z ^ (z >> _S30)) * _MIX1
-    z = (z ^ (z >> _S27)) * _MIX2
-    z = z ^ (z >> _S31)
-    return s, (float(z >> _S11) + 0.5) * _TWO_M53
-
-
-@register_jitable
-def _normal(s):
-    """(new state, standard normal) by Box-Muller (one of the pair is used)."""
-    s, u1 = _uniform(s)
-    s, u2 = _uniform(s)
-    return s, math.sqrt(-2.0 * math.log(u1)) * math.cos(_TWO_PI * u2)
-
 
 @register_jitable
 def _noise(s, uniform):

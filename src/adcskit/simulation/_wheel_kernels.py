@@ -42,6 +42,8 @@ from numba import njit
 
 from adcskit._targets import PerSample, device
 from adcskit.attitude._device import compose_rotvec, rotate
+from adcskit.simulation._random import normal as _normal
+from adcskit.simulation._random import normal2 as _normal2
 
 # ----------------------------------------------------------------- shared coefficients C
 (
@@ -87,45 +89,6 @@ N_METRICS = 17
 (R_ERR, R_WX, R_WY, R_WZ, R_RATE, R_HX, R_HY, R_HZ, R_HW, R_HIX, R_HIY, R_HIZ, R_MX, R_MY, R_MZ,
  R_MODE, R_KNOW) = range(17)
 N_REC_FIXED = 17  # + wheel speeds (n_w) + wheel momenta (n_w)
-
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
-_MIX2 = np.uint64(0x94D049BB133111EB)
-_S30 = np.uint64(30)
-_S27 = np.uint64(27)
-_S31 = np.uint64(31)
-_S11 = np.uint64(11)
-_TWO_M53 = 1.0 / 9007199254740992.0
-_TWO_PI = 2.0 * math.pi
-
-
-@device
-def _uniform(s):
-    """SplitMix64 step: (new state, uniform in (0, 1))."""
-    s = s + _GOLDEN
-    z = s
-    z = (z ^ (z >> _S30)) * _MIX1
-    z = (z ^ (z >> _S27)) * _MIX2
-    z = z ^ (z >> _S31)
-    return s, (float(z >> _S11) + 0.5) * _TWO_M53
-
-
-@device
-def _normal(s):
-    """(new state, standard normal) by Box-Muller (one of the pair is used)."""
-    s, u1 = _uniform(s)
-    s, u2 = _uniform(s)
-    return s, math.sqrt(-2.0 * math.log(u1)) * math.cos(_TWO_PI * u2)
-
-
-@device
-def _normal2(s):
-    """(new state, two independent standard normals) by Box-Muller (both of the pair)."""
-    s, u1 = _uniform(s)
-    s, u2 = _uniform(s)
-    rr = math.sqrt(-2.0 * math.log(u1))
-    return s, rr * math.cos(_TWO_PI * u2), rr * math.sin(_TWO_PI * u2)
-
 
 @device
 def _normal3(s):
