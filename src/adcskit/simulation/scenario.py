@@ -702,6 +702,24 @@ def _default_thrusters() -> ThrusterSpec:
     return ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
 
 
+def _check_parts(spec: Any, parts: dict[str, type]) -> None:
+    """Each named part of a scenario is an instance of its spec class (an InputError naming it otherwise)."""
+    for name, cls in parts.items():
+        if not isinstance(getattr(spec, name), cls):
+            raise InputError(f"{name} must be a {cls.__name__}; got {type(getattr(spec, name)).__name__}")
+
+
+def _whole_steps(dt: float):
+    """``steps(name, period)``: an InputError unless ``period`` is a whole number (>= 1) of ``dt``."""
+
+    def steps(name: str, period: float) -> None:
+        r = period / dt
+        if r < 1.0 - 1e-9 or abs(r - round(r)) > 1e-6 * r:
+            raise InputError(f"{name} must be a whole number (>= 1) of steps dt={dt:g} s; got {period:g} s")
+
+    return steps
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Scenario(_Spec):
     """A closed-loop scenario (all parts are data).
@@ -742,18 +760,12 @@ class Scenario(_Spec):
                  "thrusters": ThrusterSpec, "sensors": SensorSpec, "estimator": EstimatorSpec,
                  "guidance": GuidanceSpec, "controller": ControllerSpec, "dispersions": DispersionSpec,
                  "sim": SimSpec}
-        for name, cls in parts.items():
-            if not isinstance(getattr(self, name), cls):
-                raise InputError(f"{name} must be a {cls.__name__}; got {type(getattr(self, name)).__name__}")
+        _check_parts(self, parts)
         object.__setattr__(self, "initial_rotvec_deg", _vec("initial_rotvec_deg", self.initial_rotvec_deg))
         object.__setattr__(self, "initial_rate_deg_s", _vec("initial_rate_deg_s", self.initial_rate_deg_s))
         # rates must divide each other
         dt = self.sim.dt
-
-        def steps(name: str, period: float) -> None:
-            r = period / dt
-            if r < 1.0 - 1e-9 or abs(r - round(r)) > 1e-6 * r:
-                raise InputError(f"{name} must be a whole number (>= 1) of steps dt={dt:g} s; got {period:g} s")
+        steps = _whole_steps(dt)
 
         steps("controller.period_s", self.controller.period_s)
         g = 1.0 / self.sensors.gyro_rate_hz

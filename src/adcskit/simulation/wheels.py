@@ -88,9 +88,11 @@ from adcskit.simulation.scenario import (
     SensorSpec,
     SimSpec,
     SpacecraftSpec,
+    _check_parts,
     _Spec,
     _triangle_ok,
     _vec,
+    _whole_steps,
 )
 
 __all__ = [
@@ -537,17 +539,11 @@ class WheelScenario(_Spec):
         parts = {"spacecraft": SpacecraftSpec, "orbit": OrbitSpec, "disturbance": DisturbanceSpec,
                  "wheels": WheelSpec, "magnetorquers": MagnetorquerSpec, "sensors": SensorSpec,
                  "control": WheelControlSpec, "modes": ModeSpec, "dispersions": WheelDispersionSpec, "sim": SimSpec}
-        for name, cls in parts.items():
-            if not isinstance(getattr(self, name), cls):
-                raise InputError(f"{name} must be a {cls.__name__}; got {type(getattr(self, name)).__name__}")
+        _check_parts(self, parts)
         object.__setattr__(self, "initial_rotvec_deg", _vec("initial_rotvec_deg", self.initial_rotvec_deg))
         object.__setattr__(self, "initial_rate_deg_s", _vec("initial_rate_deg_s", self.initial_rate_deg_s))
         dt = self.sim.dt
-
-        def steps(name: str, period: float) -> None:
-            r = period / dt
-            if r < 1.0 - 1e-9 or abs(r - round(r)) > 1e-6 * r:
-                raise InputError(f"{name} must be a whole number (>= 1) of steps dt={dt:g} s; got {period:g} s")
+        steps = _whole_steps(dt)
 
         steps("control.period_s", self.control.period_s)
         steps("1 / sensors.gyro_rate_hz", 1.0 / self.sensors.gyro_rate_hz)
