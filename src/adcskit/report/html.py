@@ -170,11 +170,7 @@ def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def _tally(items: list[dict[str, Any]]) -> list[tuple[str, int, str]]:
-    """``[(bucket, count, css)]`` for the buckets present, in the legend's order."""
-    for c in items:
-        c.setdefault("bucket", _bucket(c))
-        c.setdefault("display", _display_outcome(c))
-        c.setdefault("css", OUTCOME_CLASS.get(c["bucket"], "muted"))
+    """``[(bucket, count, css)]`` for the buckets present (items from :func:`_decorate`), in the legend's order."""
     counts = {o: sum(1 for c in items if c["bucket"] == o) for o in OUTCOME_CLASS}
     return [(o, n, OUTCOME_CLASS[o]) for o, n in counts.items() if n]
 

@@ -393,19 +393,17 @@ def decide(
         # NaN / inf values are allowed: a failed seed, which makes the reading inconclusive
         vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
         sign = 1.0 if better == "above" else -1.0
-        ok, against = [], []
-        for v in vals:
+        ok = []
+        for v in vals:  # a seed supports, is against, ties (within the margin) or failed
             if not math.isfinite(v):
                 n_failed += 1
-                ok.append(False), against.append(False)
+                ok.append(False)
                 continue
             d = sign * (v - threshold)
             ok.append(d > margin)
-            against.append(d < -margin)
             n_tied += int(-margin <= d <= margin)
     elif held is not None:
         ok = [bool(h) for h in held]
-        against = [not h for h in ok]
     else:
         raise InputError("decide: give held or values")
     n = len(ok)
@@ -429,7 +427,7 @@ def decide(
     elif n_tied:
         outcome = INCONCLUSIVE
         why += (f"; {n_tied}/{n} within the equivalence margin ±{margin:.4g} of {threshold:.4g}: a tie")
-    elif 0 < k < n or (k == 0 and not all(against)):
+    elif 0 < k < n:  # failed and tied seeds are handled above: every other seed is for or against
         outcome = INCONCLUSIVE
         why += "; seeds disagree"
     else:
