@@ -55,7 +55,8 @@ from adcskit.simulation._random import normal2 as _normal2
     POINT_KIND, ORBIT_RATE, K_WIN, SETTLE_BAND, REC_EVERY,
     JN0,  # nominal inertia, 9 entries JN0..JN0+8
 ) = range(46)
-N_COEFS = 46 + 9
+OL_DIP0 = 46 + 9  # open-loop dipole, 3 entries OL_DIP0..OL_DIP0+2
+N_COEFS = 46 + 9 + 3
 
 LAW_PD, LAW_WIE, LAW_OPEN = 0, 1, 2
 MODE_DETUMBLE, MODE_SUN, MODE_POINT = 0, 1, 2
@@ -528,6 +529,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             if law == LAW_OPEN:
                 for j in range(nw):
                     TMi[j] = WPAR[j, W_OPEN]
+                m0, m1, m2 = _clip_max(C[OL_DIP0], C[OL_DIP0 + 1], C[OL_DIP0 + 2], mmax)
             elif mode == MODE_DETUMBLE:
                 for j in range(nw):
                     TMi[j] = 0.0

@@ -335,6 +335,10 @@ class WheelControlSpec(_Spec):
         Bias speed of the null-space momentum ``h*`` (the smallest biased wheel speed).
     open_loop_torque_nm : tuple of float, N m
         ``open-loop``: constant motor torque per wheel.
+    open_loop_dipole_am2 : 3 floats, A m^2
+        ``open-loop``: constant commanded magnetorquer dipole (body axes), scaled like every
+        dipole command so that its largest component is at most
+        ``MagnetorquerSpec.max_dipole_am2``, on for ``duty`` of each period (validation runs).
 
     Examples
     --------
@@ -357,6 +361,7 @@ class WheelControlSpec(_Spec):
     null_gain: float = 0.01
     null_speed_rpm: float = 1000.0
     open_loop_torque_nm: tuple[float, ...] = ()
+    open_loop_dipole_am2: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         check_flag_fields(self)
@@ -369,6 +374,7 @@ class WheelControlSpec(_Spec):
         check_positive("null_speed_rpm", self.null_speed_rpm, allow_zero=True, unit="rpm")
         ot = as_array("open_loop_torque_nm", self.open_loop_torque_nm, nonempty=False).reshape(-1)
         object.__setattr__(self, "open_loop_torque_nm", tuple(float(x) for x in ot))
+        object.__setattr__(self, "open_loop_dipole_am2", _vec("open_loop_dipole_am2", self.open_loop_dipole_am2))
         if self.law == "open-loop" and ot.size == 0:
             raise InputError("open_loop_torque_nm must give one torque per wheel (N m) with law='open-loop'; got ()")
 
@@ -1019,6 +1025,8 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * _DEG
     C[_k.REC_EVERY] = sc.sim.record_every
     C[_k.JN0:_k.JN0 + 9] = J0.reshape(9)
+    if c.law == "open-loop":
+        C[_k.OL_DIP0:_k.OL_DIP0 + 3] = c.open_loop_dipole_am2
     shared = dict(C=C, ENV=env, AXN=np.ascontiguousarray(A_nom), PINV=pinv, NULLP=nullp, HSTAR=hstar,
                   WPAR=wpar, JW=jw, n_steps=n_steps)
     params = {"inertia": J, "inertia_physical": _triangle_ok(lam), "wheel_axes": AX, "initial_quaternion": q0,
