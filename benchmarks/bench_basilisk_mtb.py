@@ -59,8 +59,6 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
-from bench_basilisk_wheels import I_HUB, _mrp_to_quat  # noqa: E402
-
 from adcskit.environment import circular_orbit, dipole_coefficients, gmst, magnetic_field  # noqa: E402
 from adcskit.environment.magnetic import IGRF_REFERENCE_RADIUS  # noqa: E402
 from adcskit.environment.orbits import MU_EARTH  # noqa: E402
@@ -77,6 +75,7 @@ from adcskit.simulation import (  # noqa: E402
     WheelSpec,
     simulate_wheels,
 )
+from bench_basilisk_wheels import I_HUB, _mrp_to_quat  # noqa: E402
 
 ORBIT = OrbitSpec(altitude_km=500.0, inclination_deg=97.4, raan_deg=30.0, arg_lat0_deg=20.0,
                   epoch="2026-03-21T06:00:00", gravity_gradient=False, magnetic_model="dipole")
