@@ -39,6 +39,7 @@ import argparse
 import json
 import math
 import os
+import platform
 import resource
 import sys
 import time
@@ -139,22 +140,51 @@ def ours_scenario(torques: np.ndarray, t_final: float, dt: float, transverse: fl
     )
 
 
-def closed_loop(t_final: float, dt: float, period: float) -> dict:
+def closed_scenario(t_final: float, dt: float, period: float, *, inertia=(0.25, 0.25, 0.25), axis=(1.0, 1.0, 0.5),
+                    wn: float = 0.1, zeta: float = 1.0) -> WheelScenario:
+    """Our side of :func:`closed_loop`: PD on the pyramid, truth navigation, 20 deg about ``axis``."""
+    axis = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    return WheelScenario(
+        spacecraft=SpacecraftSpec(inertia=tuple(float(x) for x in inertia)),
+        wheels=WheelSpec.pyramid(inertia_kgm2=JS, initial_speed_rpm=SPEEDS_RPM, max_torque_nm=1.0, max_speed_rpm=1e6),
+        orbit=OrbitSpec(altitude_km=500.0, inclination_deg=97.4, gravity_gradient=False), disturbance=DisturbanceSpec(),
+        magnetorquers=MagnetorquerSpec(max_dipole_am2=0.0, unload_gain=0.0),
+        sensors=SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=0.0, gyro_rate_hz=1.0 / dt,
+                           gyro_arw=0.0, gyro_rrw=0.0, gyro_bias0_deg_h=0.0),
+        control=WheelControlSpec(law="pd", bandwidth_rad_s=wn, damping=zeta, period_s=period),
+        modes=ModeSpec(initial="point", sequence=False, pointing="inertial"),
+        sim=SimSpec(dt=dt, t_final=t_final, metrics_from_s=0.5 * t_final, settle_band_deg=0.5,
+                    record_every=int(round(1.0 / dt))),
+        initial_rotvec_deg=tuple(np.degrees(axis * np.radians(20.0))), initial_rate_deg_s=(0.0, 0.0, 0.0))
+
+
+def closed_loop(t_final: float, dt: float, period: float, *, inertia=(0.25, 0.25, 0.25),
+                axis=(1.0, 1.0, 0.5), gain_inertia: float | None = None, with_ours: bool = True) -> dict:
     """Basilisk's own chain (simpleNav -> inertial3D -> attTrackingError -> mrpFeedback ->
-    rwMotorTorque -> wheels) vs our PD law on the same plant; isotropic J = 0.25 I (ours), so that
-    mrpFeedback's scalar gains ``L = -K sigma - P omega`` equal ours ``-J (2 k q_e + c omega)`` to first
-    order (``sigma ~ q_e / 2``: ``K = 4 j k``, ``P = j c``)."""
+    rwMotorTorque -> wheels) vs our PD law on the same plant (our ``J = diag(inertia)``), from a
+    20 deg error about ``axis``. mrpFeedback's gains are scalars, ``L = -K sigma - P omega``; ours
+    ``-J (2 k q_e + c omega)`` scale with ``J``. With ``K = 4 j k``, ``P = j c`` (``sigma ~ q_e / 2``)
+    the two laws coincide to first order when ``J = j I`` (the default, isotropic), or on a
+    non-isotropic body for a rotation about principal axis ``i`` with ``j = J_i``
+    (``gain_inertia``; the closed loops are decoupled by both laws' gyroscopic feed-forward, so the
+    motion stays on that axis). Otherwise (``gain_inertia`` = the mean inertia, any axis) the
+    laws differ: axis ``i`` of mrpFeedback has ``omega_n sqrt(j / J_i)``."""
     from Basilisk.architecture import messaging
     from Basilisk.fswAlgorithms import attTrackingError, inertial3D, mrpFeedback, rwMotorTorque
     from Basilisk.simulation import reactionWheelStateEffector, simpleNav, spacecraft
     from Basilisk.utilities import SimulationBaseClass, macros, simIncludeRW
 
-    j, wn, zeta = 0.25, 0.1, 1.0
+    J = np.diag(np.asarray(inertia, dtype=float))
+    if gain_inertia is None:
+        if np.ptp(np.diag(J)) != 0.0:
+            raise ValueError(f"gain_inertia is needed for a non-isotropic inertia; got inertia={inertia}")
+        gain_inertia = float(J[0, 0])
+    j, wn, zeta = gain_inertia, 0.1, 1.0
     k, c = wn * wn, 2 * zeta * wn
     axes = np.asarray(WheelSpec.pyramid().axes)
-    i_hub = j * np.eye(3) + sum(0.5 * JS * (np.eye(3) - np.outer(g, g)) for g in axes)  # Basilisk-equivalent J = j I
+    i_hub = J + sum(0.5 * JS * (np.eye(3) - np.outer(g, g)) for g in axes)  # Basilisk-equivalent: our J
     ang0 = np.radians(20.0)
-    axis = np.array([1.0, 1.0, 0.5]) / np.linalg.norm([1.0, 1.0, 0.5])
+    axis = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
     sim = SimulationBaseClass.SimBaseClass()
     dyn = sim.CreateNewProcess("dyn", 10)
     dyn.addTask(sim.CreateNewTask("dynTask", macros.sec2nano(dt)))
@@ -185,7 +215,7 @@ def closed_loop(t_final: float, dt: float, period: float) -> dict:
     alloc.controlAxes_B = [1, 0, 0, 0, 1, 0, 0, 0, 1]
     for mdl in (ref, err, ctl, alloc):
         sim.AddModelToTask("fswTask", mdl)
-    veh = messaging.VehicleConfigMsg().write(messaging.VehicleConfigMsgPayload(ISCPntB_B=list((j * np.eye(3)).reshape(-1))))
+    veh = messaging.VehicleConfigMsg().write(messaging.VehicleConfigMsgPayload(ISCPntB_B=list(J.reshape(-1))))
     rw_conf = fac.getConfigMessage()
     nav.scStateInMsg.subscribeTo(sc.scStateOutMsg)
     err.attNavInMsg.subscribeTo(nav.attOutMsg)
@@ -206,21 +236,13 @@ def closed_loop(t_final: float, dt: float, period: float) -> dict:
     c0 = _cpu()
     sim.ExecuteSimulation()
     cpu_b = _cpu() - c0
+    steps = int(round(t_final / dt))
+    if not with_ours:  # timing only
+        return {"steps": steps, "cpu_s": cpu_b}
     qb = _mrp_to_quat(np.asarray(rec.sigma_BN))
     err_b = np.degrees(2 * np.arccos(np.clip(np.abs(qb[:, 3]), 0, 1)))
     sp_b = np.asarray(rec_w.wheelSpeeds)[:, :4] / RPM
-    ours = WheelScenario(
-        spacecraft=SpacecraftSpec(inertia=(j, j, j)),
-        wheels=WheelSpec.pyramid(inertia_kgm2=JS, initial_speed_rpm=SPEEDS_RPM, max_torque_nm=1.0, max_speed_rpm=1e6),
-        orbit=OrbitSpec(altitude_km=500.0, inclination_deg=97.4, gravity_gradient=False), disturbance=DisturbanceSpec(),
-        magnetorquers=MagnetorquerSpec(max_dipole_am2=0.0, unload_gain=0.0),
-        sensors=SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=0.0, gyro_rate_hz=1.0 / dt,
-                           gyro_arw=0.0, gyro_rrw=0.0, gyro_bias0_deg_h=0.0),
-        control=WheelControlSpec(law="pd", bandwidth_rad_s=wn, damping=zeta, period_s=period),
-        modes=ModeSpec(initial="point", sequence=False, pointing="inertial"),
-        sim=SimSpec(dt=dt, t_final=t_final, metrics_from_s=0.5 * t_final, settle_band_deg=0.5,
-                    record_every=int(round(1.0 / dt))),
-        initial_rotvec_deg=tuple(np.degrees(axis * ang0)), initial_rate_deg_s=(0.0, 0.0, 0.0))
+    ours = closed_scenario(t_final, dt, period, inertia=np.diag(J), axis=axis, wn=wn, zeta=zeta)
     res = simulate_wheels(ours, 1, rng=0, record=True)
     ch = res.channels
     err_o = np.degrees(res.trace[0][:, ch.index("error")])
@@ -238,7 +260,7 @@ def closed_loop(t_final: float, dt: float, period: float) -> dict:
             "final_wheel_speeds_rpm": {"basilisk": sp_b[m - 1].tolist(), "adcskit": sp_o[m - 1].tolist()},
             "max_wheel_speed_diff_rpm": float(np.max(np.abs(sp_b[:m] - sp_o[:m]))),
             "wheel_speed_range_rpm": float(np.max(np.ptp(sp_b[:m], axis=0))),
-            "basilisk_sample_steps_per_cpu_s": int(round(t_final / dt)) / cpu_b,
+            "basilisk_sample_steps_per_cpu_s": steps / cpu_b,
             "traces": {"t": t.tolist(), "basilisk_err_deg": err_b[:m].tolist(), "adcskit_err_deg": err_o[:m].tolist(),
                        "basilisk_speed_rpm": sp_b[:m].tolist(), "adcskit_speed_rpm": sp_o[:m].tolist()}}
 
@@ -266,6 +288,8 @@ def main() -> None:
     ap.add_argument("--samples", type=int, default=256)
     ap.add_argument("--period", type=float, default=0.5)
     ap.add_argument("--closed-t-final", type=float, default=150.0)
+    ap.add_argument("--repeats", type=int, default=3, help="interleaved speed repeats (median)")
+    ap.add_argument("--bsk-cpu-s", type=float, default=1.0, help="CPU-seconds per Basilisk speed repeat")
     ap.add_argument("--json")
     a = ap.parse_args()
     torques = np.random.default_rng(7).uniform(-1e-4, 1e-4, 4)
@@ -299,9 +323,75 @@ def main() -> None:
         print(f"  {key}: Basilisk {cl[key]['basilisk']:.4g}, adcskit {cl[key]['adcskit']:.4g}")
     print(f"  largest error difference {cl['max_error_diff_deg']:.3g} deg; largest wheel-speed difference "
           f"{cl['max_wheel_speed_diff_rpm']:.3g} rpm of a {cl['wheel_speed_range_rpm']:.3g} rpm range")
+    out["non_isotropic"] = non_isotropic(a.closed_t_final, a.dt, a.period)
+    out["speed"] = speed(torques, a.t_final, a.closed_t_final, a.dt, a.period, a.samples, a.repeats, a.bsk_cpu_s)
+    out.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), machine=platform.platform(),
+               cpus=os.cpu_count())
     if a.json:
         with open(a.json, "w") as fh:
             json.dump(out, fh, indent=1)
+
+
+def non_isotropic(t_final: float, dt: float, period: float) -> dict:
+    """Closed loop on the 12U hub diag(0.30, 0.27, 0.17): per principal axis with the gains that
+    make mrpFeedback's law ours (``K = 4 J_i k``, ``P = J_i c``), and about (1, 1, 0.5) with the
+    mean-inertia gains (the laws differ: mrpFeedback's bandwidth is ``omega_n sqrt(j / J_i)``)."""
+    J = tuple(float(x) for x in np.diag(I_HUB))
+    runs = {}
+    for i, name in enumerate("xyz"):
+        ax = np.eye(3)[i]
+        runs[f"about {name}, K = 4 J_{name} k, P = J_{name} c"] = closed_loop(
+            t_final, dt, period, inertia=J, axis=ax, gain_inertia=J[i])
+    jm = sum(J) / 3
+    runs[f"about (1, 1, 0.5), K = 4 j k, P = j c, j = trace(J)/3 = {jm:.4f}"] = closed_loop(
+        t_final, dt, period, inertia=J, axis=(1.0, 1.0, 0.5), gain_inertia=jm)
+    print(f"closed loop on J = diag{J} ({t_final:.0f} s from 20 deg, PD / mrpFeedback, control every {period} s):")
+    for name, cl in runs.items():
+        cl.pop("traces")
+        print(f"  {name}: settling Basilisk {cl['settling_time_s']['basilisk']:.4g} s, adcskit "
+              f"{cl['settling_time_s']['adcskit']:.4g} s; largest error difference {cl['max_error_diff_deg']:.3g} deg; "
+              f"wheel speeds within {cl['max_wheel_speed_diff_rpm']:.3g} rpm of a {cl['wheel_speed_range_rpm']:.3g} "
+              f"rpm range")
+    return runs
+
+
+def _ours_speed(sc: WheelScenario, n: int, seed: int) -> dict:
+    c0 = _cpu()
+    simulate_wheels(sc, n, rng=seed)
+    cpu = _cpu() - c0
+    return {"cpu_s": cpu, "sample_steps_per_cpu_s": n * int(round(sc.sim.t_final / sc.sim.dt)) / cpu}
+
+
+def speed(torques, t_open: float, t_closed: float, dt: float, period: float, n: int, repeats: int,
+          bsk_cpu_s: float) -> dict:
+    """Interleaved repeats of (Basilisk, ours) for the open and the closed loop (isotropic);
+    each Basilisk repeat runs whole simulations until it has used ``bsk_cpu_s`` CPU-seconds;
+    ours ``n`` samples in one call; sample-steps per CPU-second (all threads), medians."""
+    ours = {"open": ours_scenario(torques, t_open, dt), "closed": closed_scenario(t_closed, dt, period)}
+    for sc in ours.values():
+        simulate_wheels(sc, 2, rng=0)  # compile / warm
+    runs = {k: {"basilisk": [], "adcskit": []} for k in ours}
+    for r in range(repeats):
+        for kind, sc in ours.items():
+            cpu, steps = 0.0, 0
+            while cpu < bsk_cpu_s:
+                if kind == "open":
+                    b = basilisk(torques, t_open, dt)
+                    cpu, steps = cpu + b["cpu_s"], steps + int(round(t_open / dt))
+                else:
+                    b = closed_loop(t_closed, dt, period, with_ours=False)
+                    cpu, steps = cpu + b["cpu_s"], steps + b["steps"]
+            runs[kind]["basilisk"].append({"cpu_s": cpu, "sample_steps_per_cpu_s": steps / cpu})
+            runs[kind]["adcskit"].append(_ours_speed(sc, n, 10 + r))
+    out = {"repeats": repeats, "n_samples": n, "load_avg": os.getloadavg(), "runs": runs}
+    for kind, rr in runs.items():
+        med = {k: float(np.median([x["sample_steps_per_cpu_s"] for x in v])) for k, v in rr.items()}
+        out[kind] = {"median_sample_steps_per_cpu_s": med, "ratio_per_cpu_s": med["adcskit"] / med["basilisk"]}
+        print(f"speed {kind} loop ({repeats} interleaved repeats, medians; Basilisk one sample, timed over >= "
+              f"{bsk_cpu_s:g} CPU-s per repeat; ours {n} samples in one call; load {out['load_avg'][0]:.1f}): "
+              f"Basilisk {med['basilisk']:.3g}, adcskit {med['adcskit']:.3g} sample-steps per CPU-second -> "
+              f"{out[kind]['ratio_per_cpu_s']:.0f}x per core")
+    return out
 
 
 if __name__ == "__main__":
