@@ -27,10 +27,18 @@ at hand); both readings are printed.
 **Closed loop.** Basilisk's chain (``simpleNav`` -> ``inertial3D`` -> ``attTrackingError`` ->
 ``mrpFeedback`` -> ``rwMotorTorque`` -> wheels) vs our PD law on the same plant from a 20 deg error
 (isotropic inertia so that the scalar MRP gains equal ours): settling time, final error, the
-largest error and wheel-speed differences.
+largest error and wheel-speed differences. ``mrpFeedback.controlLawType = 1`` feeds forward
+``omega_BN x ([I] omega + G_s h_s)`` as our law does; the default 0 uses ``omega_RN`` instead, which
+is zero for an inertial target (no gyroscopic feed-forward): both are printed. **Non-isotropic**
+(the 12U hub diag(0.30, 0.27, 0.17)): mrpFeedback's gains are scalars and ours scale with ``J``,
+so the laws coincide only for a rotation about a principal axis ``i`` with ``K = 4 J_i k``,
+``P = J_i c`` (three runs); a fourth run about (1, 1, 0.5) with the mean-inertia gains shows how
+far apart the two laws then are.
 
 **Speed.** Basilisk runs one sample at a time (no batch kernel); ours a batch of samples in
-one kernel call, open loop with the same elements; both in sample-steps per CPU-second.
+one kernel call, with the same elements; both in sample-steps per CPU-second (all threads of the
+process): ``--repeats`` interleaved repeats of (Basilisk, ours) for the open and the closed
+loop, medians (each Basilisk repeat timed over at least ``--bsk-cpu-s`` CPU-seconds).
 """
 
 from __future__ import annotations
@@ -159,7 +167,8 @@ def closed_scenario(t_final: float, dt: float, period: float, *, inertia=(0.25, 
 
 
 def closed_loop(t_final: float, dt: float, period: float, *, inertia=(0.25, 0.25, 0.25),
-                axis=(1.0, 1.0, 0.5), gain_inertia: float | None = None, with_ours: bool = True) -> dict:
+                axis=(1.0, 1.0, 0.5), gain_inertia: float | None = None, with_ours: bool = True,
+                law_type: int = 1) -> dict:
     """Basilisk's own chain (simpleNav -> inertial3D -> attTrackingError -> mrpFeedback ->
     rwMotorTorque -> wheels) vs our PD law on the same plant (our ``J = diag(inertia)``), from a
     20 deg error about ``axis``. mrpFeedback's gains are scalars, ``L = -K sigma - P omega``; ours
@@ -211,6 +220,7 @@ def closed_loop(t_final: float, dt: float, period: float, *, inertia=(0.25, 0.25
     err = attTrackingError.attTrackingError()
     ctl = mrpFeedback.mrpFeedback()
     ctl.K, ctl.P, ctl.Ki = 4 * j * k, j * c, -1.0
+    ctl.controlLawType = law_type  # 1: gyroscopic feed-forward omega_BN x H as ours; 0: omega_RN x H (= 0 here)
     alloc = rwMotorTorque.rwMotorTorque()
     alloc.controlAxes_B = [1, 0, 0, 0, 1, 0, 0, 0, 1]
     for mdl in (ref, err, ctl, alloc):
@@ -316,13 +326,15 @@ def main() -> None:
               f"wheel speed difference {r['max_speed_diff_rad_s']:.2e} rad/s ({100 * r['rel_speed_diff']:.2e} %)")
     print(f"  speed: Basilisk {rate_b:.3g} sample-steps per CPU-second (one sample); adcskit {rate_o:.3g} "
           f"({a.samples} samples) -> {rate_o / rate_b:.0f}x per core")
-    cl = closed_loop(a.closed_t_final, a.dt, a.period)
-    out["closed_loop"] = cl
-    print(f"closed loop ({a.closed_t_final:.0f} s from 20 deg, PD / mrpFeedback, J = 0.25 I, control every {a.period} s):")
-    for key in ("settling_time_s", "final_error_deg"):
-        print(f"  {key}: Basilisk {cl[key]['basilisk']:.4g}, adcskit {cl[key]['adcskit']:.4g}")
-    print(f"  largest error difference {cl['max_error_diff_deg']:.3g} deg; largest wheel-speed difference "
-          f"{cl['max_wheel_speed_diff_rpm']:.3g} rpm of a {cl['wheel_speed_range_rpm']:.3g} rpm range")
+    for law_type in (1, 0):
+        cl = closed_loop(a.closed_t_final, a.dt, a.period, law_type=law_type)
+        out["closed_loop" if law_type == 1 else "closed_loop_law_type_0"] = cl
+        print(f"closed loop ({a.closed_t_final:.0f} s from 20 deg, PD / mrpFeedback controlLawType {law_type}, "
+              f"J = 0.25 I, control every {a.period} s):")
+        for key in ("settling_time_s", "final_error_deg"):
+            print(f"  {key}: Basilisk {cl[key]['basilisk']:.4g}, adcskit {cl[key]['adcskit']:.4g}")
+        print(f"  largest error difference {cl['max_error_diff_deg']:.3g} deg; largest wheel-speed difference "
+              f"{cl['max_wheel_speed_diff_rpm']:.3g} rpm of a {cl['wheel_speed_range_rpm']:.3g} rpm range")
     out["non_isotropic"] = non_isotropic(a.closed_t_final, a.dt, a.period)
     out["speed"] = speed(torques, a.t_final, a.closed_t_final, a.dt, a.period, a.samples, a.repeats, a.bsk_cpu_s)
     out.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), machine=platform.platform(),
