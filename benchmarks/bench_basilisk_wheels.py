@@ -21,8 +21,11 @@ reading above) the body rates differ by 0.16 % of their range over 300 s, indepe
 step (0.1 s and 0.02 s give the same numbers): a model difference, not integration error. With
 ``J = I_hub - sum J_s/2 (I - g g^T)`` the two agree to 1e-14 rad/s, i.e. Basilisk 2.12.1's
 balanced wheels act as if the hub inertia were *reduced* by the wheels' transverse inertia
-(``J_t = J_g = J_s/2`` from ``rwFactory``). We did not trace this in Basilisk's C++ source (not
-at hand); both readings are printed.
+(``J_t = J_g = J_s/2`` from ``rwFactory``). Cause (Basilisk's ``reactionWheelStateEffector.cpp``):
+``BalancedWheels`` add no mass properties to the spacecraft and subtract ``J_s g g^T`` in the
+back-substitution, i.e. ``IHubPntBc_B`` is the inertia *with* the wheels and our ``J`` is
+``I_hub - sum J_s g g^T``, equal to ``I_hub - sum J_s/2 (I - g g^T)`` for this pyramid (both
+``(4/3) J_s I``). Both readings are printed.
 
 **Closed loop.** Basilisk's chain (``simpleNav`` -> ``inertial3D`` -> ``attTrackingError`` ->
 ``mrpFeedback`` -> ``rwMotorTorque`` -> wheels) vs our PD law on the same plant from a 20 deg error
