@@ -20,6 +20,7 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -195,7 +196,7 @@ def latin_hypercube(
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class SampleStats:
+class SampleStats(Result):
     """Summary statistics of a sample (``std`` with ``ddof=1``).
 
     Examples
@@ -214,9 +215,6 @@ class SampleStats:
     p05: float
     p50: float
     p95: float
-
-    def to_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in ("n", "mean", "std", "min", "max", "p05", "p50", "p95")}
 
 
 def sample_stats(x: Any) -> SampleStats:
