@@ -1,6 +1,8 @@
 """The quaternion device helpers (adcskit.attitude._device) shared by the closed-loop
 simulator and the MEKF kernels: against the public attitude algebra and scipy."""
 
+import math
+
 import numba
 import numpy as np
 from hypothesis import given, settings
@@ -69,3 +71,67 @@ def test_same_bits_compiled_and_in_python():
         b, e, pc = compiled(q, r)
         assert b == rotate(*q, *r) and e == qerr(*p, *q)
         assert np.array_equal(pc, p)
+
+
+def _former_mekf_error_rotvec(qa, qb, out, off):
+    # estimation/_mekf_kernels._error_rotvec before it called qerr (main e20e8e2), verbatim
+    na = qa[0] * qa[0] + qa[1] * qa[1] + qa[2] * qa[2] + qa[3] * qa[3]
+    nb = qb[0] * qb[0] + qb[1] * qb[1] + qb[2] * qb[2] + qb[3] * qb[3]
+    if not (na > 0.0 and nb > 0.0 and math.isfinite(na) and math.isfinite(nb)):
+        return False
+    a0, a1, a2, a3 = qa[0], qa[1], qa[2], qa[3]
+    c0, c1, c2, c3 = -qb[0], -qb[1], -qb[2], qb[3]
+    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
+    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
+    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
+    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
+    if d3 < 0.0:
+        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+    ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    if ev == 0.0:
+        f = 2.0 / d3
+    else:
+        f = 2.0 * math.atan2(ev, d3) / ev
+    out[off] = f * d0
+    out[off + 1] = f * d1
+    out[off + 2] = f * d2
+    return True
+
+
+def test_mekf_error_rotvec_is_qerr_bit_for_bit():
+    # issue 20: the MEKF's error rotation vector now calls qerr (one source with the simulator);
+    # it must return the former copy's bits, in Python and compiled, on random unit and
+    # unnormalised quaternions, equal and opposite pairs (zero vector part, both signs of q4)
+    # and the rejected inputs (zero, NaN, inf)
+    from adcskit.estimation._mekf_kernels import _error_rotvec
+
+    rng = np.random.default_rng(20)
+    qa = rng.normal(size=(400, 4)) * rng.choice([1.0, 1e-3, 1e3], size=(400, 1))
+    qb = rng.normal(size=(400, 4))
+    qb[:50] = qa[:50]
+    qb[50:100] = -qa[50:100] * 2.0
+    qa[100:105] = [0.0, 0.0, 0.0, 1.0]
+    qb[100:105] = [0.0, 0.0, 0.0, -1.0]
+    qa[105:110] = [-0.0, 0.0, -0.0, 1.0]
+    qa[110] = 0.0
+    qb[111] = np.nan
+    qa[112] = np.inf
+    new_py, old_py = np.full((400, 3), 7.0), np.full((400, 3), 7.0)
+    ok_new = [_error_rotvec(qa[i], qb[i], new_py[i], 0) for i in range(400)]
+    ok_old = [_former_mekf_error_rotvec(qa[i], qb[i], old_py[i], 0) for i in range(400)]
+    assert ok_new == ok_old and sum(ok_new) == 397
+
+    def batch(fn):
+        @numba.njit(cache=False)
+        def run(qa, qb, out):
+            ok = np.zeros(qa.shape[0], dtype=np.bool_)
+            for i in range(qa.shape[0]):
+                ok[i] = fn(qa[i], qb[i], out[i], 0)
+            return ok
+        return run
+
+    new_c, old_c = np.full((400, 3), 7.0), np.full((400, 3), 7.0)
+    assert batch(_error_rotvec)(qa, qb, new_c).tolist() == ok_new
+    batch(numba.extending.register_jitable(_former_mekf_error_rotvec))(qa, qb, old_c)
+    for a, b in ((new_py, old_py), (new_c, old_c), (new_c, new_py)):
+        assert a.tobytes() == b.tobytes()  # same bits, signed zeros included
