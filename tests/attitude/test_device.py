@@ -135,3 +135,99 @@ def test_mekf_error_rotvec_is_qerr_bit_for_bit():
     batch(numba.extending.register_jitable(_former_mekf_error_rotvec))(qa, qb, old_c)
     for a, b in ((new_py, old_py), (new_c, old_c), (new_c, new_py)):
         assert a.tobytes() == b.tobytes()  # same bits, signed zeros included
+
+
+def test_simulation_qmul_is_the_attitude_product_with_sign():
+    # issue 20: simulation.core._qmul now calls attitude._kernels.quat_multiply; its former
+    # NumPy copy (main e20e8e2), verbatim, gives the same bits on random, batched and broadcast
+    # inputs
+    from adcskit.simulation.core import _qmul
+
+    def former(p, q):
+        pv, p4 = p[..., :3], p[..., 3:]
+        qv, q4 = q[..., :3], q[..., 3:]
+        v = p4 * qv + q4 * pv - np.cross(pv, qv)
+        s = p4 * q4 - np.sum(pv * qv, axis=-1, keepdims=True)
+        out = np.concatenate([v, s], axis=-1)
+        return out * np.where(out[..., 3:] < 0, -1.0, 1.0)
+
+    rng = np.random.default_rng(21)
+    p, q = rng.normal(size=(200, 4)), rng.normal(size=(200, 4))
+    for a, b in ((p, q), (p[0], q), (p, q[0]), (p[3], q[4] * np.array([-1, -1, -1, 1.0]))):
+        assert _qmul(a, b).tobytes() == former(a, b).tobytes()
+
+
+def _former_qerr(a0, a1, a2, a3, b0, b1, b2, b3):
+    # attitude._device.qerr before qdiff was split out (main e20e8e2), verbatim
+    c0, c1, c2, c3 = -b0, -b1, -b2, b3
+    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
+    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
+    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
+    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
+    if d3 < 0.0:
+        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+    ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    ang = 2.0 * math.atan2(ev, d3)
+    if ev > 0.0:
+        f = ang / ev
+    else:
+        f = 2.0
+    return f * d0, f * d1, f * d2, ang
+
+
+def _former_compose_rotvec(q, r0, r1, r2):
+    # attitude._device.compose_rotvec before unit_q4_pos was split out (main e20e8e2), verbatim
+    ang = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    h = 0.5 * ang
+    if h < 1e-4:
+        s = 0.5 * (1.0 - h * h / 6.0)
+    else:
+        s = 0.5 * math.sin(h) / h
+    p0 = s * r0
+    p1 = s * r1
+    p2 = s * r2
+    p3 = math.cos(h)
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    n0 = p3 * q0 + q3 * p0 - (p1 * q2 - p2 * q1)
+    n1 = p3 * q1 + q3 * p1 - (p2 * q0 - p0 * q2)
+    n2 = p3 * q2 + q3 * p2 - (p0 * q1 - p1 * q0)
+    n3 = p3 * q3 - (p0 * q0 + p1 * q1 + p2 * q2)
+    nrm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
+    if n3 < 0.0:
+        nrm = -nrm
+    q[0] = n0 / nrm
+    q[1] = n1 / nrm
+    q[2] = n2 / nrm
+    q[3] = n3 / nrm
+
+
+def _qerr_compose_batch(qerr_fn, compose_fn):
+    @numba.njit(cache=False)
+    def run(qa, qb, rv, e, qc):
+        for i in range(qa.shape[0]):
+            e[i, 0], e[i, 1], e[i, 2], e[i, 3] = qerr_fn(qa[i, 0], qa[i, 1], qa[i, 2], qa[i, 3],
+                                                         qb[i, 0], qb[i, 1], qb[i, 2], qb[i, 3])
+            compose_fn(qc[i], rv[i, 0], rv[i, 1], rv[i, 2])
+    return run
+
+
+def test_qerr_and_compose_rotvec_keep_their_bits():
+    # issue 20: qerr now calls qdiff and compose_rotvec calls unit_q4_pos (helpers that the
+    # wheel and thruster kernels can share); the former bodies, verbatim, give the same bits in
+    # Python and compiled, on random, equal, opposite and small-angle inputs
+    rng = np.random.default_rng(22)
+    n = 300
+    qa, qb = rng.normal(size=(n, 4)), rng.normal(size=(n, 4))
+    qb[:30], qb[30:60] = qa[:30], -qa[30:60]
+    rv = rng.normal(size=(n, 3)) * rng.choice([1e-9, 1e-5, 1.0, 3.0], size=(n, 1))
+    outs = []
+    for qerr_fn, compose_fn in ((qerr, compose_rotvec), (_former_qerr, _former_compose_rotvec)):
+        e, qc = np.empty((n, 4)), qa.copy()
+        for i in range(n):
+            e[i] = qerr_fn(*qa[i], *qb[i])
+            compose_fn(qc[i], *rv[i])
+        ec, qcc = np.empty((n, 4)), qa.copy()
+        jit = numba.extending.register_jitable
+        _qerr_compose_batch(jit(qerr_fn), jit(compose_fn))(qa, qb, rv, ec, qcc)
+        outs.append((e.tobytes(), qc.tobytes(), ec.tobytes(), qcc.tobytes()))
+    assert outs[0] == outs[1]
