@@ -231,3 +231,16 @@ def test_qerr_and_compose_rotvec_keep_their_bits():
         _qerr_compose_batch(jit(qerr_fn), jit(compose_fn))(qa, qb, rv, ec, qcc)
         outs.append((e.tobytes(), qc.tobytes(), ec.tobytes(), qcc.tobytes()))
     assert outs[0] == outs[1]
+
+
+def test_qdot_is_the_simulator_kinematics_bit_for_bit():
+    # attitude._device.qdot is the quaternion part of simulation._kernels._rhs (and of the wheel
+    # kernel's rhs, the same expressions), so that the kernels can call it: same bits
+    from adcskit.attitude._device import qdot
+    from adcskit.simulation._kernels import _rhs
+
+    rng = np.random.default_rng(23)
+    J = np.eye(3).ravel()
+    for q, w in zip(rng.normal(size=(100, 4)), rng.normal(size=(100, 3)), strict=True):
+        want = _rhs(*q, *w, J, J, 0.0, 0.0, 0.0)[:4]
+        assert np.array(qdot(*q, *w)).tobytes() == np.array(want).tobytes()

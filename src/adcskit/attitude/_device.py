@@ -21,7 +21,7 @@ import math
 
 from adcskit._targets import device
 
-__all__ = ["rotate", "qdiff", "qerr", "unit_q4_pos", "compose_rotvec"]
+__all__ = ["rotate", "qdiff", "qerr", "qdot", "unit_q4_pos", "compose_rotvec"]
 
 
 @device
@@ -77,6 +77,23 @@ def qerr(a0, a1, a2, a3, b0, b1, b2, b3):
     else:
         f = 2.0
     return f * d0, f * d1, f * d2, ang
+
+
+@device
+def qdot(q0, q1, q2, q3, w0, w1, w2):
+    """Kinematics ``q' = 1/2 [w; 0] (x) q`` (``w``: body rate, rad/s) as four scalars (1/s).
+
+    Markley & Crassidis (2014) eq. 3.20 with the product of eq. 2.82a.
+
+    Examples
+    --------
+    >>> qdot(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.2)
+    (0.0, 0.0, 0.1, -0.0)
+    """
+    return (0.5 * (q3 * w0 - (w1 * q2 - w2 * q1)),
+            0.5 * (q3 * w1 - (w2 * q0 - w0 * q2)),
+            0.5 * (q3 * w2 - (w0 * q1 - w1 * q0)),
+            -0.5 * (w0 * q0 + w1 * q1 + w2 * q2))
 
 
 @device
