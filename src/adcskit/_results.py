@@ -22,7 +22,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
@@ -120,8 +120,14 @@ class Result:
 
     ``to_dict()`` returns ``{field: to_jsonable(value)}`` for every dataclass field in
     declaration order. Subclass it with ``@dataclass(frozen=True, slots=True, repr=False)``
-    (``repr=False`` keeps this class's short ``repr``); a result whose dictionary is not the
-    plain field mapping writes its own ``to_dict``.
+    (``repr=False`` keeps this class's short ``repr``). Two class attributes declare the common
+    departures from the plain field mapping:
+
+    * ``_dict_exclude``: names of fields left out (large arrays, internal extras);
+    * ``_dict_extra``: names of attributes (properties) appended after the fields.
+
+    A result whose dictionary differs otherwise (renamed keys, a changed order, derived values
+    in the middle) writes its own ``to_dict``.
 
     Examples
     --------
@@ -136,13 +142,34 @@ class Result:
     Fit(x=<array shape=(1000,) dtype=float64>, success=True, fun=nan)
     >>> d = r.to_dict(); list(d), d["fun"], len(d["x"])
     (['x', 'success', 'fun'], None, 1000)
+    >>> @dataclass(frozen=True, slots=True, repr=False)
+    ... class Slim(Result):
+    ...     x: np.ndarray
+    ...     fun: float
+    ...     _dict_exclude = ("x",)
+    ...     _dict_extra = ("cost",)
+    ...     @property
+    ...     def cost(self):
+    ...         return 2 * self.fun
+    >>> Slim(x=np.zeros(1000), fun=np.float64(1.5)).to_dict()
+    {'fun': 1.5, 'cost': 3.0}
     """
 
     __slots__ = ()
 
+    #: Field names that ``to_dict`` leaves out.
+    _dict_exclude: ClassVar[tuple[str, ...]] = ()
+    #: Attribute names (e.g. properties) that ``to_dict`` appends after the fields.
+    _dict_extra: ClassVar[tuple[str, ...]] = ()
+
     def to_dict(self) -> dict[str, Any]:
-        """Every field, in declaration order, converted by :func:`to_jsonable`."""
-        return {f.name: to_jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)}  # type: ignore[arg-type]
+        """Every field in declaration order (less ``_dict_exclude``, plus ``_dict_extra``),
+        converted by :func:`to_jsonable`."""
+        skip = self._dict_exclude
+        out = {f.name: to_jsonable(getattr(self, f.name)) for f in dataclasses.fields(self) if f.name not in skip}  # type: ignore[arg-type]
+        for name in self._dict_extra:
+            out[name] = to_jsonable(getattr(self, name))
+        return out
 
     def __repr__(self) -> str:
         return short_repr_result(self)

@@ -21,7 +21,7 @@ import math
 
 from adcskit._targets import device
 
-__all__ = ["rotate", "qerr", "compose_rotvec"]
+__all__ = ["rotate", "qdiff", "qerr", "qdot", "unit_q4_pos", "compose_rotvec"]
 
 
 @device
@@ -42,6 +42,25 @@ def rotate(q0, q1, q2, q3, r0, r1, r2):
 
 
 @device
+def qdiff(a0, a1, a2, a3, b0, b1, b2, b3):
+    """``qa (x) qb^-1`` (Markley's product with the conjugate), sign fixed to ``q4 >= 0``.
+
+    Examples
+    --------
+    >>> qdiff(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0)
+    (0.0, 0.0, -1.0, 0.0)
+    """
+    c0, c1, c2, c3 = -b0, -b1, -b2, b3
+    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
+    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
+    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
+    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
+    if d3 < 0.0:
+        return -d0, -d1, -d2, -d3
+    return d0, d1, d2, d3
+
+
+@device
 def qerr(a0, a1, a2, a3, b0, b1, b2, b3):
     """Rotation vector (rad, body frame) of ``qa (x) qb^-1`` and its angle (rad).
 
@@ -50,13 +69,7 @@ def qerr(a0, a1, a2, a3, b0, b1, b2, b3):
     >>> qerr(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
     (0.0, 0.0, 0.0, 0.0)
     """
-    c0, c1, c2, c3 = -b0, -b1, -b2, b3
-    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
-    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
-    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
-    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
-    if d3 < 0.0:
-        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+    d0, d1, d2, d3 = qdiff(a0, a1, a2, a3, b0, b1, b2, b3)
     ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
     ang = 2.0 * math.atan2(ev, d3)
     if ev > 0.0:
@@ -64,6 +77,23 @@ def qerr(a0, a1, a2, a3, b0, b1, b2, b3):
     else:
         f = 2.0
     return f * d0, f * d1, f * d2, ang
+
+
+@device
+def qdot(q0, q1, q2, q3, w0, w1, w2):
+    """Kinematics ``q' = 1/2 [w; 0] (x) q`` (``w``: body rate, rad/s) as four scalars (1/s).
+
+    Markley & Crassidis (2014) eq. 3.20 with the product of eq. 2.82a.
+
+    Examples
+    --------
+    >>> qdot(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.2)
+    (0.0, 0.0, 0.1, -0.0)
+    """
+    return (0.5 * (q3 * w0 - (w1 * q2 - w2 * q1)),
+            0.5 * (q3 * w1 - (w2 * q0 - w0 * q2)),
+            0.5 * (q3 * w2 - (w0 * q1 - w1 * q0)),
+            -0.5 * (w0 * q0 + w1 * q1 + w2 * q2))
 
 
 @device
@@ -94,10 +124,19 @@ def compose_rotvec(q, r0, r1, r2):
     n1 = p3 * q1 + q3 * p1 - (p2 * q0 - p0 * q2)
     n2 = p3 * q2 + q3 * p2 - (p0 * q1 - p1 * q0)
     n3 = p3 * q3 - (p0 * q0 + p1 * q1 + p2 * q2)
+    q[0], q[1], q[2], q[3] = unit_q4_pos(n0, n1, n2, n3)
+
+
+@device
+def unit_q4_pos(n0, n1, n2, n3):
+    """``n / |n|`` with the sign that makes ``q4 >= 0`` (one division per component).
+
+    Examples
+    --------
+    >>> unit_q4_pos(0.0, 0.0, 3.0, -4.0)
+    (-0.0, -0.0, -0.6, 0.8)
+    """
     nrm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
     if n3 < 0.0:
         nrm = -nrm
-    q[0] = n0 / nrm
-    q[1] = n1 / nrm
-    q[2] = n2 / nrm
-    q[3] = n3 / nrm
+    return n0 / nrm, n1 / nrm, n2 / nrm, n3 / nrm

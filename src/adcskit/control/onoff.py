@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_array, check_choice, check_flag, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
@@ -72,7 +72,7 @@ METRIC_NAMES = _k.METRIC_NAMES
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class LoopSettings:
+class LoopSettings(Result):
     """Settings shared by every sample of a batch (fixed-step simulation).
 
     Attributes
@@ -149,12 +149,9 @@ class LoopSettings:
         """Samples in the final metrics window."""
         return max(1, min(self.n_steps, int(round(self.t_window / self.dt))))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class LoopParams:
+class LoopParams(Result):
     """Per-sample loop parameters; S4 Table 3 nominal values by default.
 
     Every field is a scalar or a 1-D array; :func:`simulate_batch` broadcasts them to a
@@ -227,13 +224,9 @@ class LoopParams:
         d.update(changes)
         return LoopParams(**d)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
-
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class OnOffMetrics:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class OnOffMetrics(Result):
     """Metrics of a batch simulation, one entry per sample.
 
     Attributes
@@ -286,15 +279,9 @@ class OnOffMetrics:
         """The metrics as an (N, 7) array in :data:`METRIC_NAMES` order."""
         return np.stack([getattr(self, name) for name in METRIC_NAMES], axis=1)
 
-    def to_dict(self) -> dict[str, Any]:
-        d: dict[str, Any] = {name: getattr(self, name) for name in METRIC_NAMES}
-        d.update(n_steps=self.n_steps, backend=self.backend)
-        return d
 
-
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class OnOffTrace:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class OnOffTrace(Result):
     """Time histories of one simulation (sampled every ``dt``).
 
     Attributes
@@ -329,17 +316,6 @@ class OnOffTrace:
     command: np.ndarray
     thrust_torque: np.ndarray
     metrics: OnOffMetrics = field(repr=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "t": self.t,
-            "theta": self.theta,
-            "omega": self.omega,
-            "u": self.u,
-            "command": self.command,
-            "thrust_torque": self.thrust_torque,
-            "metrics": self.metrics.to_dict(),
-        }
 
 
 def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np.ndarray:

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import bar, status
-from adcskit._results import compact_repr
+from adcskit._results import Result, compact_repr
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_choice, check_int, check_positive
 from adcskit.control.onoff import LoopParams, LoopSettings, OnOffMetrics, simulate_batch
@@ -114,9 +114,8 @@ def evaluate_gains(
     return simulate_batch(base.replace(**changes), settings, parallel=parallel, backend=backend)
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class ParetoResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class ParetoResult(Result):
     """Pareto front of the deterministic two-objective tuning (S4 eq. 9).
 
     Attributes
@@ -143,21 +142,9 @@ class ParetoResult:
     nit: int
     nfev: int
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "x": self.x,
-            "F": self.F,
-            "overshoot_pct": self.overshoot_pct,
-            "success": self.success,
-            "message": self.message,
-            "nit": self.nit,
-            "nfev": self.nfev,
-        }
 
-
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class RobustTuningResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class RobustTuningResult(Result):
     """Outcome of the robust GA tuning (S4 eq. 10).
 
     Attributes
@@ -201,24 +188,6 @@ class RobustTuningResult:
     w1: float = 1.0
     w2: float = 1.0
     backend: str = "cpu"
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "x": self.x,
-            "fun": self.fun,
-            "mean_abs_err_deg": self.mean_abs_err_deg,
-            "std_abs_err_deg": self.std_abs_err_deg,
-            "max_overshoot_pct": self.max_overshoot_pct,
-            "success": self.success,
-            "status": self.status,
-            "message": self.message,
-            "nit": self.nit,
-            "nfev": self.nfev,
-            "history": self.history,
-            "w1": self.w1,
-            "w2": self.w2,
-            "backend": self.backend,
-        }
 
 
 def _bounds(bounds: tuple[float, float]) -> tuple[float, float]:
@@ -637,7 +606,7 @@ def monte_carlo(
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class RobustTuningScale:
+class RobustTuningScale(Result):
     """Size of a robust tuning run: GA population, stopping rule, LHS and evaluation sizes.
 
     Attributes
@@ -686,19 +655,14 @@ class RobustTuningScale:
         return {"pop_size": self.pop_size, "max_gen": self.max_gen, "n_samples": self.n_samples,
                 "tol": self.tol, "window": self.window}
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"pop_size": self.pop_size, "max_gen": self.max_gen, "n_samples": self.n_samples,
-                "n_eval": self.n_eval, "tol": self.tol, "window": self.window}
-
 
 PAPER_SCALE = RobustTuningScale()
 """S4's protocol at full size: population 70, S4 stopping rule (1e-7 over 10 generations)
 with the 1000-generation cap, 1000 LHS samples per candidate, 10 000-run evaluation."""
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class TuningTimeEstimate:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class TuningTimeEstimate(Result):
     """Predicted duration of a robust tuning run, from a timed calibration batch.
 
     Attributes
@@ -729,9 +693,6 @@ class TuningTimeEstimate:
     evaluation_s: float
     total_max_s: float
     message: str
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f: getattr(self, f) for f in self.__slots__}  # type: ignore[attr-defined]
 
 
 def _fmt_duration(s: float) -> str:

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_batch,
@@ -98,9 +98,8 @@ def euler_equations(omega: Any, inertia: Any, torque: Any = None) -> np.ndarray:
     return out(_euler_rhs(w, J, t), wb or tb)
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class AttitudeTrajectory:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class AttitudeTrajectory(Result):
     """Result of :func:`propagate_attitude`.
 
     Attributes
@@ -125,17 +124,6 @@ class AttitudeTrajectory:
     status: int
     message: str
     nfev: int
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "t": self.t.tolist(),
-            "q": self.q.tolist(),
-            "omega": self.omega.tolist(),
-            "success": self.success,
-            "status": self.status,
-            "message": self.message,
-            "nfev": self.nfev,
-        }
 
 
 def propagate_attitude(

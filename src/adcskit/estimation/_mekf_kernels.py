@@ -118,6 +118,7 @@ from numba import njit, prange
 from numba.extending import register_jitable
 
 from adcskit.attitude._device import compose_rotvec as _compose_rotvec
+from adcskit.attitude._device import qerr as _qerr
 from adcskit.attitude._device import rotate as _rotate
 from adcskit.sensors._gyro_kernels import gyro_step, gyro_step_jit  # noqa: F401 (re-export)
 
@@ -163,28 +164,20 @@ def _g(n, x):
 @register_jitable
 def _error_rotvec(qa, qb, out, off):
     """Rotation vector of ``qa ⊗ qb⁻¹`` (rad) into ``out[off:off+3]``; returns False if a
-    quaternion is zero or non-finite."""
+    quaternion is zero or non-finite.
+
+    The rotation vector is :func:`adcskit.attitude._device.qerr`'s (one source with the
+    closed-loop simulator; bit-identical to the former copy here, whose ``f = 2 / d4`` at a zero
+    vector part multiplied three zeros as qerr's ``f = 2`` does).
+    """
     na = qa[0] * qa[0] + qa[1] * qa[1] + qa[2] * qa[2] + qa[3] * qa[3]
     nb = qb[0] * qb[0] + qb[1] * qb[1] + qb[2] * qb[2] + qb[3] * qb[3]
     if not (na > 0.0 and nb > 0.0 and math.isfinite(na) and math.isfinite(nb)):
         return False
-    # qb⁻¹ = [−e, q4]; d = qa ⊗ qb⁻¹
-    a0, a1, a2, a3 = qa[0], qa[1], qa[2], qa[3]
-    c0, c1, c2, c3 = -qb[0], -qb[1], -qb[2], qb[3]
-    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
-    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
-    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
-    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
-    if d3 < 0.0:
-        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
-    ev = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-    if ev == 0.0:
-        f = 2.0 / d3
-    else:
-        f = 2.0 * math.atan2(ev, d3) / ev
-    out[off] = f * d0
-    out[off + 1] = f * d1
-    out[off + 2] = f * d2
+    e0, e1, e2, _ = _qerr(qa[0], qa[1], qa[2], qa[3], qb[0], qb[1], qb[2], qb[3])
+    out[off] = e0
+    out[off + 1] = e1
+    out[off + 2] = e2
     return True
 
 

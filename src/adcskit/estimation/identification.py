@@ -86,7 +86,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 from scipy.optimize import brentq
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -111,9 +111,8 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class IdentificationResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class IdentificationResult(Result):
     """Output of :func:`identify_model`.
 
     Attributes
@@ -170,9 +169,6 @@ class IdentificationResult:
     method: str
     reg_param: float = math.nan
     n_accepted: int = 0
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f: getattr(self, f) for f in self.__slots__}
 
 
 # --------------------------------------------------------------------------- helpers

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -68,9 +68,8 @@ __all__ = ["AugmentedEKFResult", "JointResult", "augmented_ekf", "joint_estimate
 _UNREGULARISED = {"qr", "gmres", "bicg", "cgs", "bicgstab", "lsqr"}
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class JointResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class JointResult(Result):
     """Output of :func:`joint_estimate`.
 
     Attributes
@@ -118,9 +117,6 @@ class JointResult:
     status: int
     message: str
     method: str
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f: getattr(self, f) for f in self.__slots__}
 
 
 def joint_estimate(
@@ -289,9 +285,8 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
 # --------------------------------------------------------------------------- augmented EKF
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class AugmentedEKFResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class AugmentedEKFResult(Result):
     """Output of :func:`augmented_ekf`.
 
     Attributes
@@ -334,9 +329,6 @@ class AugmentedEKFResult:
     message: str
     nit: int
     nfev: int
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f: getattr(self, f) for f in self.__slots__}
 
 
 def augmented_ekf(

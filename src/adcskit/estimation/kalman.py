@@ -41,12 +41,11 @@ Simon, D., *Optimal State Estimation*, Wiley 2006, §5.1 (one-step predictor) an
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import as_array, as_rng, check_choice, check_positive
 from adcskit.errors import InputError
 
@@ -116,9 +115,8 @@ def _loglik_term(nu, S_cf):
 # --------------------------------------------------------------------------- results
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class KalmanResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class KalmanResult(Result):
     """Output of :func:`kalman_filter`.
 
     Attributes
@@ -172,25 +170,9 @@ class KalmanResult:
     message: str = "filter completed"
     nit: int = 0
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "x": self.x,
-            "P": self.P,
-            "x_pred": self.x_pred,
-            "P_pred": self.P_pred,
-            "innovations": self.innovations,
-            "S": self.S,
-            "loglik": self.loglik,
-            "form": self.form,
-            "success": self.success,
-            "status": self.status,
-            "message": self.message,
-            "nit": self.nit,
-        }
-
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class LinearSimulation:
+class LinearSimulation(Result):
     """Output of :func:`simulate_linear`: true states ``x`` (N+1, n), measurements ``y``
     (N, m) taken at ``x[0..N-1]``, the inputs ``u`` (N, p) and the noise draws.
 
@@ -212,9 +194,6 @@ class LinearSimulation:
     u: np.ndarray
     v: np.ndarray
     w: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"x": self.x, "y": self.y, "u": self.u, "v": self.v, "w": self.w}
 
 
 # --------------------------------------------------------------------------- validation

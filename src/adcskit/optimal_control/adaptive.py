@@ -57,7 +57,7 @@ import casadi as ca
 import numpy as np
 from numpy.polynomial import legendre as _leg
 
-from adcskit._results import compact_repr
+from adcskit._results import Result, compact_repr
 from adcskit._validation import (
     as_array,
     check_choice,
@@ -653,9 +653,8 @@ class MeshIteration:
         }
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class ErrorCertificate:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class ErrorCertificate(Result):
     """Final error statement of an adaptive solve.
 
     Attributes
@@ -711,9 +710,6 @@ class ErrorCertificate:
     optimality_checks: tuple[str, ...] = ()
     optimality_figures: dict[str, float] = field(default_factory=dict)
     optimality_detail: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @compact_repr

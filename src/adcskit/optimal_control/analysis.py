@@ -17,12 +17,11 @@ S2, §6 (bang-bang controls, Figs 3–4), eq. 35–36. Bilimoria & Wie, J. Guid.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import check_choice, check_int, check_positive, check_range
 from adcskit.errors import InputTypeError
 from adcskit.optimal_control._schemes import SCHEMES
@@ -31,9 +30,8 @@ from adcskit.optimal_control.solve import OptimalControlSolution
 __all__ = ["BangBangResult", "OptimalityCheck", "ResimulationResult", "bang_bang", "check_optimality", "resimulate"]
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class BangBangResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class BangBangResult(Result):
     """Bang-bang structure of each control channel.
 
     Attributes
@@ -64,15 +62,6 @@ class BangBangResult:
     switch_times: tuple[np.ndarray, ...]
     n_switches: np.ndarray
     all_bang_bang: bool
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "at_bound_fraction": self.at_bound_fraction,
-            "is_bang_bang": self.is_bang_bang,
-            "switch_times": [list(s) for s in self.switch_times],
-            "n_switches": self.n_switches,
-            "all_bang_bang": self.all_bang_bang,
-        }
 
 
 def bang_bang(solution: OptimalControlSolution, *, tol: float = 0.02, min_fraction: float = 0.9) -> BangBangResult:
@@ -138,9 +127,8 @@ def bang_bang(solution: OptimalControlSolution, *, tol: float = 0.02, min_fracti
     )
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class ResimulationResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class ResimulationResult(Result):
     """Open-loop re-simulation of an optimal control history.
 
     Attributes
@@ -176,14 +164,7 @@ class ResimulationResult:
     terminal_miss_scaled: float
     nfev: int
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "success": self.success,
-            "message": self.message,
-            "terminal_miss": self.terminal_miss,
-            "terminal_miss_scaled": self.terminal_miss_scaled,
-            "nfev": self.nfev,
-        }
+    _dict_exclude = ("t", "x")  # the trajectory stays out of the dictionary
 
 
 def resimulate(
@@ -285,9 +266,8 @@ def resimulate(
 
 
 # ----------------------------------------------------------------------------- optimality
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class OptimalityCheck:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class OptimalityCheck(Result):
     """First-order optimality evidence of a solution from its costate estimates.
 
     Sign convention: ``H = g + λᵀ f`` with ``λ = ∂J*/∂x`` (the minimum principle for a
@@ -340,9 +320,6 @@ class OptimalityCheck:
     h_median: float
     n_excluded: int
     detail: str
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f: getattr(self, f) for f in self.__slots__}
 
 
 def _problem_funs(problem):

@@ -34,6 +34,7 @@ from scipy.spatial.transform import Rotation, Slerp
 from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
 from adcskit._progress import status
 from adcskit._validation import as_rng, check_flag, check_int
+from adcskit.attitude._kernels import quat_multiply as _quat_multiply
 from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
@@ -228,12 +229,12 @@ def _rotvec_quat(rv: np.ndarray) -> np.ndarray:
 
 
 def _qmul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Markley's product ``p (x) q`` (``A(p (x) q) = A(p) A(q)``), batched."""
-    pv, p4 = p[..., :3], p[..., 3:]
-    qv, q4 = q[..., :3], q[..., 3:]
-    v = p4 * qv + q4 * pv - np.cross(pv, qv)
-    s = p4 * q4 - np.sum(pv * qv, axis=-1, keepdims=True)
-    out = np.concatenate([v, s], axis=-1)
+    """Markley's product ``p (x) q`` (``A(p (x) q) = A(p) A(q)``), batched, sign ``q4 >= 0``.
+
+    The product is the attitude algebra's (:func:`adcskit.attitude._kernels.quat_multiply`, no
+    normalisation); only the sign flip is added here.
+    """
+    out = _quat_multiply(p, q)
     return out * np.where(out[..., 3:] < 0, -1.0, 1.0)
 
 

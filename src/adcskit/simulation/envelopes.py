@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import Result
 from adcskit._validation import check_choice, check_finite, check_flag, check_int, short_repr
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation.core import SimulationResult
@@ -62,7 +63,7 @@ _UNIT_SCALES = {"rad": ("deg", _DEG), "rad/s": ("deg/s", _DEG)}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Envelope:
+class Envelope(Result):
     """Median and percentile bands of Monte-Carlo traces over time (:func:`envelope`).
 
     Attributes
@@ -89,10 +90,6 @@ class Envelope:
     p95: np.ndarray
     p99: np.ndarray
     n: int
-
-    def to_dict(self) -> dict[str, Any]:
-        return {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k in self.__slots__
-                for v in (getattr(self, k),)}
 
 
 def envelope(values: Any, t: Any) -> Envelope:

@@ -50,6 +50,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._results import Result
 from adcskit._validation import check_choice
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation.core import SimulationResult
@@ -75,7 +76,7 @@ _DEG = 180.0 / math.pi
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class SignOffTable:
+class SignOffTable(Result):
     """A requirement table checked on a simulation result (:func:`check_simulation`).
 
     Attributes
@@ -166,10 +167,6 @@ class SignOffTable:
         lines = [fmt.format(*hdr), fmt.format(*("-" * w for w in width))]
         lines += [fmt.format(*r).rstrip() for r in body]
         return "\n".join(lines + ["", self.message])
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"table": self.table.to_dict(), "sources": list(self.sources), "n_for_bound": list(self.n_for_bound),
-                "exact": self.exact, "success": self.success, "message": self.message}
 
 
 def _num(x: Any) -> str:

@@ -18,7 +18,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from adcskit._results import to_jsonable
+from adcskit._results import Result, to_jsonable
 from adcskit.errors import InputError
 from adcskit.studies._verdict import Claim, Finding
 
@@ -137,7 +137,7 @@ def protocol_keys(config_cls: Any, *tags: str) -> tuple[str, ...]:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Check:
+class Check(Result):
     """A consistency check of ours (pass / fail).
 
     The paper's claims are :class:`adcskit.studies._verdict.Claim` objects, decided over
@@ -170,12 +170,9 @@ class Check:
             raise InputError(f"Check.kind must be 'check' (a paper's claim is a ClaimSpec); got {self.kind!r}")
         object.__setattr__(self, "passed", bool(self.passed))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "passed": self.passed, "detail": self.detail, "kind": self.kind}
-
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Comparison:
+class Comparison(Result):
     """One row of the paper-vs-ours table shown in the report.
 
     Examples
@@ -189,15 +186,6 @@ class Comparison:
     measured: Any
     unit: str = ""
     note: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "quantity": self.quantity,
-            "paper": to_jsonable(self.paper),
-            "measured": to_jsonable(self.measured),
-            "unit": self.unit,
-            "note": self.note,
-        }
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

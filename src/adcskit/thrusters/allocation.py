@@ -43,15 +43,14 @@ import numba
 import numpy as np
 from scipy.optimize import linprog, lsq_linear
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import as_array, as_batch, check_choice, check_positive_array
 
 __all__ = ["AllocationResult", "ALLOCATION_METHODS", "allocate"]
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class AllocationResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class AllocationResult(Result):
     """Forces allocated to the thrusters for one or many torque demands.
 
     Shapes follow the demand: ``(3,)`` gives ``x`` of shape ``(n,)``; ``(N, 3)`` gives
@@ -101,19 +100,6 @@ class AllocationResult:
     message: str
     method: str
     nit: int
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "x": self.x.tolist(),
-            "torque": self.torque.tolist(),
-            "error": np.asarray(self.error).tolist(),
-            "feasible": np.asarray(self.feasible).tolist(),
-            "success": self.success,
-            "status": np.asarray(self.status).tolist(),
-            "message": self.message,
-            "method": self.method,
-            "nit": self.nit,
-        }
 
 
 # ----------------------------------------------------------------------------- kernels

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linprog
 
+from adcskit._results import Result
 from adcskit._validation import as_array, as_batch, check_positive, check_positive_array, short_repr
 from adcskit.errors import InputError, InputTypeError
 
@@ -187,7 +188,7 @@ class Thruster:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class ThrusterSet:
+class ThrusterSet(Result):
     """``n`` thrusters as arrays (batch-first).
 
     Attributes
@@ -287,17 +288,6 @@ class ThrusterSet:
         """S3's ``(alpha, beta)`` of every thruster (rad, principal branch)."""
         return angles_from_direction(self.directions)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "positions": self.positions.tolist(),
-            "directions": self.directions.tolist(),
-            "f_max": self.f_max.tolist(),
-            "t_min": self.t_min.tolist(),
-            "mdot": self.mdot.tolist(),
-            "com": self.com.tolist(),
-            "names": list(self.names),
-        }
-
 
 def torque_matrix(positions: Any, directions: Any) -> np.ndarray:
     """Torque matrix ``A`` with ``M = A F`` (S3 eq. 5), batched.
@@ -339,7 +329,7 @@ def _torque_matrix(r: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Controllability:
+class Controllability(Result):
     """Result of the positive-span test.
 
     Attributes
@@ -373,15 +363,6 @@ class Controllability:
     margin: float
     unreachable: np.ndarray
     message: str
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "success": self.success,
-            "rank": self.rank,
-            "margin": self.margin,
-            "unreachable": self.unreachable.tolist(),
-            "message": self.message,
-        }
 
 
 def check_controllability(torque_matrix: Any, *, tol: float = 1e-9) -> Controllability:

@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._results import compact_repr
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -94,7 +94,7 @@ GENES_PER_THRUSTER = 5
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class MountingFace:
+class MountingFace(Result):
     """A rectangular face on which thrusters may be mounted.
 
     Attributes
@@ -153,13 +153,6 @@ class MountingFace:
         object.__setattr__(self, "half_v", check_positive("half_v", self.half_v, allow_zero=True, unit="m"))
         mc = check_range("max_cant", self.max_cant, 0.0, math.pi / 2, unit="rad")
         object.__setattr__(self, "max_cant", mc)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "name": self.name, "centre": self.centre.tolist(), "normal": self.normal.tolist(),
-            "axis_u": self.axis_u.tolist(), "axis_v": self.axis_v.tolist(),
-            "half_u": self.half_u, "half_v": self.half_v, "max_cant": self.max_cant,
-        }
 
 
 _BOX_AXES = {
@@ -294,7 +287,7 @@ def decode_layout(
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class LayoutScore:
+class LayoutScore(Result):
     """S3 eq. 18 and its terms, per layout (arrays of shape ``(B,)``, or scalars).
 
     Attributes
@@ -324,11 +317,7 @@ class LayoutScore:
     sum_tp: Any
     on_times: np.ndarray
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "fun": np.asarray(self.fun).tolist(), "error": np.asarray(self.error).tolist(),
-            "e_min": np.asarray(self.e_min).tolist(), "sum_tp": np.asarray(self.sum_tp).tolist(),
-        }
+    _dict_exclude = ("on_times",)  # per-thruster, per-demand on-times stay out
 
 
 def _score(
@@ -509,9 +498,8 @@ DE_STRATEGIES = {
 }
 
 
-@compact_repr
-@dataclass(frozen=True, slots=True, kw_only=True)
-class LayoutResult:
+@dataclass(frozen=True, slots=True, repr=False, kw_only=True)
+class LayoutResult(Result):
     """Outcome of :func:`design_layout`.
 
     Attributes
@@ -569,15 +557,7 @@ class LayoutResult:
     algorithm: str
     extra: dict[str, Any] = field(default_factory=dict)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "x": self.x.tolist(), "thrusters": self.thrusters.to_dict(), "fun": self.fun,
-            "error": self.error, "e_min": self.e_min, "sum_tp": self.sum_tp,
-            "torque_matrix": self.torque_matrix.tolist(), "success": self.success,
-            "status": self.status, "message": self.message, "nit": self.nit, "nfev": self.nfev,
-            "history": self.history.tolist(), "runtime_s": self.runtime_s, "cpu_s": self.cpu_s,
-            "algorithm": self.algorithm,
-        }
+    _dict_exclude = ("extra",)  # algorithm-specific extras stay out
 
 
 def design_layout(

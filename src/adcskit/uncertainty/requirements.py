@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     check_choice,
@@ -160,7 +161,7 @@ def _first_n(pred: Any, lo: int) -> int:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class PercentileBound:
+class PercentileBound(Result):
     """Distribution-free confidence bound(s) on a percentile (:func:`percentile_bound`).
 
     Attributes
@@ -208,9 +209,6 @@ class PercentileBound:
     n_needed: int
     success: bool
     message: str
-
-    def to_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in self.__slots__}
 
 
 def percentile_bound(x: Any, percentile: Any, *, confidence: Any = 0.95, side: str = "upper") -> PercentileBound:
@@ -293,7 +291,7 @@ def percentile_bound(x: Any, percentile: Any, *, confidence: Any = 0.95, side: s
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class ProportionInterval:
+class ProportionInterval(Result):
     """Confidence interval on a probability from ``k`` events in ``n`` trials.
 
     Attributes
@@ -328,9 +326,6 @@ class ProportionInterval:
     method: str
     side: str
     event: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in self.__slots__}
 
 
 _ALTERNATIVE = {"two-sided": "two-sided", "upper": "less", "lower": "greater"}
@@ -487,7 +482,7 @@ _NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*\Z")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Requirement:
+class Requirement(Result):
     """One line of a requirement table, e.g. ``pointing_max_deg p99 <= 0.1 after 300 s``.
 
     Parameters
@@ -584,8 +579,7 @@ class Requirement:
         label = f"{self.name}: " if self.name else ""
         return f"{label}{head}{tail} at {_fmt(self.confidence * 100)} % confidence"
 
-    def to_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in self.__slots__} | {"text": self.text}
+    _dict_extra = ("text",)  # the requirement as one sentence, after the fields
 
 
 def _fmt(x: float) -> str:
@@ -820,7 +814,7 @@ class RequirementVerdict:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class RequirementTable:
+class RequirementTable(Result):
     """A requirement table checked against per-sample metrics (:func:`check_requirements`).
 
     Attributes
@@ -851,9 +845,7 @@ class RequirementTable:
         """One flat mapping per requirement (:attr:`columns`), for report tables and CSV files."""
         return [row.table_row() for row in self.rows]
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"rows": [r.to_dict() for r in self.rows], "n_met": self.n_met, "n_not_met": self.n_not_met,
-                "n_inconclusive": self.n_inconclusive, "success": self.success, "message": self.message}
+    _dict_exclude = ("columns",)  # the per-row metric columns stay out
 
 
 def _cp_bounds(k: int, n: int, gamma: float) -> tuple[float, float]:

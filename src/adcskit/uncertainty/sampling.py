@@ -14,12 +14,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
+from adcskit._results import Result
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -34,8 +35,21 @@ from adcskit.errors import InputError, InputTypeError
 __all__ = ["Gaussian", "TruncatedGaussian", "Fixed", "latin_hypercube", "SampleStats", "sample_stats"]
 
 
+class _Distribution(Result):
+    """Base of the distribution records: ``to_dict`` is ``{"kind": ..., **fields}``."""
+
+    __slots__ = ()
+
+    #: The ``kind`` tag that leads the dictionary.
+    _kind: ClassVar[str] = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"kind": tag}`` followed by every field (converted by ``to_jsonable``)."""
+        return {"kind": self._kind, **Result.to_dict(self)}
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Gaussian:
+class Gaussian(_Distribution):
     """Normal distribution ``N(mean, std²)``.
 
     Examples
@@ -61,12 +75,11 @@ class Gaussian:
             return np.full(np.shape(u), float(self.mean))
         return stats.norm.ppf(u, loc=self.mean, scale=self.std)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"kind": "gaussian", "mean": self.mean, "std": self.std}
+    _kind = "gaussian"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class TruncatedGaussian:
+class TruncatedGaussian(_Distribution):
     """Normal distribution ``N(mean, std²)`` restricted to ``[low, high]`` (renormalised).
 
     Used for parameters that must keep their sign (delay and inertia stay positive). Note
@@ -106,12 +119,11 @@ class TruncatedGaussian:
         b = (self.high - self.mean) / self.std
         return stats.truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"kind": "truncated_gaussian", "mean": self.mean, "std": self.std, "low": self.low, "high": self.high}
+    _kind = "truncated_gaussian"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Fixed:
+class Fixed(_Distribution):
     """A parameter without uncertainty (a point mass).
 
     Examples
@@ -130,8 +142,7 @@ class Fixed:
         """Inverse CDF at ``u`` in (0, 1): ``value`` everywhere."""
         return np.full(np.shape(_probabilities(u)), float(self.value))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"kind": "fixed", "value": self.value}
+    _kind = "fixed"
 
 
 _DISTS = (Gaussian, TruncatedGaussian, Fixed)
@@ -195,7 +206,7 @@ def latin_hypercube(
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class SampleStats:
+class SampleStats(Result):
     """Summary statistics of a sample (``std`` with ``ddof=1``).
 
     Examples
@@ -214,9 +225,6 @@ class SampleStats:
     p05: float
     p50: float
     p95: float
-
-    def to_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in ("n", "mean", "std", "min", "max", "p05", "p50", "p95")}
 
 
 def sample_stats(x: Any) -> SampleStats:
