@@ -1143,10 +1143,27 @@ case("simulation.WheelDispersionSpec", positive=("inertia_rel", "wheel_misalignm
     lambda: dict(inertia_rel=0.1, wheel_misalignment_deg=0.5, sensor_noise_rel=0.2, initial_rate_deg_s=1.0,
                  initial_attitude="nominal", initial_attitude_deg=5.0, sampling="lhs")
 )
+def _unload_kw() -> dict[str, Any]:
+    from adcskit.simulation import ThrusterSpec
+
+    pos = ((0.1, 0.0, 0.0), (-0.1, 0.0, 0.0), (0.0, 0.1, 0.0), (0.0, -0.1, 0.0), (0.0, 0.0, 0.15), (0.0, 0.0, -0.15))
+    d = ((0.0, 1.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0))
+    jets = ThrusterSpec(positions=pos + pos, directions=d + tuple((-a, -b, -c) for a, b, c in d), f_max=0.01,
+                        mdot=1.4e-5, t_min=0.01)
+    return dict(thrusters=jets, start_nms=0.01, stop_nms=0.002, torque_nm=5e-4)
+
+
+case("simulation.ThrusterUnloadSpec", positive=("start_nms", "stop_nms", "torque_nm"), kinds={"thrusters": "object"})(
+    _unload_kw)
+case("simulation.ThrusterUnloadSpec.torque_matrix", target=method("", lambda: __import__(
+    "adcskit.simulation", fromlist=["ThrusterUnloadSpec"]).ThrusterUnloadSpec(**_unload_kw()), "torque_matrix"))(
+    lambda: dict())
 case("simulation.WheelScenario", kinds={k: "object" for k in ("spacecraft", "orbit", "disturbance", "wheels",
                                                               "magnetorquers", "sensors", "control", "modes",
-                                                              "dispersions", "sim")})(
-    lambda: dict(sim=_wheel_scenario().sim, initial_rotvec_deg=(1.0, 0.0, 0.0), initial_rate_deg_s=(0.0, 0.01, 0.0))
+                                                              "dispersions", "sim", "thruster_unloading")})(
+    lambda: dict(sim=_wheel_scenario().sim, initial_rotvec_deg=(1.0, 0.0, 0.0), initial_rate_deg_s=(0.0, 0.01, 0.0),
+                 thruster_unloading=__import__("adcskit.simulation", fromlist=["ThrusterUnloadSpec"]).ThrusterUnloadSpec(
+                     **_unload_kw()))
 )
 case("simulation.load_wheel_scenario", aliases={"source": ("scenario", "config", "path"), "overrides": ("config",)})(
     lambda: dict(source={"sim": {"t_final": 20.0, "metrics_from_s": 10.0}}, overrides={"sim": {"dt": 0.05}})
