@@ -1160,10 +1160,12 @@ case("simulation.ThrusterUnloadSpec.torque_matrix", target=method("", lambda: __
     lambda: dict())
 case("simulation.WheelScenario", kinds={k: "object" for k in ("spacecraft", "orbit", "disturbance", "wheels",
                                                               "magnetorquers", "sensors", "control", "modes",
-                                                              "dispersions", "sim", "thruster_unloading")})(
+                                                              "dispersions", "sim", "thruster_unloading",
+                                                              "estimator")})(
     lambda: dict(sim=_wheel_scenario().sim, initial_rotvec_deg=(1.0, 0.0, 0.0), initial_rate_deg_s=(0.0, 0.01, 0.0),
                  thruster_unloading=__import__("adcskit.simulation", fromlist=["ThrusterUnloadSpec"]).ThrusterUnloadSpec(
-                     **_unload_kw()))
+                     **_unload_kw()),
+                 estimator=__import__("adcskit.simulation", fromlist=["EstimatorSpec"]).EstimatorSpec(kind="mekf"))
 )
 case("simulation.load_wheel_scenario", aliases={"source": ("scenario", "config", "path"), "overrides": ("config",)})(
     lambda: dict(source={"sim": {"t_final": 20.0, "metrics_from_s": 10.0}}, overrides={"sim": {"dt": 0.05}})

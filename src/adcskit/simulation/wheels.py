@@ -20,7 +20,9 @@ What the loop holds
   last star-tracker quaternion propagated with the gyro; without a star tracker the true
   attitude), sun sensor (Gaussian per component, nothing in eclipse), magnetometer (Gaussian
   per component, relative to ``|B|``; *blanked* or *corrupted* by ``coupling x m`` while the
-  magnetorquers fire). No filter: the knowledge is the raw sensors'.
+  magnetorquers fire). By default no filter: the knowledge is the raw sensors'; optionally
+  (``estimator=EstimatorSpec(kind="mekf")``) the thruster loop's MEKF with gyro-bias
+  estimation (Lefferts, Markley & Shuster 1982), with its NEES as a consistency metric.
 * **Modes** (:class:`ModeSpec`), switched inside the kernel at every control period:
   ``detumble`` (B-dot on the magnetorquers, ``m = -k dB/dt``, Stickler & Alfriend 1976; wheels
   idle) -> ``sun`` (wheels align ``sun_axis`` with the measured sun: ``u = J (k (n x s) -
@@ -88,6 +90,7 @@ from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation import _wheel_kernels as _k
 from adcskit.simulation.scenario import (
     DisturbanceSpec,
+    EstimatorSpec,
     OrbitSpec,
     SensorSpec,
     SimSpec,
@@ -115,6 +118,7 @@ __all__ = [
     "MODE_NAMES",
     "WHEEL_METRIC_NAMES",
     "WHEEL_UNLOAD_METRIC_NAMES",
+    "WHEEL_FILTER_METRIC_NAMES",
     "WHEEL_ENVELOPE_CHANNELS",
 ]
 
@@ -608,6 +612,18 @@ class WheelScenario(_Spec):
     wheels, magnetorquers, control, modes, dispersions
         See :class:`WheelSpec`, :class:`MagnetorquerSpec`, :class:`WheelControlSpec`,
         :class:`ModeSpec`, :class:`WheelDispersionSpec`.
+    estimator : EstimatorSpec or None
+        ``None`` (default): the knowledge is the raw sensors' (the last star-tracker
+        quaternion propagated with the gyro; the truth without a star tracker) and the
+        controller uses the raw gyro rate. ``EstimatorSpec(kind="mekf")``: the thruster
+        loop's multiplicative EKF with gyro-bias estimation (Lefferts, Markley & Shuster 1982;
+        :mod:`adcskit.estimation.mekf`'s kernels), propagated every step with the held gyro
+        reading and updated by the star tracker (quaternion), the sun sensor and the
+        magnetometer (unit vectors, ``underweight`` as in the thruster loop), with the
+        *nominal* sensor sigmas; the controller uses its attitude and the bias-corrected rate.
+        Initial estimate: the truth turned by a Gaussian rotation vector of
+        ``init_error_deg`` per axis, zero bias (covariance from ``init_error_deg`` and
+        ``sensors.gyro_bias0_deg_h``). Only ``kind="mekf"`` is available here.
     thruster_unloading : ThrusterUnloadSpec or None
         Thrusters that unload the wheel momentum (``None``, the default: none; magnetic
         unloading is :attr:`MagnetorquerSpec.unload_gain`). One optional part holds both the
@@ -636,6 +652,7 @@ class WheelScenario(_Spec):
     dispersions: WheelDispersionSpec = field(default_factory=WheelDispersionSpec)
     sim: SimSpec = field(default_factory=_ref_sim)
     thruster_unloading: ThrusterUnloadSpec | None = None
+    estimator: EstimatorSpec | None = None
     initial_rotvec_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
     initial_rate_deg_s: tuple[float, float, float] = (2.0, -1.5, 1.5)
 
@@ -651,6 +668,16 @@ class WheelScenario(_Spec):
             raise InputError(f"thruster_unloading.torque_nm must be <= wheels.max_torque_nm = "
                              f"{self.wheels.max_torque_nm:g} N m (the wheels absorb the unloading torque); got "
                              f"{tu.torque_nm:g} N m")
+        est = self.estimator
+        if est is not None:
+            if not isinstance(est, EstimatorSpec):
+                raise InputError(f"estimator must be an EstimatorSpec or None; got {type(est).__name__}")
+            if est.kind != "mekf":
+                raise InputError(f"estimator.kind must be 'mekf' in the wheel loop (None: the raw sensors); got "
+                                 f"{est.kind!r}")
+            if not est.init_error_deg > 0:
+                raise InputError(f"estimator.init_error_deg must be > 0 deg (the MEKF's initial sigma); got "
+                                 f"{est.init_error_deg!r}")
         object.__setattr__(self, "initial_rotvec_deg", _vec("initial_rotvec_deg", self.initial_rotvec_deg))
         object.__setattr__(self, "initial_rate_deg_s", _vec("initial_rate_deg_s", self.initial_rate_deg_s))
         dt = self.sim.dt
@@ -731,17 +758,25 @@ _UNLOAD_METRICS: dict[str, tuple[int, float]] = {
 WHEEL_METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
 #: Names of the metrics added with unloading thrusters (:class:`ThrusterUnloadSpec`).
 WHEEL_UNLOAD_METRIC_NAMES: tuple[str, ...] = tuple(_UNLOAD_METRICS)
+#: Metrics added with the attitude filter (``estimator``).
+_FILTER_METRICS: dict[str, tuple[int, float]] = {
+    "nees_mean": (_k.M_NEES, 1.0),
+    "nees_count": (_k.M_NEES_N, 1.0),
+}
+#: Names of the metrics added with the attitude filter (``WheelScenario.estimator``).
+WHEEL_FILTER_METRIC_NAMES: tuple[str, ...] = tuple(_FILTER_METRICS)
 #: Metrics computed over ``[sim.metrics_from_s, t_final]`` (the others cover the whole run).
 _WINDOWED = ("pointing_mean_deg", "pointing_rms_deg", "pointing_max_deg", "pointing_fraction",
-             "knowledge_rms_deg", "max_rate_deg_s")
+             "knowledge_rms_deg", "max_rate_deg_s", "nees_mean", "nees_count")
 
 
-def _channels(nw: int, thrusters: bool = False) -> tuple[str, ...]:
+def _channels(nw: int, thrusters: bool = False, filt: bool = False) -> tuple[str, ...]:
     thr = ("thruster_torque_x", "thruster_torque_y", "thruster_torque_z", "thruster_impulse_eci_x",
            "thruster_impulse_eci_y", "thruster_impulse_eci_z", "propellant") if thrusters else ()
     return (("error", "omega_x", "omega_y", "omega_z", "rate", "h_body_x", "h_body_y", "h_body_z", "h_wheels",
              "H_eci_x", "H_eci_y", "H_eci_z", "dipole_x", "dipole_y", "dipole_z", "mode", "knowledge_error")
-            + tuple(f"speed_{j}" for j in range(nw)) + tuple(f"h_{j}" for j in range(nw)) + thr)
+            + tuple(f"speed_{j}" for j in range(nw)) + tuple(f"h_{j}" for j in range(nw)) + thr
+            + (("nees",) if filt else ()))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -766,7 +801,11 @@ class WheelSimulationResult:
         :data:`WHEEL_UNLOAD_METRIC_NAMES`: ``propellant_kg`` (``sum mdot t_on``, i.e. the
         total impulse over ``Isp g0 = f_max / mdot``), ``thruster_impulse_ns`` (total impulse
         ``sum f_max t_on``), ``thruster_on_time_s``, ``unload_count`` (unloading episodes
-        started) and ``unload_time_s`` (time spent unloading).
+        started) and ``unload_time_s`` (time spent unloading). With the filter
+        (``estimator``) also :data:`WHEEL_FILTER_METRIC_NAMES`: ``nees_mean``, the mean over
+        the control periods of ``[metrics_from_s, end]`` of the filter's normalised
+        estimation error squared ``e^T P^-1 e`` (``e`` = attitude and gyro-bias errors; 6 for a
+        consistent filter), and ``nees_count``, the number of those epochs.
     t : ndarray (R,) or None, s
     trace : ndarray (N, R, C) or None
         Channels :attr:`channels`, SI (rad, rad/s, N m s, A m^2): ``error`` is the pointing
@@ -774,7 +813,8 @@ class WheelSimulationResult:
         the mode index; ``speed_j`` wheel speeds relative to the body, ``h_j`` wheel momenta;
         with unloading thrusters also ``thruster_torque_x/y/z`` (body, N m, over the step
         that ends at ``t``), ``thruster_impulse_eci_x/y/z`` (their angular impulse since
-        t = 0 in ECI, N m s) and ``propellant`` (kg since t = 0).
+        t = 0 in ECI, N m s) and ``propellant`` (kg since t = 0); with the filter ``nees`` (the
+        last NEES computed in the window; NaN before).
     channels : tuple of str
     parameters : dict of str to ndarray
         Dispersed per-sample parameters (inertia, axes, initial state, gyro bias, noise scale).
@@ -1167,6 +1207,12 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
         C[_k.UNL_STOP] = tu.stop_nms
         C[_k.UNL_TORQUE] = tu.torque_nm
         C[_k.UNL_EPS] = 1e-12  # as the thruster loop's allocator (core.py RPI_EPS)
+    est = sc.estimator
+    if est is not None:
+        C[_k.EST_ON] = 1.0
+        C[_k.EST_SIG0] = est.init_error_deg * _DEG
+        C[_k.EST_SIGB0] = sc.sensors.gyro_bias0_deg_h * _DEG / 3600.0
+        C[_k.EST_UW] = est.underweight
     shared = dict(C=C, ENV=env, AXN=np.ascontiguousarray(A_nom), PINV=pinv, NULLP=nullp, HSTAR=hstar,
                   WPAR=wpar, JW=jw, THR=thr, n_steps=n_steps)
     params = {"inertia": J, "inertia_physical": _triangle_ok(lam), "wheel_axes": AX, "initial_quaternion": q0,
@@ -1233,16 +1279,19 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     rec_every = scenario.sim.record_every
     n_rec = n_steps // rec_every + 1
     nt = sh["THR"].shape[1]
-    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0)
+    filt = scenario.estimator is not None
+    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0) + (1 if filt else 0)
     REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
     OUT = np.empty((n, _k.N_METRICS))
     ns = 7 + nw
     t0 = time.perf_counter()
     _k.run_wheels(prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
                   sh["WPAR"], sh["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
-                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=sh["THR"])
+                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=sh["THR"],
+                  KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
     wall = time.perf_counter() - t0
-    metrics = {name: OUT[:, j] * f for name, (j, f) in (_METRICS | (_UNLOAD_METRICS if nt else {})).items()}
+    names = _METRICS | (_UNLOAD_METRICS if nt else {}) | (_FILTER_METRICS if filt else {})
+    metrics = {name: OUT[:, j] * f for name, (j, f) in names.items()}
     md = scenario.modes
     finite = bool(np.all(np.isfinite(metrics["final_rate_deg_s"])))
     expect_point = md.sequence or md.initial == "point"
@@ -1253,7 +1302,7 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
            + ("" if reached else f"; {n - n_point} sample(s) did not reach the pointing mode"))
     t = np.arange(n_rec) * rec_every * scenario.sim.dt if record else None
     return WheelSimulationResult(
-        metrics=metrics, t=t, trace=REC if record else None, channels=_channels(nw, nt > 0), parameters=params,
+        metrics=metrics, t=t, trace=REC if record else None, channels=_channels(nw, nt > 0, filt), parameters=params,
         seeds=seeds, n_samples=n, n_steps=n_steps, sample_steps_per_s=n * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, metrics_from_s=scenario.sim.metrics_from_s,
         success=finite and reached, message=msg)
