@@ -1173,7 +1173,7 @@ case("simulation.load_wheel_scenario", aliases={"source": ("scenario", "config",
 
 
 def _simulate_wheels_kw() -> dict[str, Any]:
-    return dict(scenario=_wheel_scenario(), n_samples=2, rng=1, record=False)
+    return dict(scenario=_wheel_scenario(), n_samples=2, rng=1, record=False, chunk_size=1)
 
 
 def _wheel_result() -> Any:
@@ -1194,7 +1194,7 @@ case("simulation.WheelSimulationResult.envelope", target=method("", _wheel_recor
      nan_ok=("*",))(lambda: dict(channel="rate"))
 case("simulation.wheel_envelope_figure", kinds={"result": "object"})(lambda: dict(result=_wheel_recorded(), channels=["rate"]))
 case("simulation.simulate_wheels", target=_warmed("simulation.simulate_wheels", _simulate_wheels_kw),
-     kinds={"scenario": "object"}, nan_ok=("t_detumbled_s", "t_acquired_s", "settling_time_s"), slow=True)(
+     kinds={"scenario": "object", "executor": "skip", "directory": "skip"}, nan_ok=("t_detumbled_s", "t_acquired_s", "settling_time_s"), slow=True)(
     _simulate_wheels_kw
 )
 

@@ -828,6 +828,10 @@ class WheelSimulationResult:
         Every sample's final rate finite and, with a mode sequence that starts before
         ``point``, every sample pointing at the end.
     message : str
+    n_chunks : int
+        Tasks the samples were split into (``chunk_size``).
+    n_resumed : int
+        Chunks loaded from the campaign ``directory`` instead of computed.
 
     Examples
     --------
@@ -852,6 +856,8 @@ class WheelSimulationResult:
     metrics_from_s: float
     success: bool
     message: str
+    n_chunks: int = 1
+    n_resumed: int = 0
 
     def summary(self) -> dict[str, dict[str, float]]:
         """Mean, 5/50/95/99 % quantiles, max and NaN count of every metric."""
@@ -1221,13 +1227,40 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     return {"shared": shared, "P": P, "AX": AX}, params
 
 
-def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, *,
-                    record: bool = False) -> WheelSimulationResult:
+def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shared: dict[str, Any]) -> dict[str, Any]:
+    """Run one chunk of samples through the kernel (module level: picklable for executors)."""
+    P, AX, seeds, record = task
+    n = P.shape[0]
+    nw = shared["JW"].shape[0]
+    nt = shared["THR"].shape[1]
+    filt = shared["C"][_k.EST_ON] > 0.0
+    n_steps = shared["n_steps"]
+    rec_every = int(shared["C"][_k.REC_EVERY])
+    n_rec = n_steps // rec_every + 1
+    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0) + (1 if filt else 0)
+    REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
+    OUT = np.empty((n, _k.N_METRICS))
+    ns = 7 + nw
+    t0 = time.perf_counter()
+    _k.run_wheels(P, AX, shared["C"], shared["ENV"], shared["AXN"], shared["PINV"], shared["NULLP"], shared["HSTAR"],
+                  shared["WPAR"], shared["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
+                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=shared["THR"],
+                  KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
+    return {"out": OUT, "rec": REC if record else None, "wall": time.perf_counter() - t0}
+
+
+def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
+                    record: bool = False, chunk_size: int | None = None,
+                    directory: Any = None) -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
-    The samples run in blocks on ``numba.get_num_threads()`` threads, each block one call of
+    The samples are split into chunks (tasks of :func:`adcskit.uncertainty.run_campaign`) run
+    on ``executor`` (with a progress display inside the ``adcskit`` CLI; an interrupted run
+    keeps its finished chunks in ``directory`` and a re-run resumes from them); inside a
+    chunk they run in blocks on ``numba.get_num_threads()`` threads, each block one call of
     the compiled, GIL-free kernel. A sample's result depends only on its parameters and its
-    64-bit noise seed, so it does not depend on the thread count or the blocks.
+    64-bit noise seed, so it does not depend on the executor, the chunks, the thread count
+    or the blocks: bit-identical results whatever the split.
 
     Parameters
     ----------
@@ -1235,8 +1268,17 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_samples : int
     rng : int, SeedSequence or Generator, optional
         Randomness of the dispersions and per-sample seeds (``None`` -> seed 0).
+    executor : spec or Executor, optional
+        ``serial`` (default: one process, its cores through numba threads),
+        ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``
+        (:func:`adcskit.uncertainty.make_executor`).
     record : bool
         Return the time histories (every ``scenario.sim.record_every`` steps).
+    chunk_size : int, optional
+        Samples per task (default: all samples in 8 chunks at most, >= 64 each).
+    directory : path, optional
+        Campaign directory: finished chunks are kept (written atomically) and a re-run with
+        the same scenario, samples and ``rng`` resumes from them.
 
     Returns
     -------
@@ -1268,6 +1310,8 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     if isinstance(rng, np.random.SeedSequence):
         rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
                                      n_children_spawned=rng.n_children_spawned)
+    if chunk_size is not None:
+        chunk_size = check_int("chunk_size", chunk_size, minimum=1)
     gen = as_rng(rng)
     t_start = time.perf_counter()
     prep, params = _prepare(scenario, n_samples, gen)
@@ -1280,16 +1324,18 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_rec = n_steps // rec_every + 1
     nt = sh["THR"].shape[1]
     filt = scenario.estimator is not None
-    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0) + (1 if filt else 0)
-    REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
-    OUT = np.empty((n, _k.N_METRICS))
-    ns = 7 + nw
-    t0 = time.perf_counter()
-    _k.run_wheels(prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
-                  sh["WPAR"], sh["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
-                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=sh["THR"],
-                  KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
-    wall = time.perf_counter() - t0
+    if chunk_size is None:
+        chunk_size = max(64, -(-n // 8))
+    tasks = [(np.ascontiguousarray(prep["P"][lo:lo + chunk_size]), np.ascontiguousarray(prep["AX"][lo:lo + chunk_size]),
+              seeds[lo:lo + chunk_size], record) for lo in range(0, n, chunk_size)]
+    from adcskit.uncertainty import run_campaign
+
+    camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                        description="wheel samples", shared=sh)
+    blocks = camp.values
+    OUT = np.concatenate([b["out"] for b in blocks], axis=0)
+    REC = np.concatenate([b["rec"] for b in blocks], axis=0) if record else None
+    wall = sum(b["wall"] for b in blocks)
     names = _METRICS | (_UNLOAD_METRICS if nt else {}) | (_FILTER_METRICS if filt else {})
     metrics = {name: OUT[:, j] * f for name, (j, f) in names.items()}
     md = scenario.modes
@@ -1298,12 +1344,13 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_point = int(np.count_nonzero(metrics["final_mode"] == MODE_NAMES.index("point")))
     reached = n_point == n or not expect_point or scenario.control.law == "open-loop"
     msg = (f"{n} samples x {n_steps} steps; {n_point} pointing at the end"
+           + (f"; {camp.n_resumed} of {camp.n_chunks} chunk(s) resumed" if camp.n_resumed else "")
            + ("" if finite else "; some samples produced non-finite states")
            + ("" if reached else f"; {n - n_point} sample(s) did not reach the pointing mode"))
     t = np.arange(n_rec) * rec_every * scenario.sim.dt if record else None
     return WheelSimulationResult(
-        metrics=metrics, t=t, trace=REC if record else None, channels=_channels(nw, nt > 0, filt), parameters=params,
+        metrics=metrics, t=t, trace=REC, channels=_channels(nw, nt > 0, filt), parameters=params,
         seeds=seeds, n_samples=n, n_steps=n_steps, sample_steps_per_s=n * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, metrics_from_s=scenario.sim.metrics_from_s,
-        success=finite and reached, message=msg)
+        success=finite and reached, message=msg, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed)
 
