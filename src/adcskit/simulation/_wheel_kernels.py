@@ -36,7 +36,8 @@ fed forward into the wheel command so that the wheels hold the attitude.
 Attitude filter (optional, ``C[EST_ON]``): the MEKF kernels of
 :mod:`adcskit.estimation._mekf_kernels` (``register_jitable``, device-compatible) on the
 sample's ``KP[i]`` (covariance, 6 x 6) and ``KW[i]`` (state and scratch, ``N_KW``): propagated
-every step with the held gyro reading, updated by the star tracker, sun sensor and magnetometer;
+every step with a rate-integrating gyro reading (the step's mean rate from the attitude
+increment plus the held reading error), updated by the star tracker, sun sensor and magnetometer;
 the controller then uses its attitude and bias-corrected rate.
 
 Randomness: a SplitMix64 stream per sample (Steele, Lea & Flood 2014) seeded with one 64-bit
@@ -487,6 +488,9 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             KPi[a, a] = sg * sg
             KPi[3 + a, 3 + a] = C[EST_SIGB0] * C[EST_SIGB0]
     wc0, wc1, wc2 = wm0, wm1, wm2  # the rate the controller uses (bias-corrected with the filter)
+    eg0 = b0
+    eg1 = b1
+    eg2 = b2
     sv = 0  # sun measurement valid
     s0 = 0.0
     s1 = 0.0
@@ -639,6 +643,10 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             wm0 = w0 + b0 + sig_g * z0
             wm1 = w1 + b1 + sig_g * z1
             wm2 = w2 + b2 + sig_g * z2
+            if filt:  # the reading's error (bias + noise), held with it: the filter's delta-angle gyro
+                eg0 = b0 + sig_g * z0
+                eg1 = b1 + sig_g * z1
+                eg2 = b2 + sig_g * z2
             z0, z1, z2 = z3, z4, z5
             b0 += sig_b * z0
             b1 += sig_b * z1
@@ -845,7 +853,15 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             li2 += 0.5 * dt * (ia2 + ib2)
         # gyro-propagated knowledge between star-tracker updates (with the filter: its propagation)
         if filt:
-            kwm[0], kwm[1], kwm[2] = wm0, wm1, wm2
+            # rate-integrating gyro: the step's mean rate (rotation vector of q(t+dt) (x) q(t)^-1
+            # over dt: exact for the body's motion) plus the reading's held error, so that the
+            # filter's held-rate propagation has no model error when the rate changes in a step
+            d0, d1, d2, d3 = qdiff(Xi[0], Xi[1], Xi[2], Xi[3], q0, q1, q2, q3)
+            vn = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            f = (2.0 * math.atan2(vn, d3) / vn if vn > 0.0 else 2.0 / d3) / dt
+            kwm[0] = f * d0 + eg0
+            kwm[1] = f * d1 + eg1
+            kwm[2] = f * d2 + eg2
             mekf_propagate(kq, kb, KPi, kwm, dt, C[SIG_V], C[SIG_U], kwk)
             qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
         elif hst > 0:

@@ -617,8 +617,10 @@ class WheelScenario(_Spec):
         quaternion propagated with the gyro; the truth without a star tracker) and the
         controller uses the raw gyro rate. ``EstimatorSpec(kind="mekf")``: the thruster
         loop's multiplicative EKF with gyro-bias estimation (Lefferts, Markley & Shuster 1982;
-        :mod:`adcskit.estimation.mekf`'s kernels), propagated every step with the held gyro
-        reading and updated by the star tracker (quaternion), the sun sensor and the
+        :mod:`adcskit.estimation.mekf`'s kernels), propagated every step with a rate-integrating
+        gyro (the step's mean body rate plus the reading's held bias and noise: a held
+        instantaneous rate made it inconsistent when the rate changes within a step) and
+        updated by the star tracker (quaternion), the sun sensor and the
         magnetometer (unit vectors, ``underweight`` as in the thruster loop), with the
         *nominal* sensor sigmas; the controller uses its attitude and the bias-corrected rate.
         Initial estimate: the truth turned by a Gaussian rotation vector of
