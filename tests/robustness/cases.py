@@ -1143,10 +1143,29 @@ case("simulation.WheelDispersionSpec", positive=("inertia_rel", "wheel_misalignm
     lambda: dict(inertia_rel=0.1, wheel_misalignment_deg=0.5, sensor_noise_rel=0.2, initial_rate_deg_s=1.0,
                  initial_attitude="nominal", initial_attitude_deg=5.0, sampling="lhs")
 )
+def _unload_kw() -> dict[str, Any]:
+    from adcskit.simulation import ThrusterSpec
+
+    pos = ((0.1, 0.0, 0.0), (-0.1, 0.0, 0.0), (0.0, 0.1, 0.0), (0.0, -0.1, 0.0), (0.0, 0.0, 0.15), (0.0, 0.0, -0.15))
+    d = ((0.0, 1.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0))
+    jets = ThrusterSpec(positions=pos + pos, directions=d + tuple((-a, -b, -c) for a, b, c in d), f_max=0.01,
+                        mdot=1.4e-5, t_min=0.01)
+    return dict(thrusters=jets, start_nms=0.01, stop_nms=0.002, torque_nm=5e-4)
+
+
+case("simulation.ThrusterUnloadSpec", positive=("start_nms", "stop_nms", "torque_nm"), kinds={"thrusters": "object"})(
+    _unload_kw)
+case("simulation.ThrusterUnloadSpec.torque_matrix", target=method("", lambda: __import__(
+    "adcskit.simulation", fromlist=["ThrusterUnloadSpec"]).ThrusterUnloadSpec(**_unload_kw()), "torque_matrix"))(
+    lambda: dict())
 case("simulation.WheelScenario", kinds={k: "object" for k in ("spacecraft", "orbit", "disturbance", "wheels",
                                                               "magnetorquers", "sensors", "control", "modes",
-                                                              "dispersions", "sim")})(
-    lambda: dict(sim=_wheel_scenario().sim, initial_rotvec_deg=(1.0, 0.0, 0.0), initial_rate_deg_s=(0.0, 0.01, 0.0))
+                                                              "dispersions", "sim", "thruster_unloading",
+                                                              "estimator")})(
+    lambda: dict(sim=_wheel_scenario().sim, initial_rotvec_deg=(1.0, 0.0, 0.0), initial_rate_deg_s=(0.0, 0.01, 0.0),
+                 thruster_unloading=__import__("adcskit.simulation", fromlist=["ThrusterUnloadSpec"]).ThrusterUnloadSpec(
+                     **_unload_kw()),
+                 estimator=__import__("adcskit.simulation", fromlist=["EstimatorSpec"]).EstimatorSpec(kind="mekf"))
 )
 case("simulation.load_wheel_scenario", aliases={"source": ("scenario", "config", "path"), "overrides": ("config",)})(
     lambda: dict(source={"sim": {"t_final": 20.0, "metrics_from_s": 10.0}}, overrides={"sim": {"dt": 0.05}})
@@ -1154,7 +1173,7 @@ case("simulation.load_wheel_scenario", aliases={"source": ("scenario", "config",
 
 
 def _simulate_wheels_kw() -> dict[str, Any]:
-    return dict(scenario=_wheel_scenario(), n_samples=2, rng=1, record=False)
+    return dict(scenario=_wheel_scenario(), n_samples=2, rng=1, record=False, chunk_size=1)
 
 
 def _wheel_result() -> Any:
@@ -1175,7 +1194,7 @@ case("simulation.WheelSimulationResult.envelope", target=method("", _wheel_recor
      nan_ok=("*",))(lambda: dict(channel="rate"))
 case("simulation.wheel_envelope_figure", kinds={"result": "object"})(lambda: dict(result=_wheel_recorded(), channels=["rate"]))
 case("simulation.simulate_wheels", target=_warmed("simulation.simulate_wheels", _simulate_wheels_kw),
-     kinds={"scenario": "object"}, nan_ok=("t_detumbled_s", "t_acquired_s", "settling_time_s"), slow=True)(
+     kinds={"scenario": "object", "executor": "skip", "directory": "skip"}, nan_ok=("t_detumbled_s", "t_acquired_s", "settling_time_s"), slow=True)(
     _simulate_wheels_kw
 )
 

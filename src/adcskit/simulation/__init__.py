@@ -48,9 +48,12 @@ from adcskit.simulation.scenario import (
 from adcskit.simulation.signoff import SignOffTable, check_simulation
 from adcskit.simulation.wheels import (
     MODE_NAMES,
+    WHEEL_FILTER_METRIC_NAMES,
     WHEEL_METRIC_NAMES,
+    WHEEL_UNLOAD_METRIC_NAMES,
     MagnetorquerSpec,
     ModeSpec,
+    ThrusterUnloadSpec,
     WheelControlSpec,
     WheelDispersionSpec,
     WheelScenario,
@@ -68,7 +71,9 @@ __all__ = [
     "to_dataset", "write_netcdf", "write_zarr", "read_dataset",
     "envelope_figure", "attitude_error_figure", "body_rate_figure",
     "SignOffTable", "check_simulation",
-    "MODE_NAMES", "WHEEL_METRIC_NAMES", "MagnetorquerSpec", "ModeSpec", "WheelControlSpec", "WheelDispersionSpec",
+    "MODE_NAMES", "WHEEL_METRIC_NAMES", "WHEEL_UNLOAD_METRIC_NAMES", "WHEEL_FILTER_METRIC_NAMES",
+    "MagnetorquerSpec", "ModeSpec",
+    "ThrusterUnloadSpec", "WheelControlSpec", "WheelDispersionSpec",
     "WheelScenario", "WheelSimulationResult", "WheelSpec", "wheel_envelope_figure", "load_wheel_scenario",
     "simulate_wheels",
 ]

@@ -26,6 +26,20 @@ Coulomb, eps = :data:`COULOMB_EPS`). Without external torque ``A(q)^T H_body`` i
 (tested to 1e-10). Integration: classical RK4 with the motor torques and the external torque
 held over a step; the quaternion is renormalised (``q4 >= 0``).
 
+Thruster unloading (optional; ``C[NT]`` thrusters described by the columns of ``THR``): above a
+wheel-momentum threshold, the torque ``-T h/|h|`` is allocated by the thruster loop's
+:func:`~adcskit.simulation._kernels.rpi_allocate` (a device-compatible ``register_jitable``
+helper), fired as pulses centred in the control period (:func:`unload_plan`,
+:func:`thrust_step`; their scratch is the tail of the sample's ``TM`` row, :func:`tm_len`), and
+fed forward into the wheel command so that the wheels hold the attitude.
+
+Attitude filter (optional, ``C[EST_ON]``): the MEKF kernels of
+:mod:`adcskit.estimation._mekf_kernels` (``register_jitable``, device-compatible) on the
+sample's ``KP[i]`` (covariance, 6 x 6) and ``KW[i]`` (state and scratch, ``N_KW``): propagated
+every step with a rate-integrating gyro reading (the step's mean rate from the attitude
+increment plus the held reading error), updated by the star tracker, sun sensor and magnetometer;
+the controller then uses its attitude and bias-corrected rate.
+
 Randomness: a SplitMix64 stream per sample (Steele, Lea & Flood 2014) seeded with one 64-bit
 integer, normals by Box-Muller; the generator is the simulator's (:mod:`adcskit.simulation._kernels`,
 a copy of its ten lines, because that module is being rewritten and its helpers are private).
@@ -42,6 +56,14 @@ from numba import njit
 
 from adcskit._targets import PerSample, device
 from adcskit.attitude._device import compose_rotvec, rotate
+from adcskit.estimation import _mekf_kernels as _mk
+from adcskit.estimation._mekf_kernels import (
+    mekf_nees,
+    mekf_propagate,
+    mekf_update_quaternion,
+    mekf_update_vector,
+)
+from adcskit.simulation._kernels import rpi_allocate
 from adcskit.simulation._random import normal as _normal
 from adcskit.simulation._random import normal2 as _normal2
 
@@ -55,8 +77,20 @@ from adcskit.simulation._random import normal2 as _normal2
     POINT_KIND, ORBIT_RATE, K_WIN, SETTLE_BAND, REC_EVERY,
     JN0,  # nominal inertia, 9 entries JN0..JN0+8
 ) = range(46)
-OL_DIP0 = 46 + 9  # open-loop dipole, 3 entries OL_DIP0..OL_DIP0+2
-N_COEFS = 46 + 9 + 3
+# thruster unloading (after the nominal inertia): thruster count, start / stop thresholds on
+# |A_nom h| (N m s), requested unloading torque (N m), allocation regularisation
+NT, UNL_START, UNL_STOP, UNL_TORQUE, UNL_EPS = range(JN0 + 9, JN0 + 14)
+# attitude filter (MEKF) in the loop: on (1) / off (0), initial attitude sigma (rad), initial
+# gyro-bias sigma (rad/s), measurement underweighting factor
+EST_ON, EST_SIG0, EST_SIGB0, EST_UW = range(JN0 + 14, JN0 + 18)
+# open-loop dipole command (law "open-loop"), 3 entries OL_DIP0..OL_DIP0+2
+OL_DIP0 = JN0 + 18
+N_COEFS = JN0 + 21
+
+# per-sample filter scratch KW: q (4), b (3), gyro reading (3), body and reference vectors (3 + 3),
+# true q (4) and bias (3) for the NEES, then the MEKF work array (from KW_WORK); P is KP[i] (6, 6)
+KW_Q, KW_B, KW_WM, KW_VB, KW_VR, KW_QT, KW_BT, KW_WORK = 0, 4, 7, 10, 13, 16, 20, 24
+N_KW = KW_WORK + _mk.WORK_SIZE
 
 LAW_PD, LAW_WIE, LAW_OPEN = 0, 1, 2
 MODE_DETUMBLE, MODE_SUN, MODE_POINT = 0, 1, 2
@@ -80,16 +114,35 @@ N_ENV = 14
 W_JW, W_FAILED, W_OMEGA0, W_OPEN = 0, 1, 2, 3
 N_WPAR = 4
 
+# ----------------------------------------------------------------- THR rows (per thruster)
+# torque matrix (r_j - com) x d_j (3 rows, N m per N), f_max (N), allocation mask (1: the
+# allocator may use it), failed (1: never fires), mdot (kg/s), minimum on-time (s)
+T_A, T_FMAX, T_MASK, T_FAILED, T_MDOT, T_TMIN = 0, 3, 4, 5, 6, 7
+N_THR_ROWS = 8
+
 # ----------------------------------------------------------------- metrics
 (M_T_DETUMBLED, M_T_ACQUIRED, M_FINAL_MODE, M_POINT_MEAN, M_POINT_RMS, M_POINT_MAX, M_POINT_FRAC,
  M_SETTLE, M_KNOW_RMS, M_FINAL_RATE, M_MAX_RATE_WIN, M_MAX_SPEED, M_MAX_HW, M_FINAL_HW, M_MAX_DIPOLE,
- M_H_DRIFT, M_SUN_FINAL) = range(17)
-N_METRICS = 17
+ M_H_DRIFT, M_SUN_FINAL, M_PROPELLANT, M_IMPULSE, M_ON_TIME, M_UNLOADS, M_UNLOAD_TIME, M_NEES,
+ M_NEES_N) = range(24)
+N_METRICS = 24
 
 # ----------------------------------------------------------------- trace channels
 (R_ERR, R_WX, R_WY, R_WZ, R_RATE, R_HX, R_HY, R_HZ, R_HW, R_HIX, R_HIY, R_HIZ, R_MX, R_MY, R_MZ,
  R_MODE, R_KNOW) = range(17)
-N_REC_FIXED = 17  # + wheel speeds (n_w) + wheel momenta (n_w)
+N_REC_FIXED = 17  # + wheel speeds (n_w) + wheel momenta (n_w) [+ N_REC_THR with unloading thrusters]
+# [+ the filter's NEES (1 channel) with the MEKF on]
+# with unloading thrusters, after the wheel channels: thruster torque on the body (3, N m),
+# cumulative thruster angular impulse in ECI (3, N m s), cumulative propellant (kg)
+(RT_TX, RT_TY, RT_TZ, RT_LX, RT_LY, RT_LZ, RT_PROP) = range(7)
+N_REC_THR = 7
+
+
+def tm_len(nw, nt):
+    """Length of a sample's ``TM`` scratch row: wheel motor torques (``nw``) and, with
+    thrusters, their commanded on-times, allocation forces and flags (``2 nt``) and the
+    allocator's 3x3 scratch (15)."""
+    return nw if nt == 0 else nw + 2 * nt + 15
 
 @device
 def _normal3(s):
@@ -276,7 +329,70 @@ def actuate(C, X, AX, WPAR, nw, TM, s):
     return s
 
 
-def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC):
+@device
+def unload_plan(THR, TF, TFREE, TS, TR, TY, nt, tq, eps, tp, h0, h1, h2):
+    """Thruster on-times of one control period for the unloading torque ``-tq h/|h|``.
+
+    The torque over ``tp`` seconds is allocated to forces ``0 <= F_j <= f_max,j`` by the
+    closed loop's redistributed pseudo-inverse (:func:`adcskit.simulation._kernels.rpi_allocate`,
+    S3 eq. 12; thrusters with a zero mask left out), turned into pulse widths
+    ``t_j = F_j / f_max,j * tp`` (S3 eq. 6; fired centred in the period, :func:`thrust_step`) and
+    pulses shorter than the minimum on-time
+    dropped (S3 §2-2, :func:`adcskit.thrusters.realisable_pulses` ``"drop"``). The on-times are
+    written to ``TF``; returns the commanded torque averaged over the period (N m, body), the
+    wheels' feed-forward.
+    """
+    hn = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
+    f = -tq / hn
+    rpi_allocate(THR, f * h0, f * h1, f * h2, THR[T_FMAX], THR[T_MASK], TF, TFREE, TS, TR, TY, eps)
+    c0 = 0.0
+    c1 = 0.0
+    c2 = 0.0
+    for j in range(nt):
+        fm = THR[T_FMAX, j]
+        ton = TF[j] / fm * tp
+        if ton < THR[T_TMIN, j]:
+            ton = 0.0
+        TF[j] = ton
+        c0 += THR[T_A, j] * fm * ton
+        c1 += THR[T_A + 1, j] * fm * ton
+        c2 += THR[T_A + 2, j] * fm * ton
+    return c0 / tp, c1 / tp, c2 / tp
+
+
+@device
+def thrust_step(THR, TF, nt, t_in, tp, dt):
+    """The thrusters over one step that starts ``t_in`` seconds into the control period of
+    length ``tp``: pulse ``j`` is centred in the period, ``[(tp - TF[j]) / 2, (tp + TF[j]) / 2]``
+    (a failed thruster never fires). Centred, a pulse and the wheels' constant counter-torque
+    over the period leave no net rotation over the period (a pulse at the start of the period
+    would turn the body by ``I (tp - t_on) / (2 J)`` every period, a bias the attitude loop
+    must hold against).
+
+    Returns the body torque held over the step (N m: the step's angular impulse over ``dt``),
+    the step's linear impulse ``sum f_max,j o_j`` (N s), propellant ``sum mdot_j o_j`` (kg) and
+    on-time ``sum o_j`` (s), with ``o_j`` the part of pulse ``j`` inside the step."""
+    c0 = 0.0
+    c1 = 0.0
+    c2 = 0.0
+    imp = 0.0
+    prop = 0.0
+    on = 0.0
+    for j in range(nt):
+        o = min(t_in + dt, 0.5 * (tp + TF[j])) - max(t_in, 0.5 * (tp - TF[j]))
+        if o > 0.0 and THR[T_FAILED, j] == 0.0:
+            fm = THR[T_FMAX, j]
+            c0 += THR[T_A, j] * fm * o
+            c1 += THR[T_A + 1, j] * fm * o
+            c2 += THR[T_A + 2, j] * fm * o
+            imp += fm * o
+            prop += THR[T_MDOT, j] * o
+            on += o
+    return c0 / dt, c1 / dt, c2 / dt, imp, prop, on
+
+
+def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR,
+                 KP, KW):
     """Simulate sample ``i`` over the whole grid (modes, sensors, control, plant, metrics)."""
     dt = C[DT]
     n_steps = int(C[N_STEPS])
@@ -309,6 +425,44 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     Ji = P[i, P_J:P_J + 9]
     JIi = P[i, P_JI:P_JI + 9]
     AXi = AX[i]
+    # thruster unloading: on-times (TF), allocator scratch (TFREE, TS, TR, TY) in the TM row
+    nt = int(C[NT])
+    TF = TMi[nw:nw + nt]
+    TFREE = TMi[nw + nt:nw + 2 * nt]
+    TS = TMi[nw + 2 * nt:nw + 2 * nt + 9]
+    TR = TMi[nw + 2 * nt + 9:nw + 2 * nt + 12]
+    TY = TMi[nw + 2 * nt + 12:nw + 2 * nt + 15]
+    unl = 0  # unloading (hysteresis state)
+    tfire = 0  # on-times planned for this control period
+    n_unl = 0
+    t_unl = 0.0
+    prop = 0.0
+    imp = 0.0
+    t_on = 0.0
+    tt0 = 0.0
+    tt1 = 0.0
+    tt2 = 0.0
+    li0 = 0.0
+    li1 = 0.0
+    li2 = 0.0
+    rec_thr = N_REC_FIXED + 2 * nw
+    # attitude filter (MEKF, Lefferts, Markley & Shuster 1982) on the sample's KP / KW rows
+    filt = C[EST_ON] > 0.0
+    rec_est = rec_thr + (N_REC_THR if nt > 0 else 0)
+    KPi = KP[i]
+    KWi = KW[i]
+    kq = KWi[KW_Q:KW_Q + 4]
+    kb = KWi[KW_B:KW_B + 3]
+    kwm = KWi[KW_WM:KW_WM + 3]
+    kvb = KWi[KW_VB:KW_VB + 3]
+    kvr = KWi[KW_VR:KW_VR + 3]
+    kqt = KWi[KW_QT:KW_QT + 4]
+    kbt = KWi[KW_BT:KW_BT + 3]
+    kwk = KWi[KW_WORK:KW_WORK + _mk.WORK_SIZE]
+    uw = C[EST_UW]
+    nees = math.nan
+    nees_sum = 0.0
+    nees_n = 0
     # ---- initial state
     for m in range(4):
         Xi[m] = P[i, P_Q0 + m]
@@ -320,6 +474,25 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     b0, b1, b2 = P[i, P_BIAS], P[i, P_BIAS + 1], P[i, P_BIAS + 2]
     wm0, wm1, wm2 = Xi[4] + b0, Xi[5] + b1, Xi[6] + b2
     qe0, qe1, qe2, qe3 = Xi[0], Xi[1], Xi[2], Xi[3]
+    if filt:
+        # initial estimate: the truth turned by a Gaussian rotation vector (sigma EST_SIG0), no bias
+        s, z0, z1, z2 = _normal3(s)
+        sg = C[EST_SIG0]
+        for m in range(4):
+            kq[m] = Xi[m]
+        compose_rotvec(kq, sg * z0, sg * z1, sg * z2)
+        qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
+        for a in range(6):
+            kb[a % 3] = 0.0
+            for c in range(6):
+                KPi[a, c] = 0.0
+        for a in range(3):
+            KPi[a, a] = sg * sg
+            KPi[3 + a, 3 + a] = C[EST_SIGB0] * C[EST_SIGB0]
+    wc0, wc1, wc2 = wm0, wm1, wm2  # the rate the controller uses (bias-corrected with the filter)
+    eg0 = b0
+    eg1 = b1
+    eg2 = b2
     sv = 0  # sun measurement valid
     s0 = 0.0
     s1 = 0.0
@@ -448,6 +621,16 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             for j in range(nw):
                 REC[i, r, N_REC_FIXED + j] = Xi[7 + j] / JW[j] - (AXi[0, j] * w0 + AXi[1, j] * w1 + AXi[2, j] * w2)
                 REC[i, r, N_REC_FIXED + nw + j] = Xi[7 + j]
+            if filt:
+                REC[i, r, rec_est] = nees
+            if nt > 0:
+                REC[i, r, rec_thr + RT_TX] = tt0
+                REC[i, r, rec_thr + RT_TY] = tt1
+                REC[i, r, rec_thr + RT_TZ] = tt2
+                REC[i, r, rec_thr + RT_LX] = li0
+                REC[i, r, rec_thr + RT_LY] = li1
+                REC[i, r, rec_thr + RT_LZ] = li2
+                REC[i, r, rec_thr + RT_PROP] = prop
             r += 1
         if k == n_steps:
             break
@@ -462,6 +645,10 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             wm0 = w0 + b0 + sig_g * z0
             wm1 = w1 + b1 + sig_g * z1
             wm2 = w2 + b2 + sig_g * z2
+            if filt:  # the reading's error (bias + noise), held with it: the filter's delta-angle gyro
+                eg0 = b0 + sig_g * z0
+                eg1 = b1 + sig_g * z1
+                eg2 = b2 + sig_g * z2
             z0, z1, z2 = z3, z4, z5
             b0 += sig_b * z0
             b1 += sig_b * z1
@@ -472,7 +659,9 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             XTi[0], XTi[1], XTi[2], XTi[3] = q0, q1, q2, q3
             compose_rotvec(XTi, sg * z0, sg * z1, sg * z2)
             qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
-        elif hst == 0:
+            if filt:
+                mekf_update_quaternion(kq, kb, KPi, XTi[0:4], C[SIG_ST], kwk)
+        elif hst == 0 and not filt:
             qe0, qe1, qe2, qe3 = q0, q1, q2, q3
         if hs > 0 and k % hs == 0:
             if ENV[k, E_LIT] > 0.5:
@@ -485,6 +674,10 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                 nn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
                 s0, s1, s2 = x0 / nn, x1 / nn, x2 / nn
                 sv = 1
+                if filt:
+                    kvb[0], kvb[1], kvb[2] = s0, s1, s2
+                    kvr[0], kvr[1], kvr[2] = ENV[k, E_SUN], ENV[k, E_SUN + 1], ENV[k, E_SUN + 2]
+                    mekf_update_vector(kq, kb, KPi, kvb, kvr, C[SIG_SUN], uw, kwk)
             else:
                 sv = 0
         if hm > 0 and k % hm == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
@@ -502,9 +695,28 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             tmag = t
             nmag += 1
             newmag = 1
+            if filt:
+                kvb[0], kvb[1], kvb[2] = bm0, bm1, bm2
+                kvr[0], kvr[1], kvr[2] = ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2]
+                mekf_update_vector(kq, kb, KPi, kvb, kvr, C[SIG_MAG], uw, kwk)
+        if filt:
+            qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
+            wc0 = wm0 - kb[0]
+            wc1 = wm1 - kb[1]
+            wc2 = wm2 - kb[2]
+            if k % hc == 0 and in_win:
+                for m in range(4):
+                    kqt[m] = Xi[m]
+                kbt[0], kbt[1], kbt[2] = b0, b1, b2
+                nees = mekf_nees(kq, kb, KPi, kqt, kbt, kwk)
+                if nees == nees:
+                    nees_sum += nees
+                    nees_n += 1
+        else:
+            wc0, wc1, wc2 = wm0, wm1, wm2
         # ---- control and modes, every control period
         if k % hc == 0:
-            rm = math.sqrt(wm0 * wm0 + wm1 * wm1 + wm2 * wm2)
+            rm = math.sqrt(wc0 * wc0 + wc1 * wc1 + wc2 * wc2)
             if seq and mode == MODE_DETUMBLE:
                 if rm < C[RATE_THR]:
                     dwell += hc
@@ -526,6 +738,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             m0 = 0.0
             m1 = 0.0
             m2 = 0.0
+            tfire = 0
             if law == LAW_OPEN:
                 for j in range(nw):
                     TMi[j] = WPAR[j, W_OPEN]
@@ -538,10 +751,10 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                     m0, m1, m2 = _clip_max(-inv * (bm0 - bp0), -inv * (bm1 - bp1), -inv * (bm2 - bp2), mmax)
             else:
                 hn0, hn1, hn2 = _wheel_momentum(Xi, AXN, nw)
-                jw0, jw1, jw2 = _mat3(C, JN0, wm0, wm1, wm2)
-                g0 = wm1 * (jw2 + hn2) - wm2 * (jw1 + hn1)
-                g1 = wm2 * (jw0 + hn0) - wm0 * (jw2 + hn2)
-                g2 = wm0 * (jw1 + hn1) - wm1 * (jw0 + hn0)
+                jw0, jw1, jw2 = _mat3(C, JN0, wc0, wc1, wc2)
+                g0 = wc1 * (jw2 + hn2) - wc2 * (jw1 + hn1)
+                g1 = wc2 * (jw0 + hn0) - wc0 * (jw2 + hn2)
+                g2 = wc0 * (jw1 + hn1) - wc1 * (jw0 + hn0)
                 if mode == MODE_SUN:
                     if sv == 1:
                         ax0, ax1, ax2 = C[SUN_AX0], C[SUN_AX1], C[SUN_AX2]
@@ -554,9 +767,9 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                         e0 = 0.0
                         e1 = 0.0
                         e2 = 0.0
-                    a0 = e0 - cc_ * wm0
-                    a1 = e1 - cc_ * wm1
-                    a2 = e2 - cc_ * wm2
+                    a0 = e0 - cc_ * wc0
+                    a1 = e1 - cc_ * wc1
+                    a2 = e2 - cc_ * wc2
                 else:
                     f0, f1, f2, f3 = qdiff(qe0, qe1, qe2, qe3, qr0, qr1, qr2, qr3)
                     if C[POINT_KIND] == POINT_NADIR:
@@ -571,10 +784,27 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                     e2 = 2.0 * kk * f2
                     if law == LAW_WIE:
                         e0, e1, e2 = _clip_norm(e0, e1, e2, cc_ * rmax)
-                    a0 = -e0 - cc_ * (wm0 - o0)
-                    a1 = -e1 - cc_ * (wm1 - o1)
-                    a2 = -e2 - cc_ * (wm2 - o2)
+                    a0 = -e0 - cc_ * (wc0 - o0)
+                    a1 = -e1 - cc_ * (wc1 - o1)
+                    a2 = -e2 - cc_ * (wc2 - o2)
                 u0, u1, u2 = _mat3(C, JN0, a0, a1, a2)
+                if nt > 0:
+                    # thruster unloading with hysteresis on |A_nom h| (start above, stop below);
+                    # the wheels take the thrusters' torque as a feed-forward and hold attitude
+                    hh = math.sqrt(hn0 * hn0 + hn1 * hn1 + hn2 * hn2)
+                    if unl == 0 and hh > C[UNL_START]:
+                        unl = 1
+                        n_unl += 1
+                    elif unl == 1 and hh < C[UNL_STOP]:
+                        unl = 0
+                    if unl == 1:
+                        f0, f1, f2 = unload_plan(THR, TF, TFREE, TS, TR, TY, nt, C[UNL_TORQUE], C[UNL_EPS], hc * dt,
+                                                 hn0, hn1, hn2)
+                        u0 -= f0
+                        u1 -= f1
+                        u2 -= f2
+                        tfire = 1
+                        t_unl += hc * dt
                 allocate(C, Xi, PINV, NULLP, HSTAR, nw, TMi, u0 + g0, u1 + g1, u2 + g2)
                 # magnetic unloading, cross-product law m = k (h x B) / |B|^2
                 if C[UNLOAD_GAIN] > 0.0 and nmag >= 1:
@@ -604,9 +834,40 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             t0 += m1 * Bb2 - m2 * Bb1
             t1 += m2 * Bb0 - m0 * Bb2
             t2 += m0 * Bb1 - m1 * Bb0
+        if tfire == 1:
+            tt0, tt1, tt2, di, dp, do = thrust_step(THR, TF, nt, (k % hc) * dt, hc * dt, dt)
+            t0 += tt0
+            t1 += tt1
+            t2 += tt2
+            imp += di
+            prop += dp
+            t_on += do
+        elif nt > 0:
+            tt0 = 0.0
+            tt1 = 0.0
+            tt2 = 0.0
         rk4(Xi, XTi, KSi, KDi, Ji, JIi, AXi, nw, TMi, JW, C[C_VISC], C[C_COUL], t0, t1, t2, dt)
-        # gyro-propagated knowledge between star-tracker updates
-        if hst > 0:
+        if tfire == 1:
+            # inertial angular impulse of the thrusters, trapezoid over the step's attitudes
+            ia0, ia1, ia2 = rotate(-q0, -q1, -q2, q3, tt0, tt1, tt2)
+            ib0, ib1, ib2 = rotate(-Xi[0], -Xi[1], -Xi[2], Xi[3], tt0, tt1, tt2)
+            li0 += 0.5 * dt * (ia0 + ib0)
+            li1 += 0.5 * dt * (ia1 + ib1)
+            li2 += 0.5 * dt * (ia2 + ib2)
+        # gyro-propagated knowledge between star-tracker updates (with the filter: its propagation)
+        if filt:
+            # rate-integrating gyro: the step's mean rate (rotation vector of q(t+dt) (x) q(t)^-1
+            # over dt: exact for the body's motion) plus the reading's held error, so that the
+            # filter's held-rate propagation has no model error when the rate changes in a step
+            d0, d1, d2, d3 = qdiff(Xi[0], Xi[1], Xi[2], Xi[3], q0, q1, q2, q3)
+            vn = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            f = (2.0 * math.atan2(vn, d3) / vn if vn > 0.0 else 2.0 / d3) / dt
+            kwm[0] = f * d0 + eg0
+            kwm[1] = f * d1 + eg1
+            kwm[2] = f * d2 + eg2
+            mekf_propagate(kq, kb, KPi, kwm, dt, C[SIG_V], C[SIG_U], kwk)
+            qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
+        elif hst > 0:
             XTi[0], XTi[1], XTi[2], XTi[3] = qe0, qe1, qe2, qe3
             compose_rotvec(XTi, wm0 * dt, wm1 * dt, wm2 * dt)
             qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
@@ -642,6 +903,13 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     OUT[i, M_MAX_DIPOLE] = max_dip
     OUT[i, M_H_DRIFT] = max_drift
     OUT[i, M_SUN_FINAL] = sun_err
+    OUT[i, M_PROPELLANT] = prop
+    OUT[i, M_IMPULSE] = imp
+    OUT[i, M_ON_TIME] = t_on
+    OUT[i, M_UNLOADS] = n_unl
+    OUT[i, M_UNLOAD_TIME] = t_unl
+    OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
+    OUT[i, M_NEES_N] = nees_n
 
 
 #: The per-sample function, one source for the CPU (and a future CUDA) driver.
@@ -650,28 +918,41 @@ wheel_sample_jit = SAMPLE.cpu
 
 
 @njit(cache=True, nogil=True)
-def run_block(lo, hi, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC):
+def run_block(lo, hi, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR, KP,
+              KW):
     """CPU block driver: samples ``lo`` to ``hi - 1``, each through :func:`wheel_sample` (serial,
     GIL released: :func:`run_wheels` runs blocks on threads)."""
     for i in range(lo, hi):
-        wheel_sample_jit(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC)
+        wheel_sample_jit(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR,
+                         KP, KW)
 
 
 def run_wheels(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC,
-               n_threads=0):
+               n_threads=0, THR=None, KP=None, KW=None):
     """CPU driver: blocks of samples on ``n_threads`` threads (0: numba's thread count), each
     block one call of the compiled, GIL-free :func:`run_block`.
 
     A thread pool over a serial compiled driver instead of a ``numba.prange`` driver: the same
     parallelism and numbers (samples are independent), but the parallel (parfor) driver cost
-    about 15 s of extra compilation on a cold cache, the serial one about 1 s.
+    about 15 s of extra compilation on a cold cache, the serial one about 1 s. ``THR``
+    (``N_THR_ROWS``, n_t) describes the unloading thrusters (``None``: none; then ``C[NT]``
+    must be 0); ``KP`` (n, 6, 6) and ``KW`` (n, ``N_KW``) are the filter's per-sample
+    covariance and scratch (``None``: no filter; then ``C[EST_ON]`` must be 0).
     """
     import numba
+
+    if THR is None:
+        THR = np.zeros((N_THR_ROWS, 0))
+    n = P.shape[0]
+    if KP is None:
+        KP = np.zeros((n, 0, 0))
+    if KW is None:
+        KW = np.zeros((n, 0))
 
     n = P.shape[0]
     nt = int(n_threads) if n_threads > 0 else numba.get_num_threads()
     nt = max(1, min(nt, n))
-    args = (P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC)
+    args = (P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR, KP, KW)
     if nt == 1:
         run_block(0, n, *args)
         return

@@ -20,7 +20,9 @@ What the loop holds
   last star-tracker quaternion propagated with the gyro; without a star tracker the true
   attitude), sun sensor (Gaussian per component, nothing in eclipse), magnetometer (Gaussian
   per component, relative to ``|B|``; *blanked* or *corrupted* by ``coupling x m`` while the
-  magnetorquers fire). No filter: the knowledge is the raw sensors'.
+  magnetorquers fire). By default no filter: the knowledge is the raw sensors'; optionally
+  (``estimator=EstimatorSpec(kind="mekf")``) the thruster loop's MEKF with gyro-bias
+  estimation (Lefferts, Markley & Shuster 1982), with its NEES as a consistency metric.
 * **Modes** (:class:`ModeSpec`), switched inside the kernel at every control period:
   ``detumble`` (B-dot on the magnetorquers, ``m = -k dB/dt``, Stickler & Alfriend 1976; wheels
   idle) -> ``sun`` (wheels align ``sun_axis`` with the measured sun: ``u = J (k (n x s) -
@@ -38,7 +40,11 @@ What the loop holds
   ``h*`` in the null space (away from zero crossings).
 * **Momentum management**: magnetic unloading in ``sun`` and ``point`` modes with the
   cross-product law ``m = k (h_w x B) / |B|^2`` (torque ``m x B = -k h_w,perp``;
-  Camillo & Markley 1980). Thruster unloading is not modelled.
+  Camillo & Markley 1980); thruster unloading (:class:`ThrusterUnloadSpec`, optional): above
+  a wheel-momentum threshold the thrusters produce a torque opposite the wheel momentum,
+  allocated by the thruster loop's redistributed pseudo-inverse and fired as pulses with a
+  minimum on-time, while the wheels hold the attitude (the thruster torque fed forward), until
+  the momentum is below a lower threshold; propellant is a metric (Sidi 1997, §7.5).
 
 Hand-written here: the specs, the set-up and the kernel; no kept library simulates a
 wheel + magnetorquer mode sequence across thousands of samples in compiled code (Basilisk
@@ -84,10 +90,12 @@ from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation import _wheel_kernels as _k
 from adcskit.simulation.scenario import (
     DisturbanceSpec,
+    EstimatorSpec,
     OrbitSpec,
     SensorSpec,
     SimSpec,
     SpacecraftSpec,
+    ThrusterSpec,
     _check_parts,
     _Spec,
     _triangle_ok,
@@ -101,6 +109,7 @@ __all__ = [
     "WheelControlSpec",
     "ModeSpec",
     "WheelDispersionSpec",
+    "ThrusterUnloadSpec",
     "WheelScenario",
     "WheelSimulationResult",
     "load_wheel_scenario",
@@ -108,6 +117,8 @@ __all__ = [
     "wheel_envelope_figure",
     "MODE_NAMES",
     "WHEEL_METRIC_NAMES",
+    "WHEEL_UNLOAD_METRIC_NAMES",
+    "WHEEL_FILTER_METRIC_NAMES",
     "WHEEL_ENVELOPE_CHANNELS",
 ]
 
@@ -478,6 +489,98 @@ class WheelDispersionSpec(_Spec):
         check_choice("sampling", self.sampling, ("lhs", "random"))
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ThrusterUnloadSpec(_Spec):
+    """Thruster unloading of the wheel momentum ("momentum dumping" with reaction jets).
+
+    When the wheel momentum ``|A h|`` (nominal axes and the wheel tachometers, as the
+    controller knows it) exceeds ``start_nms``, the thrusters produce the torque
+    ``-torque_nm h / |h|`` until it falls below ``stop_nms`` (hysteresis), in the ``sun``
+    and ``point`` modes. The wheels hold the attitude meanwhile: the thrusters' commanded
+    torque is fed forward into the wheel command, so the wheels absorb it and their momentum
+    falls (Sidi 1997, §7.5; Wie 2008, §7.5; Markley & Crassidis 2014, §7.7). Each control
+    period the torque is allocated to forces ``0 <= F_j <= f_max`` by the closed loop's
+    redistributed pseudo-inverse (S3 eq. 12), fired as pulses of width
+    ``t_j = F_j / f_max * period`` from the start of the period (S3 eq. 6), pulses shorter
+    than ``t_min`` are dropped (the minimum impulse bit, S3 §2-2), and thrusters in
+    ``thrusters.failed`` never fire (the allocator leaves them out when ``failure_known``).
+
+    Attributes
+    ----------
+    thrusters : ThrusterSpec or adcskit.thrusters.ThrusterSet
+        The thruster set (positions, directions, ``f_max``, ``mdot``, ``t_min``, ``com``,
+        failures), the description of the thruster closed loop; the layout must give a
+        torque in every direction (positive span of R^3; failed thrusters may leave some
+        directions unreachable, which the metrics then show). A
+        :class:`~adcskit.thrusters.ThrusterSet` (e.g. a layout from
+        :func:`~adcskit.thrusters.design_layout`) is converted with
+        :meth:`ThrusterSpec.from_thruster_set` (its ``f_max``, ``mdot`` and ``t_min`` must
+        be the same for every thruster). ``tau`` and ``delay`` are not modelled here: the
+        pulses are ideal on-off. The thrusters' force on the orbit is not modelled.
+    start_nms : float, N m s
+        Unloading starts when ``|A h|`` exceeds this.
+    stop_nms : float, N m s
+        Unloading stops when ``|A h|`` falls below this (``< start_nms``).
+    torque_nm : float, N m
+        Magnitude of the requested unloading torque (at most the wheels' ``max_torque_nm``:
+        the wheels absorb it).
+
+    Examples
+    --------
+    >>> from adcskit.simulation import ThrusterSpec, ThrusterUnloadSpec
+    >>> pos = ((0.1, 0, 0), (-0.1, 0, 0), (0, 0.1, 0), (0, -0.1, 0), (0, 0, 0.15), (0, 0, -0.15))
+    >>> d = ((0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0))
+    >>> jets = ThrusterSpec(positions=pos + pos, directions=d + tuple((-a, -b, -c) for a, b, c in d),
+    ...                     f_max=0.01, mdot=1.4e-5, t_min=0.01)   # 12 x 10 mN cold gas, Isp ~73 s
+    >>> u = ThrusterUnloadSpec(thrusters=jets, start_nms=0.01, stop_nms=0.002, torque_nm=5e-4)
+    >>> u.thrusters.n, u.stop_nms
+    (12, 0.002)
+
+    References
+    ----------
+    Sidi M. J., *Spacecraft Dynamics and Control*, Cambridge 1997, §7.5 (momentum dumping).
+    Wie B., *Space Vehicle Dynamics and Control*, 2nd ed., AIAA 2008, §7.5. Markley F. L.,
+    Crassidis J. L., 2014, §7.7 (momentum management). S3: Servidia & Sanchez Pena (the
+    allocation and the pulse model, eqs. 6 and 12). Section numbers were not checked against
+    the texts.
+    """
+
+    thrusters: ThrusterSpec
+    start_nms: float = 0.01
+    stop_nms: float = 0.002
+    torque_nm: float = 5e-4
+
+    def __post_init__(self) -> None:
+        from adcskit.thrusters import ThrusterSet, check_controllability
+
+        th = self.thrusters
+        if isinstance(th, ThrusterSet):
+            for name in ("f_max", "mdot", "t_min"):
+                v = np.asarray(getattr(th, name))
+                if np.ptp(v) != 0.0:
+                    raise InputError(f"thrusters.{name} must be the same for every thruster of a ThrusterSet to "
+                                     f"convert it to a ThrusterSpec; got {v.tolist()}")
+            th = ThrusterSpec.from_thruster_set(th)
+            object.__setattr__(self, "thrusters", th)
+        elif not isinstance(th, ThrusterSpec):
+            raise InputTypeError(f"thrusters must be a ThrusterSpec or an adcskit.thrusters.ThrusterSet; got "
+                                 f"{short_repr(th)}")
+        check_positive("start_nms", self.start_nms, unit="N m s")
+        check_positive("stop_nms", self.stop_nms, allow_zero=True, unit="N m s")
+        if not self.stop_nms < self.start_nms:
+            raise InputError(f"stop_nms must be < start_nms = {self.start_nms:g} N m s (hysteresis); got "
+                             f"{self.stop_nms:g} N m s")
+        check_positive("torque_nm", self.torque_nm, unit="N m")
+        ctrl = check_controllability(th.torque_matrix())
+        if not ctrl.success:
+            raise InputError(f"thrusters must produce a torque in every direction (their torque-matrix columns must "
+                             f"positively span R^3) to unload any wheel momentum; {ctrl.message}")
+
+    def torque_matrix(self) -> np.ndarray:
+        """``(3, n_t)``, N m per N: column ``j`` is ``(r_j - com) x d_j``."""
+        return self.thrusters.torque_matrix()
+
+
 def _ref_spacecraft() -> SpacecraftSpec:
     return SpacecraftSpec(inertia=(0.30, 0.27, 0.17))
 
@@ -515,6 +618,24 @@ class WheelScenario(_Spec):
     wheels, magnetorquers, control, modes, dispersions
         See :class:`WheelSpec`, :class:`MagnetorquerSpec`, :class:`WheelControlSpec`,
         :class:`ModeSpec`, :class:`WheelDispersionSpec`.
+    estimator : EstimatorSpec or None
+        ``None`` (default): the knowledge is the raw sensors' (the last star-tracker
+        quaternion propagated with the gyro; the truth without a star tracker) and the
+        controller uses the raw gyro rate. ``EstimatorSpec(kind="mekf")``: the thruster
+        loop's multiplicative EKF with gyro-bias estimation (Lefferts, Markley & Shuster 1982;
+        :mod:`adcskit.estimation.mekf`'s kernels), propagated every step with a rate-integrating
+        gyro (the step's mean body rate plus the reading's held bias and noise: a held
+        instantaneous rate made it inconsistent when the rate changes within a step) and
+        updated by the star tracker (quaternion), the sun sensor and the
+        magnetometer (unit vectors, ``underweight`` as in the thruster loop), with the
+        *nominal* sensor sigmas; the controller uses its attitude and the bias-corrected rate.
+        Initial estimate: the truth turned by a Gaussian rotation vector of
+        ``init_error_deg`` per axis, zero bias (covariance from ``init_error_deg`` and
+        ``sensors.gyro_bias0_deg_h``). Only ``kind="mekf"`` is available here.
+    thruster_unloading : ThrusterUnloadSpec or None
+        Thrusters that unload the wheel momentum (``None``, the default: none; magnetic
+        unloading is :attr:`MagnetorquerSpec.unload_gain`). One optional part holds both the
+        thruster set and its law, since neither means anything without the other.
     initial_rotvec_deg : 3 floats, deg
     initial_rate_deg_s : 3 floats, deg/s
         Default: the reference's tumble after separation, (2, -1.5, 1.5) deg/s; set (0, 0, 0)
@@ -538,6 +659,8 @@ class WheelScenario(_Spec):
     modes: ModeSpec = field(default_factory=ModeSpec)
     dispersions: WheelDispersionSpec = field(default_factory=WheelDispersionSpec)
     sim: SimSpec = field(default_factory=_ref_sim)
+    thruster_unloading: ThrusterUnloadSpec | None = None
+    estimator: EstimatorSpec | None = None
     initial_rotvec_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
     initial_rate_deg_s: tuple[float, float, float] = (2.0, -1.5, 1.5)
 
@@ -546,6 +669,23 @@ class WheelScenario(_Spec):
                  "wheels": WheelSpec, "magnetorquers": MagnetorquerSpec, "sensors": SensorSpec,
                  "control": WheelControlSpec, "modes": ModeSpec, "dispersions": WheelDispersionSpec, "sim": SimSpec}
         _check_parts(self, parts)
+        tu = self.thruster_unloading
+        if tu is not None and not isinstance(tu, ThrusterUnloadSpec):
+            raise InputError(f"thruster_unloading must be a ThrusterUnloadSpec or None; got {type(tu).__name__}")
+        if tu is not None and tu.torque_nm > self.wheels.max_torque_nm:
+            raise InputError(f"thruster_unloading.torque_nm must be <= wheels.max_torque_nm = "
+                             f"{self.wheels.max_torque_nm:g} N m (the wheels absorb the unloading torque); got "
+                             f"{tu.torque_nm:g} N m")
+        est = self.estimator
+        if est is not None:
+            if not isinstance(est, EstimatorSpec):
+                raise InputError(f"estimator must be an EstimatorSpec or None; got {type(est).__name__}")
+            if est.kind != "mekf":
+                raise InputError(f"estimator.kind must be 'mekf' in the wheel loop (None: the raw sensors); got "
+                                 f"{est.kind!r}")
+            if not est.init_error_deg > 0:
+                raise InputError(f"estimator.init_error_deg must be > 0 deg (the MEKF's initial sigma); got "
+                                 f"{est.init_error_deg!r}")
         object.__setattr__(self, "initial_rotvec_deg", _vec("initial_rotvec_deg", self.initial_rotvec_deg))
         object.__setattr__(self, "initial_rate_deg_s", _vec("initial_rate_deg_s", self.initial_rate_deg_s))
         dt = self.sim.dt
@@ -614,17 +754,37 @@ _METRICS: dict[str, tuple[int, float]] = {
     "momentum_drift_rel": (_k.M_H_DRIFT, 1.0),
     "final_sun_angle_deg": (_k.M_SUN_FINAL, 1.0 / _DEG),
 }
+#: Metrics added when the scenario has unloading thrusters (``thruster_unloading``).
+_UNLOAD_METRICS: dict[str, tuple[int, float]] = {
+    "propellant_kg": (_k.M_PROPELLANT, 1.0),
+    "thruster_impulse_ns": (_k.M_IMPULSE, 1.0),
+    "thruster_on_time_s": (_k.M_ON_TIME, 1.0),
+    "unload_count": (_k.M_UNLOADS, 1.0),
+    "unload_time_s": (_k.M_UNLOAD_TIME, 1.0),
+}
 #: Names of the per-sample metrics of :class:`WheelSimulationResult` (units in the names).
 WHEEL_METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
+#: Names of the metrics added with unloading thrusters (:class:`ThrusterUnloadSpec`).
+WHEEL_UNLOAD_METRIC_NAMES: tuple[str, ...] = tuple(_UNLOAD_METRICS)
+#: Metrics added with the attitude filter (``estimator``).
+_FILTER_METRICS: dict[str, tuple[int, float]] = {
+    "nees_mean": (_k.M_NEES, 1.0),
+    "nees_count": (_k.M_NEES_N, 1.0),
+}
+#: Names of the metrics added with the attitude filter (``WheelScenario.estimator``).
+WHEEL_FILTER_METRIC_NAMES: tuple[str, ...] = tuple(_FILTER_METRICS)
 #: Metrics computed over ``[sim.metrics_from_s, t_final]`` (the others cover the whole run).
 _WINDOWED = ("pointing_mean_deg", "pointing_rms_deg", "pointing_max_deg", "pointing_fraction",
-             "knowledge_rms_deg", "max_rate_deg_s")
+             "knowledge_rms_deg", "max_rate_deg_s", "nees_mean", "nees_count")
 
 
-def _channels(nw: int) -> tuple[str, ...]:
+def _channels(nw: int, thrusters: bool = False, filt: bool = False) -> tuple[str, ...]:
+    thr = ("thruster_torque_x", "thruster_torque_y", "thruster_torque_z", "thruster_impulse_eci_x",
+           "thruster_impulse_eci_y", "thruster_impulse_eci_z", "propellant") if thrusters else ()
     return (("error", "omega_x", "omega_y", "omega_z", "rate", "h_body_x", "h_body_y", "h_body_z", "h_wheels",
              "H_eci_x", "H_eci_y", "H_eci_z", "dipole_x", "dipole_y", "dipole_z", "mode", "knowledge_error")
-            + tuple(f"speed_{j}" for j in range(nw)) + tuple(f"h_{j}" for j in range(nw)))
+            + tuple(f"speed_{j}" for j in range(nw)) + tuple(f"h_{j}" for j in range(nw)) + thr
+            + (("nees",) if filt else ()))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -645,12 +805,24 @@ class WheelSimulationResult:
         ``max_wheel_speed_rpm``, ``max_wheel_momentum_nms`` and ``final_wheel_momentum_nms``
         (``|A h|``), ``max_dipole_am2`` (largest commanded dipole norm),
         ``momentum_drift_rel`` (max ``|H_eci(t) - H_eci(0)| / |H_eci(0)|``),
-        ``final_sun_angle_deg``.
+        ``final_sun_angle_deg``. With unloading thrusters (``thruster_unloading``) also
+        :data:`WHEEL_UNLOAD_METRIC_NAMES`: ``propellant_kg`` (``sum mdot t_on``, i.e. the
+        total impulse over ``Isp g0 = f_max / mdot``), ``thruster_impulse_ns`` (total impulse
+        ``sum f_max t_on``), ``thruster_on_time_s``, ``unload_count`` (unloading episodes
+        started) and ``unload_time_s`` (time spent unloading). With the filter
+        (``estimator``) also :data:`WHEEL_FILTER_METRIC_NAMES`: ``nees_mean``, the mean over
+        the control periods of ``[metrics_from_s, end]`` of the filter's normalised
+        estimation error squared ``e^T P^-1 e`` (``e`` = attitude and gyro-bias errors; 6 for a
+        consistent filter), and ``nees_count``, the number of those epochs.
     t : ndarray (R,) or None, s
     trace : ndarray (N, R, C) or None
         Channels :attr:`channels`, SI (rad, rad/s, N m s, A m^2): ``error`` is the pointing
         error in ``point``, the sun-axis angle in ``sun`` and NaN in ``detumble``; ``mode``
-        the mode index; ``speed_j`` wheel speeds relative to the body, ``h_j`` wheel momenta.
+        the mode index; ``speed_j`` wheel speeds relative to the body, ``h_j`` wheel momenta;
+        with unloading thrusters also ``thruster_torque_x/y/z`` (body, N m, over the step
+        that ends at ``t``), ``thruster_impulse_eci_x/y/z`` (their angular impulse since
+        t = 0 in ECI, N m s) and ``propellant`` (kg since t = 0); with the filter ``nees`` (the
+        last NEES computed in the window; NaN before).
     channels : tuple of str
     parameters : dict of str to ndarray
         Dispersed per-sample parameters (inertia, axes, initial state, gyro bias, noise scale).
@@ -664,6 +836,10 @@ class WheelSimulationResult:
         Every sample's final rate finite and, with a mode sequence that starts before
         ``point``, every sample pointing at the end.
     message : str
+    n_chunks : int
+        Tasks the samples were split into (``chunk_size``).
+    n_resumed : int
+        Chunks loaded from the campaign ``directory`` instead of computed.
 
     Examples
     --------
@@ -688,6 +864,8 @@ class WheelSimulationResult:
     metrics_from_s: float
     success: bool
     message: str
+    n_chunks: int = 1
+    n_resumed: int = 0
 
     def summary(self) -> dict[str, dict[str, float]]:
         """Mean, 5/50/95/99 % quantiles, max and NaN count of every metric."""
@@ -1027,21 +1205,72 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     C[_k.JN0:_k.JN0 + 9] = J0.reshape(9)
     if c.law == "open-loop":
         C[_k.OL_DIP0:_k.OL_DIP0 + 3] = c.open_loop_dipole_am2
+    thr = np.zeros((_k.N_THR_ROWS, 0))
+    tu = sc.thruster_unloading
+    if tu is not None:
+        th = tu.thrusters
+        thr = np.zeros((_k.N_THR_ROWS, th.n))
+        thr[_k.T_A:_k.T_A + 3] = th.torque_matrix()
+        thr[_k.T_FMAX] = th.f_max
+        thr[_k.T_MASK] = 1.0
+        thr[_k.T_FAILED, list(th.failed)] = 1.0
+        if th.failure_known:
+            thr[_k.T_MASK, list(th.failed)] = 0.0
+        thr[_k.T_MDOT] = th.mdot
+        thr[_k.T_TMIN] = th.t_min
+        C[_k.NT] = th.n
+        C[_k.UNL_START] = tu.start_nms
+        C[_k.UNL_STOP] = tu.stop_nms
+        C[_k.UNL_TORQUE] = tu.torque_nm
+        C[_k.UNL_EPS] = 1e-12  # as the thruster loop's allocator (core.py RPI_EPS)
+    est = sc.estimator
+    if est is not None:
+        C[_k.EST_ON] = 1.0
+        C[_k.EST_SIG0] = est.init_error_deg * _DEG
+        C[_k.EST_SIGB0] = sc.sensors.gyro_bias0_deg_h * _DEG / 3600.0
+        C[_k.EST_UW] = est.underweight
     shared = dict(C=C, ENV=env, AXN=np.ascontiguousarray(A_nom), PINV=pinv, NULLP=nullp, HSTAR=hstar,
-                  WPAR=wpar, JW=jw, n_steps=n_steps)
+                  WPAR=wpar, JW=jw, THR=thr, n_steps=n_steps)
     params = {"inertia": J, "inertia_physical": _triangle_ok(lam), "wheel_axes": AX, "initial_quaternion": q0,
               "initial_rate": P[:, _k.P_W0:_k.P_W0 + 3].copy(), "gyro_bias": P[:, _k.P_BIAS:_k.P_BIAS + 3].copy(),
               "sensor_noise_scale": P[:, _k.P_NS].copy(), "null_momentum": hstar}
     return {"shared": shared, "P": P, "AX": AX}, params
 
 
-def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, *,
-                    record: bool = False) -> WheelSimulationResult:
+def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shared: dict[str, Any]) -> dict[str, Any]:
+    """Run one chunk of samples through the kernel (module level: picklable for executors)."""
+    P, AX, seeds, record = task
+    n = P.shape[0]
+    nw = shared["JW"].shape[0]
+    nt = shared["THR"].shape[1]
+    filt = shared["C"][_k.EST_ON] > 0.0
+    n_steps = shared["n_steps"]
+    rec_every = int(shared["C"][_k.REC_EVERY])
+    n_rec = n_steps // rec_every + 1
+    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0) + (1 if filt else 0)
+    REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
+    OUT = np.empty((n, _k.N_METRICS))
+    ns = 7 + nw
+    t0 = time.perf_counter()
+    _k.run_wheels(P, AX, shared["C"], shared["ENV"], shared["AXN"], shared["PINV"], shared["NULLP"], shared["HSTAR"],
+                  shared["WPAR"], shared["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
+                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=shared["THR"],
+                  KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
+    return {"out": OUT, "rec": REC if record else None, "wall": time.perf_counter() - t0}
+
+
+def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
+                    record: bool = False, chunk_size: int | None = None,
+                    directory: Any = None) -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
-    The samples run in blocks on ``numba.get_num_threads()`` threads, each block one call of
+    The samples are split into chunks (tasks of :func:`adcskit.uncertainty.run_campaign`) run
+    on ``executor`` (with a progress display inside the ``adcskit`` CLI; an interrupted run
+    keeps its finished chunks in ``directory`` and a re-run resumes from them); inside a
+    chunk they run in blocks on ``numba.get_num_threads()`` threads, each block one call of
     the compiled, GIL-free kernel. A sample's result depends only on its parameters and its
-    64-bit noise seed, so it does not depend on the thread count or the blocks.
+    64-bit noise seed, so it does not depend on the executor, the chunks, the thread count
+    or the blocks: bit-identical results whatever the split.
 
     Parameters
     ----------
@@ -1049,8 +1278,17 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_samples : int
     rng : int, SeedSequence or Generator, optional
         Randomness of the dispersions and per-sample seeds (``None`` -> seed 0).
+    executor : spec or Executor, optional
+        ``serial`` (default: one process, its cores through numba threads),
+        ``processes[:N]``, ``dask-local[:N]``, ``dask://HOST:PORT``
+        (:func:`adcskit.uncertainty.make_executor`).
     record : bool
         Return the time histories (every ``scenario.sim.record_every`` steps).
+    chunk_size : int, optional
+        Samples per task (default: all samples in 8 chunks at most, >= 64 each).
+    directory : path, optional
+        Campaign directory: finished chunks are kept (written atomically) and a re-run with
+        the same scenario, samples and ``rng`` resumes from them.
 
     Returns
     -------
@@ -1082,6 +1320,8 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     if isinstance(rng, np.random.SeedSequence):
         rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
                                      n_children_spawned=rng.n_children_spawned)
+    if chunk_size is not None:
+        chunk_size = check_int("chunk_size", chunk_size, minimum=1)
     gen = as_rng(rng)
     t_start = time.perf_counter()
     prep, params = _prepare(scenario, n_samples, gen)
@@ -1092,28 +1332,35 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_steps = sh["n_steps"]
     rec_every = scenario.sim.record_every
     n_rec = n_steps // rec_every + 1
-    nc = _k.N_REC_FIXED + 2 * nw
-    REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
-    OUT = np.empty((n, _k.N_METRICS))
-    ns = 7 + nw
-    t0 = time.perf_counter()
-    _k.run_wheels(prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
-                  sh["WPAR"], sh["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
-                  np.zeros((n, ns)), np.zeros((n, nw)), OUT, REC)
-    wall = time.perf_counter() - t0
-    metrics = {name: OUT[:, j] * f for name, (j, f) in _METRICS.items()}
+    nt = sh["THR"].shape[1]
+    filt = scenario.estimator is not None
+    if chunk_size is None:
+        chunk_size = max(64, -(-n // 8))
+    tasks = [(np.ascontiguousarray(prep["P"][lo:lo + chunk_size]), np.ascontiguousarray(prep["AX"][lo:lo + chunk_size]),
+              seeds[lo:lo + chunk_size], record) for lo in range(0, n, chunk_size)]
+    from adcskit.uncertainty import run_campaign
+
+    camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                        description="wheel samples", shared=sh)
+    blocks = camp.values
+    OUT = np.concatenate([b["out"] for b in blocks], axis=0)
+    REC = np.concatenate([b["rec"] for b in blocks], axis=0) if record else None
+    wall = sum(b["wall"] for b in blocks)
+    names = _METRICS | (_UNLOAD_METRICS if nt else {}) | (_FILTER_METRICS if filt else {})
+    metrics = {name: OUT[:, j] * f for name, (j, f) in names.items()}
     md = scenario.modes
     finite = bool(np.all(np.isfinite(metrics["final_rate_deg_s"])))
     expect_point = md.sequence or md.initial == "point"
     n_point = int(np.count_nonzero(metrics["final_mode"] == MODE_NAMES.index("point")))
     reached = n_point == n or not expect_point or scenario.control.law == "open-loop"
     msg = (f"{n} samples x {n_steps} steps; {n_point} pointing at the end"
+           + (f"; {camp.n_resumed} of {camp.n_chunks} chunk(s) resumed" if camp.n_resumed else "")
            + ("" if finite else "; some samples produced non-finite states")
            + ("" if reached else f"; {n - n_point} sample(s) did not reach the pointing mode"))
     t = np.arange(n_rec) * rec_every * scenario.sim.dt if record else None
     return WheelSimulationResult(
-        metrics=metrics, t=t, trace=REC if record else None, channels=_channels(nw), parameters=params,
+        metrics=metrics, t=t, trace=REC, channels=_channels(nw, nt > 0, filt), parameters=params,
         seeds=seeds, n_samples=n, n_steps=n_steps, sample_steps_per_s=n * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, metrics_from_s=scenario.sim.metrics_from_s,
-        success=finite and reached, message=msg)
+        success=finite and reached, message=msg, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed)
 
