@@ -21,5 +21,5 @@ def test_small_tables_inline_signoff_open_large_only_linked(tmp_path):
     assert '<details class="csv"><summary><code>per_seed.csv</code> (3 rows)' in page
     assert "<code>big.csv</code>" not in page and 'href="closed-loop/big.csv"' in page  # linked only
     # numbers are right-aligned and formatted like the rest of the report; text stays as written
-    assert '<td class="num">0.118</td>' in page and "<td></td>" in page  # inf: an empty CSV cell
+    assert '<td class="num">0.118</td>' in page and '<td class="num">—</td>' in page  # inf: an empty CSV cell
     assert "<td>inconclusive (need ~299 samples)</td>" in page

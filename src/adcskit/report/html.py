@@ -8,7 +8,9 @@ gives a complete page.
 
 A study's CSV tables are linked, and shown inline when they are small (at most
 :data:`INLINE_MAX_ROWS` rows and :data:`INLINE_MAX_COLUMNS` columns): collapsed, except a
-sign-off table (a name ending in ``requirements``), which is shown open.
+sign-off table (a name ending in ``requirements``), which is shown open. An empty CSV cell (a
+NaN or an infinity: no finite value, e.g. a percentile bound that too few samples cannot give)
+is shown as a dash.
 """
 
 from __future__ import annotations
@@ -166,7 +168,10 @@ def _decorate(items: list[dict[str, Any]], study: str, prefix: str) -> list[dict
 
 
 def _cell(text: str) -> tuple[str, bool]:
-    """A CSV cell as shown: numbers through :func:`format_value` (right-aligned), text as is."""
+    """A CSV cell as shown: numbers through :func:`format_value` (right-aligned), text as is, an
+    empty cell (how the CSV writer stores NaN and infinities) as a dash."""
+    if not text.strip():
+        return format_value(None), True
     try:
         x = float(text)
     except ValueError:
