@@ -21,7 +21,8 @@ def test_every_finding_decided_on_two_seeds(quick):
     _, d = quick
     ids = {f["id"] for f in d["findings"]}
     assert ids == {"q1-layout-propellant", "q2-mekf-vs-qmethod", "q2-minmax-vs-qmethod", "q3-robust-gains-spread",
-                   "q4-optimal-slew-settling", "q4-optimal-slew-propellant", "q5-wheels-vs-thrusters"}
+                   "q4-optimal-slew-settling", "q4-optimal-slew-propellant", "q5-wheels-vs-thrusters",
+                   "q6-reference-mode-sequence"}
     for f in d["findings"]:
         assert f["outcome"] in (*OUTCOMES, "not comparable"), f
         assert f["n_seeds"] == 2
@@ -55,7 +56,7 @@ def test_checks_and_figures(quick):
     nees = next(c for n, c in checks.items() if "NEES" in n)
     assert "of 96 chi2(6) values" in nees["detail"] and "[5.327, 6.712]" in nees["detail"]
     assert set(d["figures"]) == {"attitude-error.png", "thruster-activity.png", "nees.png", "propellant.png",
-                                 "q5-attitude-error.png", "q5-wheel-speed.png"}
+                                 "q5-attitude-error.png", "q5-wheel-speed.png", "q6-mode-sequence-envelopes.png"}
     for f in d["figures"]:
         assert (path / "closed-loop" / f).stat().st_size > 1000
     rows = d["tables"]
@@ -92,6 +93,89 @@ def test_q5_wheels_vs_thrusters(quick):
     assert {r["outcome"] for r in req} <= {"met", "not met", "inconclusive"}
     assert "Q5 sign-off (last seed)" in d["summary"]
     assert any(k.startswith("q5_pointing_max_p99_deg[") for k in d["measured"])
+
+
+def test_q6_reference_mode_sequence(quick):
+    """Issue 25: the 12U reference mode sequence (detumble -> sun -> nadir) signed off per seed
+    (our question), its requirement table as CSVs and in the summary, its envelope figure."""
+    import csv
+
+    path, d = quick
+    f = next(f for f in d["findings"] if f["id"] == "q6-reference-mode-sequence")
+    assert "our question" in f["statement"]
+    assert set(f["protocol_keys"]) == {"q6_n_samples", "q6_requirements", "q6_record_every"}
+    assert [r["reading"] for r in f["readings"]] == ["each row at its stated confidence",
+                                                     "whole table at once (Bonferroni)"]
+    with open(path / "closed-loop" / "q6_seeds.csv") as fh:
+        seeds = list(csv.DictReader(fh))
+    assert [int(r["n_samples"]) for r in seeds] == [24, 24]  # quick: 2 seeds x 24 samples
+    for r in seeds:
+        # docs/wheels.md (1000 samples): sun acquired by 9823 s at the latest, so every sample
+        # points in the third orbit and the wheels stay far below 6000 rpm
+        assert int(r["n_pointing_at_end"]) == 24 and float(r["t_acquired_p99_s"]) < 11400.0
+        assert 0.0 < float(r["pointing_max_p99_deg"]) < 0.5 and float(r["max_wheel_speed_max_rpm"]) < 6000.0
+    with open(path / "closed-loop" / "q6_requirements.csv") as fh:
+        req = list(csv.DictReader(fh))
+    assert [(r["seed"], r["name"]) for r in req] == [(str(s), f"Q6-{i}") for s in (0, 1) for i in range(1, 6)]
+    # 24 samples cannot bound a p99 (Wilks: 299 at 95 %, 459 at 99 % for the Bonferroni rows):
+    # those rows are inconclusive, never "not met", and so is every seed's table (a tie, score 0)
+    for r in req:
+        if r["name"] in ("Q6-1", "Q6-3"):
+            assert r["verdict"] == "inconclusive (need ~299 samples)" and r["bound"] == ""  # no finite bound
+            assert r["verdict_bonferroni"] == "inconclusive (need ~459 samples)"
+        if r["name"] == "Q6-5":
+            assert r["verdict"] == "met"
+    assert f["outcome"] == "inconclusive" and all(r["values"] == [0.0, 0.0] for r in f["readings"])
+    assert "Q6 sign-off, reference mode sequence (seed 0, 24 samples" in d["summary"]
+    assert d["measured"]["q6_pointing_at_end_fraction"] == 1.0
+
+
+def test_q6_report_shows_the_table_and_the_figure(quick):
+    from adcskit.report.html import build_report
+
+    path, _ = quick
+    page = build_report(path).read_text(encoding="utf-8")
+    # the sign-off tables are shown open in the study's section, the envelope figure beside the others
+    assert '<details class="csv" open><summary><code>q6_requirements.csv</code> (10 rows)' in page
+    assert '<details class="csv" open><summary><code>q5_requirements.csv</code>' in page
+    assert 'src="closed-loop/q6-mode-sequence-envelopes.png"' in page
+
+
+def test_q6_verdict_counts_an_inconclusive_table_as_a_tie():
+    """A seed's table with an inconclusive row (too few samples for a bound) neither meets nor
+    fails: the finding can hold only when every seed's table is met, and does not hold only when
+    every seed's table has a row not met (issue 21's symmetric rule)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from adcskit.studies.closed_loop import Config
+    from adcskit.studies.closed_loop.claims import _q6
+    from adcskit.studies.closed_loop.experiment import Q6_READINGS, _seed_table, q6_tables
+    from adcskit.uncertainty import check_requirements
+
+    rng = np.random.default_rng(3)
+    x = rng.uniform(0.0, 1.0, 300)  # Wilks: 299 samples bound a p99 at 95 %, the largest of them
+    met = _seed_table(0, check_requirements(["x p99 <= 1.0"], {"x": x}))
+    failed = _seed_table(0, check_requirements(["x p99 <= 0.5", "x p99 <= 1.0"], {"x": x}))
+    open_ = _seed_table(0, check_requirements(["x p99 <= 1.0", "x p99 <= 0.995"], {"x": x}))
+    assert (met.outcome, met.score) == ("met", 1.0)
+    assert (failed.outcome, failed.score, failed.open_rows) == ("not met", -1.0, "x p99 <= 0.5 at 95 % confidence not met")
+    assert (open_.outcome, open_.score) == ("inconclusive", 0.0) and "inconclusive (need ~" in open_.open_rows
+
+    def decide(tables):
+        m = SimpleNamespace(modes=SimpleNamespace(runs={r: tuple(tables) for r in Q6_READINGS}))
+        d = _q6(Config(), m)
+        return d.spec.evaluate(d.runs, default=d.default)
+
+    assert decide([met] * 5).outcome == "holds"
+    assert decide([failed] * 5).outcome == "does not hold"
+    assert decide([met] * 4 + [open_]).outcome == "inconclusive"  # not "does not hold"
+    assert decide([failed] * 4 + [open_]).outcome == "inconclusive"
+    assert decide([met, failed] * 2 + [met]).outcome == "inconclusive"  # seeds disagree
+    assert "per-seed tables: met, met, met, met, inconclusive (x p99 <= 0.995" in decide([met] * 4 + [open_]).detail
+    # Bonferroni over the default five rows: each at 1 - 0.05 / 5 = 99 %
+    assert [r.confidence for r in q6_tables(Config())[Q6_READINGS[1]]] == [0.99] * 5
 
 
 def test_nees_check_uses_the_strict_band_of_the_grand_mean():

@@ -27,7 +27,7 @@ FORBIDDEN = {
     "thruster_layout": {"allocate", "design_layout", "score_layout"},
     "onoff_schmitt": {"simulate_batch", "simulate_trace"},
     "onoff_tuning": {"simulate_batch", "simulate_trace", "monte_carlo", "tune_robust", "latin_hypercube"},
-    "closed_loop": {"simulate", "sim", "optimal_slew_table", "design_layout"},
+    "closed_loop": {"simulate", "simulate_wheels", "sim", "optimal_slew_table", "design_layout"},
 }
 #: modules that must be pure functions of the records (model-estimation's claims are too)
 PURE = {"model_estimation": ("figures", "report", "claims")}

@@ -5,10 +5,17 @@ a verdict per claim, our sanity checks, what we did differently from the paper a
 the figures, CSV tables and the resolved configuration. Studies that are registered but
 not yet run, or that failed, are listed with their status, so a partial reproduction still
 gives a complete page.
+
+A study's CSV tables are linked, and shown inline when they are small (at most
+:data:`INLINE_MAX_ROWS` rows and :data:`INLINE_MAX_COLUMNS` columns): collapsed, except a
+sign-off table (a name ending in ``requirements``), which is shown open. An empty CSV cell (a
+NaN or an infinity: no finite value, e.g. a percentile bound that too few samples cannot give)
+is shown as a dash.
 """
 
 from __future__ import annotations
 
+import csv
 import datetime as _dt
 import html
 import json
@@ -25,6 +32,9 @@ from adcskit.errors import InputError
 __all__ = ["build_report", "load_results", "format_value"]
 
 ERRORS_FILE = "errors.json"
+#: The largest CSV table shown inline in the report (larger ones are only linked).
+INLINE_MAX_ROWS = 60
+INLINE_MAX_COLUMNS = 16
 
 
 def format_value(value: Any) -> str:
@@ -157,6 +167,47 @@ def _decorate(items: list[dict[str, Any]], study: str, prefix: str) -> list[dict
     return items
 
 
+def _cell(text: str) -> tuple[str, bool]:
+    """A CSV cell as shown: numbers through :func:`format_value` (right-aligned), text as is, an
+    empty cell (how the CSV writer stores NaN and infinities) as a dash."""
+    if not text.strip():
+        return format_value(None), True
+    try:
+        x = float(text)
+    except ValueError:
+        return text, False
+    if text.strip().lstrip("+-").isdigit():
+        return format_value(int(text)), True
+    return format_value(x), True
+
+
+def _inline_tables(study_dir: Path, names: list[str]) -> list[dict[str, Any]]:
+    """The study's small CSV tables, read for inline display (see the module docstring).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = (Path(d) / "q_requirements.csv").write_text("name,bound\\nR1,0.118\\n")
+    ...     t = _inline_tables(Path(d), ["q_requirements.csv", "missing.csv"])
+    >>> t[0]["header"], t[0]["rows"], t[0]["open"]
+    (['name', 'bound'], [[('R1', False), ('0.118', True)]], True)
+    """
+    out = []
+    for name in names:
+        path = study_dir / name
+        try:
+            with open(path, newline="", encoding="utf-8") as fh:
+                rows = list(csv.reader(fh))
+        except (OSError, csv.Error, UnicodeDecodeError):
+            continue
+        if not rows or len(rows) - 1 > INLINE_MAX_ROWS or len(rows[0]) > INLINE_MAX_COLUMNS:
+            continue
+        out.append({"name": name, "header": rows[0], "rows": [[_cell(c) for c in r] for r in rows[1:]],
+                    "open": Path(name).stem.endswith("requirements")})
+    return out
+
+
 def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
     """The claims of a result, with ``display``, ``bucket``, ``css``, ``anchor`` and ``tooltip`` set."""
     claims = [dict(c) for c in data.get("claims", [])]
@@ -264,6 +315,7 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
                 flat_paper=flat_paper,
                 flat_measured=flat_measured,
                 config_json=json.dumps(data.get("config", {}), indent=2),
+                inline_tables=_inline_tables(out / name, [str(t) for t in data.get("tables") or []]),
             )
         sections.append(section)
 

@@ -2,7 +2,7 @@
 
 :data:`FINDINGS` and :data:`CHECKS` list one small factory per statement, in report order, each
 ``(config, measurements) -> Declared | Check``: a finding is a module-level
-:class:`~adcskit.studies._verdict.FindingSpec` (``F1`` ... ``F5``) with its per-seed
+:class:`~adcskit.studies._verdict.FindingSpec` (``F1`` ... ``F6``) with its per-seed
 :class:`~.experiment.SeedRatio` runs keyed by reading, decided by the framework's
 :meth:`~adcskit.studies._verdict.ClaimSpec.evaluate`; a check is computed from the records (its
 text quotes measured numbers). :data:`CLAIMS` is empty. :func:`evaluate` decides a list.
@@ -10,6 +10,7 @@ text quotes measured numbers). :data:`CLAIMS` is empty. :func:`evaluate` decides
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -21,10 +22,11 @@ from adcskit.studies.closed_loop.experiment import (
     Q1_READINGS,
     Q2_MINMAX_READINGS,
     Q2_READINGS,
+    Q6_READINGS,
     Measurements,
 )
 
-__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "F1", "F2", "F2B", "F3", "F4A", "F4B", "F5", "Declared",
+__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "F1", "F2", "F2B", "F3", "F4A", "F4B", "F5", "F6", "Declared",
            "chi2_mean_band", "evaluate"]
 
 
@@ -89,6 +91,28 @@ F5 = FindingSpec(
 )
 
 
+def _score(run: Any) -> float:
+    return run.score
+
+
+F6 = FindingSpec(
+    id="q6-reference-mode-sequence",
+    statement="the 12U reference smallsat (4 pyramid wheels, 3 magnetorquers, sun sensor + magnetometer + gyro + "
+              "star tracker; detumble -> sun acquisition -> nadir pointing over three orbits, with the reference "
+              "dispersions) meets its sign-off requirement table at 95 % confidence (our question, not a paper's)",
+    where="docs/wheels.md, the reference Monte-Carlo and its requirement table",
+    quantity="per seed, the sign-off table of one Monte-Carlo campaign: +1 every row met, -1 a row not met, "
+             "0 otherwise (a row inconclusive); mean over seeds",
+    value=_score, threshold=0.0, better="above", readings=Q6_READINGS,
+    # a table that neither meets nor fails (a row "inconclusive (need ~N samples)") is a tie:
+    # it counts neither for nor against, and makes the reading inconclusive
+    margin=0.5,
+    margin_reason="a seed whose table has an inconclusive row and no failed one scores 0: too few samples to "
+                  "bound that row either way, so it counts neither as met nor as failed (a tie)",
+    protocol_keys=protocol_keys(Config, "q6-reference-mode-sequence"),
+)
+
+
 def chi2_mean_band(dof: int, n: int) -> tuple[float, float]:
     """95 % band of the mean of ``n`` independent chi2(``dof``) values.
 
@@ -131,6 +155,16 @@ def _q4_propellant(cfg: Config, m: Measurements) -> Declared:
 
 def _q5(cfg: Config, m: Measurements) -> Declared:
     return Declared(F5, {"default": m.wheels.runs})
+
+
+def _q6(cfg: Config, m: Measurements) -> Declared:
+    runs = m.modes.runs
+
+    def describe(r: Any) -> str:  # the per-seed tables in words, with the rows that keep one open
+        return "per-seed tables: " + ", ".join(
+            t.outcome + (f" ({t.open_rows})" if t.open_rows else "") for t in runs[r.reading])
+
+    return Declared(dataclasses.replace(F6, describe=describe), runs, Q6_READINGS[0])
 
 
 # ----------------------------------------------------------------------------- checks
@@ -178,7 +212,7 @@ def _feasible(cfg: Config, m: Measurements) -> Check:
 #: The papers' claims: none (the study answers questions they leave open).
 CLAIMS: tuple = ()
 #: Our findings, in report order.
-FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant, _q5)
+FINDINGS = (_q1, _q2_mekf, _q2_minmax, _q3, _q4_settling, _q4_propellant, _q5, _q6)
 #: Our consistency checks, in report order.
 CHECKS = (_mekf_consistent, _bang_bang, _feasible)
 

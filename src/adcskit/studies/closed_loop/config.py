@@ -5,9 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from adcskit.config import ConfigError
+from adcskit.errors import InputError
 from adcskit.studies._base import NEUTRAL, NOT_PRINTED, protocol
+from adcskit.uncertainty import read_requirements
 
-__all__ = ["Config"]
+__all__ = ["Config", "Q6_REQUIREMENTS"]
 
 #: Field metadata of every setting that defines the study's scenarios: no paper closes the loop,
 #: so no paper prints these settings (the printed numbers the scenarios reuse are in ``paper.py``);
@@ -17,6 +19,18 @@ _OURS = protocol("findings", paper=NOT_PRINTED)
 _Q5 = "q5-wheels-vs-thrusters"
 #: Keys shared by the findings and question 5 (the S4 plant's step, duration and sample count).
 _OURS_Q5 = protocol("findings", _Q5, paper=NOT_PRINTED)
+#: The keys of question 6 (the 12U reference mode sequence against its sign-off table; ours).
+_Q6 = "q6-reference-mode-sequence"
+#: Q6's default sign-off table: the reference Monte-Carlo's table of ``docs/wheels.md`` and
+#: ``benchmarks/bench_wheels.py`` (metrics of :class:`adcskit.simulation.WheelSimulationResult`;
+#: the third orbit, from 11 400 s, is the reference scenario's metrics window).
+Q6_REQUIREMENTS = (
+    "Q6-1: pointing_max_deg p99 <= 0.2 after 11400 s",
+    "Q6-2: pointing_rms_deg p99 <= 0.1 after 11400 s",
+    "Q6-3: knowledge_rms_deg p99 <= 0.02 after 11400 s",
+    "Q6-4: P(t_acquired_s > 11400) <= 1 %",
+    "Q6-5: max_wheel_speed_rpm max <= 6000",
+)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -70,6 +84,19 @@ class Config:
     q5_pointing_req_deg : float, deg
         Question 5: requirement on the p99 over samples of the per-sample largest pointing
         error over S4's last 10 s (the sign-off table of both loops; half of it bounds the RMS).
+    q6_n_samples : int
+        Question 6: Monte-Carlo samples per seed of the 12U reference mode sequence
+        (:class:`adcskit.simulation.WheelScenario` with the reference dispersions of
+        ``docs/wheels.md``; about 0.07 CPU-s per sample). A p99 row needs >= 299 samples for a
+        95 % bound at all (Wilks).
+    q6_requirements : tuple of str
+        Question 6: the sign-off table (one line each,
+        :func:`adcskit.uncertainty.parse_requirement`; metrics of
+        :class:`adcskit.simulation.WheelSimulationResult`, windowed ones after 11 400 s).
+    q6_record_every : int
+        Question 6: steps between recorded trace points (and the grid of the wheel-momentum
+        checks) of the reference scenario; the first seed's campaign is recorded for the
+        envelope figure.
     record_samples : int
         Samples whose time histories are kept for the figures.
     """
@@ -96,6 +123,9 @@ class Config:
     q5_wheel_damping: float = field(default=0.9, metadata=protocol(_Q5, paper=NOT_PRINTED))
     q5_wheel_momentum_nms: float = field(default=4.0, metadata=protocol(_Q5, paper=NOT_PRINTED))
     q5_pointing_req_deg: float = field(default=0.25, metadata=protocol(_Q5, paper=NOT_PRINTED))
+    q6_n_samples: int = field(default=1000, metadata=protocol(_Q6, paper=NOT_PRINTED))
+    q6_requirements: tuple[str, ...] = field(default=Q6_REQUIREMENTS, metadata=protocol(_Q6, paper=NOT_PRINTED))
+    q6_record_every: int = field(default=250, metadata=protocol(_Q6, paper=NOT_PRINTED))
     # record_samples only sizes the recorded traces drawn in the figures (no finding uses them)
     record_samples: int = field(default=32, metadata=NEUTRAL)
 
@@ -107,6 +137,17 @@ class Config:
                      "q5_wheel_bandwidth_rad_s", "q5_wheel_damping", "q5_wheel_momentum_nms", "q5_pointing_req_deg"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
+        if self.q6_n_samples < 2 or self.q6_record_every < 1:
+            raise ConfigError(f"q6_n_samples must be >= 2 and q6_record_every >= 1; got {self.q6_n_samples!r}, "
+                              f"{self.q6_record_every!r}")
+        if isinstance(self.q6_requirements, str) or not self.q6_requirements:
+            raise ConfigError(f"q6_requirements must be a non-empty list of requirement lines; got "
+                              f"{self.q6_requirements!r}")
+        try:
+            read_requirements(list(self.q6_requirements))
+        except (InputError, TypeError) as exc:
+            raise ConfigError(f"q6_requirements: {exc}") from exc
+        object.__setattr__(self, "q6_requirements", tuple(self.q6_requirements))
         if not 0 < self.slew_accel_fraction <= 1:
             raise ConfigError(f"slew_accel_fraction must be in (0, 1]; got {self.slew_accel_fraction!r}")
         if self.leo_window_s >= self.leo_t_final_s:

@@ -1,9 +1,11 @@
-"""The closed-loop study's measurements: five Monte-Carlo campaigns as typed, frozen records.
+"""The closed-loop study's measurements: six Monte-Carlo campaigns as typed, frozen records.
 
-:func:`measure` runs every :func:`adcskit.simulation.simulate` (and, for Q5,
+:func:`measure` runs every :func:`adcskit.simulation.simulate` (and, for Q5 and Q6,
 :func:`adcskit.simulation.simulate_wheels`) call of the study, in one fixed order of the random
 stream (Q1 layouts, Q2 estimators and the NEES trace, Q3 gains, Q4 slews and the recorded slew
-traces, Q5 wheels and the recorded Q5 traces), and returns :class:`Measurements`; the claims,
+traces, Q5 wheels and the recorded Q5 traces), then Q6 (the 12U reference mode sequence) from
+its own node of the root ``SeedSequence`` (spawn key :data:`Q6_STREAM`, so that it never moves
+Q1-Q5's streams), and returns :class:`Measurements`; the claims,
 tables and figures are functions of it. Each question's campaigns share one dispersion/noise
 ``SeedSequence`` per seed across the configurations they compare (common random numbers; Q5's
 two loops are different kernels that draw their dispersions differently, so its seeds pair the
@@ -19,7 +21,9 @@ spacecraft, layouts, allocation), S4 (loop, gains, dispersions); Lefferts, Markl
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import time
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -31,6 +35,7 @@ from adcskit._progress import status
 from adcskit._results import Result
 from adcskit.errors import UncontrollableWarning
 from adcskit.simulation import (
+    MODE_NAMES,
     ControllerSpec,
     DispersionSpec,
     DisturbanceSpec,
@@ -63,10 +68,12 @@ from adcskit.studies.closed_loop.paper import (
     S4_TABLE5_DISPERSIONS,
 )
 from adcskit.thrusters.reference import S3_REFERENCE_A, s3_manoeuvre_demands
+from adcskit.uncertainty import read_requirements
 
 __all__ = ["Q1_READINGS", "Q2_READINGS", "Q2_MINMAX_READINGS", "SeedRatio", "Trace", "LayoutRow", "Layouts",
            "EstimatorRow", "Estimators", "GainRow", "Gains", "SlewRow", "Slews", "LoopRow", "RequirementRow",
-           "WheelsVsThrusters", "Measurements", "measure", "q5_requirements"]
+           "WheelsVsThrusters", "Q6_READINGS", "Q6_STREAM", "SeedTable", "ModeSeedRow", "ModeRequirementRow",
+           "ModeSequence", "Measurements", "measure", "q5_requirements", "q6_scenario", "q6_tables"]
 
 _DEG = math.pi / 180.0
 
@@ -74,6 +81,13 @@ Q1_READINGS = ("pinv-redistribute, all thrusters", "lp-min-fuel, all thrusters",
                "pinv-redistribute, one failed", "lp-min-fuel, one failed")
 Q2_READINGS = ("bounded (uniform) errors", "Gaussian errors")
 Q2_MINMAX_READINGS = Q2_READINGS + ("bounded errors, equal weights",)
+#: Q6: what "meets its sign-off table at 95 % confidence" means for a table of k rows: every row
+#: at its own stated confidence (how a table is signed, docs/signoff.md), or the whole table at
+#: once (Bonferroni: each row's risk divided by k, so that all k bounds hold together at 95 %).
+Q6_READINGS = ("each row at its stated confidence", "whole table at once (Bonferroni)")
+#: Q6: spawn key of its own SeedSequence node beside the per-seed children ``0 .. n_seeds - 1``
+#: of the study's root that Q1-Q5 draw from, so Q6 never moves their streams.
+Q6_STREAM = 6_000_006
 
 
 # ----------------------------------------------------------------------------- records
@@ -242,6 +256,74 @@ class WheelsVsThrusters(Result):
 
 
 @dataclass(frozen=True, slots=True, repr=False)
+class SeedTable(Result):
+    """Q6, one seed x reading: the sign-off table's outcome and the finding's per-seed score.
+
+    ``score`` is +1 when every row is met, -1 when a row is not met, 0 otherwise (a row
+    inconclusive: too few samples to bound it either way, which decides nothing)."""
+
+    seed: int
+    outcome: str  # "met" | "not met" | "inconclusive"
+    score: float
+    n_met: int
+    n_not_met: int
+    n_inconclusive: int
+    open_rows: str  # the rows that are not met, with their verdicts ("" when all are met)
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class ModeSeedRow(Result):
+    """Q6, one seed's campaign: a row of ``q6_seeds.csv`` (percentiles over the samples; NaN counts as infinite)."""
+
+    seed: int
+    n_samples: int
+    table: str
+    table_bonferroni: str
+    n_met: int
+    n_not_met: int
+    n_inconclusive: int
+    n_pointing_at_end: int
+    t_detumbled_p50_s: float
+    t_detumbled_p99_s: float
+    t_acquired_p99_s: float
+    pointing_max_p99_deg: float
+    pointing_rms_p99_deg: float
+    knowledge_rms_p99_deg: float
+    max_wheel_speed_max_rpm: float
+    wall_s: float
+    cpu_s: float
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class ModeRequirementRow(Result):
+    """Q6, one seed x requirement: a row of ``q6_requirements.csv`` (both readings' verdicts)."""
+
+    seed: int
+    name: str
+    requirement: str
+    n: int
+    n_violating: int
+    estimate: float
+    bound: float
+    verdict: str
+    bound_bonferroni: float
+    verdict_bonferroni: str
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class ModeSequence(Result):
+    """Q6 (12U reference smallsat): detumble -> sun -> nadir against its sign-off table."""
+
+    runs: Mapping[str, tuple[SeedTable, ...]]  # reading -> per-seed table outcome
+    rows: tuple[ModeSeedRow, ...]
+    requirements: tuple[ModeRequirementRow, ...]
+    trace: Trace  # the first seed's whole campaign (channels: error, rate, speeds, momentum, dipole, mode)
+    pointing_max_deg: np.ndarray  # the first seed's per-sample largest pointing error (ranks the worst sample)
+    metrics_from_s: float
+    sample_steps_per_s: float  # median over the campaigns (kernel wall time)
+
+
+@dataclass(frozen=True, slots=True, repr=False)
 class Measurements(Result):
     """Everything the study measures, in campaign order."""
 
@@ -250,6 +332,7 @@ class Measurements(Result):
     gains: Gains
     slews: Slews
     wheels: WheelsVsThrusters
+    modes: ModeSequence
     feasibility: Mapping[str, float]  # question -> smallest controllable fraction over its calls
     sample_steps_per_s: tuple[float, ...]  # one per simulate call
 
@@ -622,8 +705,100 @@ def _q5_wheels(cfg: Config, sim: _Sim, seeds: list, s4_nominal: list) -> WheelsV
                              wheel_sample_steps_per_s=float(np.median(rates)))
 
 
+def q6_scenario(cfg: Config) -> WheelScenario:
+    """Q6's scenario: the 12U reference smallsat of :class:`~adcskit.simulation.WheelScenario`
+    (its defaults) with the reference Monte-Carlo dispersions of ``docs/wheels.md`` and
+    ``benchmarks/bench_wheels.py``: 10 % per principal moment, 0.5 deg wheel misalignment, a
+    20 % sensor-noise factor, 1 deg/s initial rate per axis, uniformly random initial attitudes.
+
+    Examples
+    --------
+    >>> from adcskit.studies.closed_loop import Config
+    >>> sc = q6_scenario(Config())
+    >>> sc.modes.initial, sc.sim.t_final, sc.sim.metrics_from_s, sc.dispersions.initial_attitude
+    ('detumble', 17100.0, 11400.0, 'random')
+    """
+    sc = WheelScenario(dispersions=WheelDispersionSpec(inertia_rel=0.1, wheel_misalignment_deg=0.5,
+                                                       sensor_noise_rel=0.2, initial_rate_deg_s=1.0,
+                                                       initial_attitude="random"))
+    return sc.replace(sim=sc.sim.replace(record_every=cfg.q6_record_every))
+
+
+def q6_tables(cfg: Config) -> dict[str, tuple]:
+    """Q6's requirement table under each reading (:data:`Q6_READINGS`): the rows as written, and
+    the Bonferroni rows (each row's risk ``1 - confidence`` divided by the number of rows).
+
+    Examples
+    --------
+    >>> from adcskit.studies.closed_loop import Config
+    >>> t = q6_tables(Config())
+    >>> [r.confidence for r in t[Q6_READINGS[0]]][:2], round(t[Q6_READINGS[1]][0].confidence, 6)
+    ([0.95, 0.95], 0.99)
+    """
+    rows = read_requirements(list(cfg.q6_requirements))
+    k = len(rows)
+    joint = tuple(dataclasses.replace(r, confidence=1.0 - (1.0 - r.confidence) / k) for r in rows)
+    return {Q6_READINGS[0]: rows, Q6_READINGS[1]: joint}
+
+
+def _seed_table(s_i: int, table: Any) -> SeedTable:
+    outcome = "met" if table.n_met == len(table.rows) else ("not met" if table.n_not_met else "inconclusive")
+    open_rows = "; ".join(f"{r.requirement.name or r.requirement.text} {r.verdict}" for r in table.rows
+                          if r.outcome != "met")
+    return SeedTable(seed=s_i, outcome=outcome, score={"met": 1.0, "not met": -1.0}.get(outcome, 0.0),
+                     n_met=table.n_met, n_not_met=table.n_not_met, n_inconclusive=table.n_inconclusive,
+                     open_rows=open_rows)
+
+
+def _q6_trace(res: Any) -> Trace:
+    keep = [i for i, c in enumerate(res.channels)
+            if c in ("error", "rate", "h_wheels", "mode") or c.startswith(("speed_", "dipole_"))]
+    return Trace(t=res.t, trace=res.trace[:, :, keep], channels=tuple(res.channels[i] for i in keep),
+                 n_samples=res.n_samples)
+
+
+def _q6_modes(cfg: Config, seeds: list) -> ModeSequence:
+    status(f"closed-loop: Q6 reference mode sequence ({cfg.n_seeds} x {cfg.q6_n_samples} samples)")
+    sc = q6_scenario(cfg)
+    tables = q6_tables(cfg)
+    runs: dict[str, list[SeedTable]] = {r: [] for r in Q6_READINGS}
+    rows, req_rows, rates = [], [], []
+    trace, pmax = None, np.zeros(0)
+    for s_i, seq in enumerate(seeds):
+        c0 = time.process_time()
+        res = simulate_wheels(sc, cfg.q6_n_samples, rng=seq, record=s_i == 0)
+        cpu = time.process_time() - c0
+        rates.append(res.sample_steps_per_s)
+        # a sample that never points (NaN pointing metrics) violates every pointing row
+        checked = {r: res.check_requirements(t, nan_policy="fail") for r, t in tables.items()}
+        for reading, table in checked.items():
+            runs[reading].append(_seed_table(s_i, table))
+        own, joint = checked[Q6_READINGS[0]], checked[Q6_READINGS[1]]
+        for a, b in zip(own.rows, joint.rows):
+            d = a.table_row()
+            req_rows.append(ModeRequirementRow(
+                seed=s_i, name=d["name"] or "", requirement=d["requirement"], n=a.n, n_violating=a.n_violating,
+                estimate=a.estimate, bound=a.bound, verdict=a.verdict, bound_bonferroni=b.bound,
+                verdict_bonferroni=b.verdict))
+        m = res.metrics
+        rows.append(ModeSeedRow(
+            seed=s_i, n_samples=res.n_samples, table=runs[Q6_READINGS[0]][-1].outcome,
+            table_bonferroni=runs[Q6_READINGS[1]][-1].outcome, n_met=own.n_met, n_not_met=own.n_not_met,
+            n_inconclusive=own.n_inconclusive,
+            n_pointing_at_end=int(np.count_nonzero(m["final_mode"] == MODE_NAMES.index("point"))),
+            t_detumbled_p50_s=_p(m["t_detumbled_s"], 50), t_detumbled_p99_s=_p(m["t_detumbled_s"], 99),
+            t_acquired_p99_s=_p(m["t_acquired_s"], 99), pointing_max_p99_deg=_p(m["pointing_max_deg"], 99),
+            pointing_rms_p99_deg=_p(m["pointing_rms_deg"], 99), knowledge_rms_p99_deg=_p(m["knowledge_rms_deg"], 99),
+            max_wheel_speed_max_rpm=_p(m["max_wheel_speed_rpm"], 100), wall_s=res.runtime_s, cpu_s=cpu))
+        if s_i == 0:  # the envelope figure: the first seed's whole campaign
+            trace, pmax = _q6_trace(res), m["pointing_max_deg"].copy()
+    return ModeSequence(runs={k: tuple(v) for k, v in runs.items()}, rows=tuple(rows), requirements=tuple(req_rows),
+                        trace=trace, pointing_max_deg=pmax, metrics_from_s=sc.sim.metrics_from_s,
+                        sample_steps_per_s=float(np.median(rates)))
+
+
 def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measurements:
-    """Run the five campaigns (Q1-Q5, see the package docstring) and return their records.
+    """Run the six campaigns (Q1-Q6, see the package docstring) and return their records.
 
     Examples
     --------
@@ -632,7 +807,8 @@ def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measuremen
     4
     """
     gen = np.random.default_rng(rng)
-    seeds = np.random.SeedSequence(int(gen.integers(2**32))).spawn(cfg.n_seeds)
+    root = np.random.SeedSequence(int(gen.integers(2**32)))
+    seeds = root.spawn(cfg.n_seeds)
     sim = _Sim(cfg.n_samples, executor)
     ref_layout = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
     layouts = _q1_layouts(cfg, sim, seeds, ref_layout)
@@ -640,6 +816,8 @@ def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measuremen
     gains, s4_nominal = _q3_gains(cfg, sim, seeds)
     slews = _q4_slews(cfg, sim, seeds, ref_layout)
     wheels = _q5_wheels(cfg, sim, seeds, s4_nominal)
-    return Measurements(layouts=layouts, estimators=estimators, gains=gains, slews=slews, wheels=wheels,
+    # Q6 draws from its own node of the root (spawn key Q6_STREAM), never from Q1-Q5's children
+    modes = _q6_modes(cfg, np.random.SeedSequence(root.entropy, spawn_key=(Q6_STREAM,)).spawn(cfg.n_seeds))
+    return Measurements(layouts=layouts, estimators=estimators, gains=gains, slews=slews, wheels=wheels, modes=modes,
                         feasibility={q: float(np.min(v)) for q, v in sorted(sim.feasible.items())},
                         sample_steps_per_s=tuple(sim.rates))

@@ -13,13 +13,13 @@ import numpy as np
 from adcskit.simulation.envelopes import envelope
 from adcskit.studies._base import new_figure
 from adcskit.studies.closed_loop.claims import chi2_mean_band
-from adcskit.studies.closed_loop.experiment import Measurements, Trace
+from adcskit.studies.closed_loop.experiment import Measurements, ModeSequence, Trace
 
 __all__ = ["figures"]
 
 
 def figures(m: Measurements) -> dict[str, Any]:
-    """The study's six figures, by file stem, in report order.
+    """The study's seven figures, by file stem, in report order.
 
     Examples
     --------
@@ -34,6 +34,7 @@ def figures(m: Measurements) -> dict[str, Any]:
         "propellant": _fig_propellant(m.layouts.propellant_samples),
         "q5-attitude-error": _fig_q5_error(m.wheels.wheel_trace, m.wheels.thruster_trace),
         "q5-wheel-speed": _fig_q5_speed(m.wheels.wheel_trace),
+        "q6-mode-sequence-envelopes": _fig_q6(m.modes),
     }
 
 
@@ -144,4 +145,52 @@ def _fig_q5_speed(rec_w: Trace):
     np.atleast_1d(axes)[-1].set_xlabel("time [s]")
     fig.suptitle(f"Q5: wheel speeds relative to the body, {rec_w.n_samples} samples (median, p5-p95, p1-p99, worst)",
                  fontsize=9)
+    return fig
+
+
+#: Q6 panels: label, log scale, and the per-sample trace (N, R) in display units from the record.
+_Q6_PANELS = (
+    ("sun angle / pointing error [deg]", True,
+     lambda tr, ch: np.degrees(tr[:, :, ch.index("error")])),
+    ("body rate [deg/s]", True, lambda tr, ch: np.degrees(tr[:, :, ch.index("rate")])),
+    ("largest wheel speed [rpm]", False,
+     lambda tr, ch: np.max(np.abs(tr[:, :, [i for i, c in enumerate(ch) if c.startswith("speed_")]]), axis=2)
+     * 30.0 / np.pi),
+    ("wheel momentum |A h| [N m s]", False, lambda tr, ch: tr[:, :, ch.index("h_wheels")]),
+    ("dipole |m| [A m^2]", False,
+     lambda tr, ch: np.linalg.norm(tr[:, :, [i for i, c in enumerate(ch) if c.startswith("dipole_")]], axis=2)),
+)
+
+
+def _fig_q6(q6: ModeSequence):
+    """Envelopes of the first seed's whole campaign (median, p5-p95, p1-p99), the worst sample by
+    the requirement's ``pointing_max_deg`` (NaN: never pointing, ranks worst), and the share of the
+    samples in each mode."""
+    rec = q6.trace
+    t, tr, ch = rec.t, rec.trace, rec.channels
+    worst = int(np.argmax(np.where(np.isnan(q6.pointing_max_deg), np.inf, q6.pointing_max_deg)))
+    fig, axes = new_figure(len(_Q6_PANELS) + 1, 1, figsize=(7.0, 12.5), sharex=True)
+    for ax, (label, log, get) in zip(axes, _Q6_PANELS):
+        v = get(tr, ch)
+        e = envelope(v, t)
+        ax.fill_between(t, e.p1, e.p99, color="C0", alpha=0.18, lw=0, label="p1-p99")
+        ax.fill_between(t, e.p5, e.p95, color="C0", alpha=0.38, lw=0, label="p5-p95")
+        ax.plot(t, e.median, color="C0", lw=1.4, label="median")
+        ax.plot(t, v[worst], color="C3", lw=0.8, label=f"worst by pointing_max_deg (sample {worst})")
+        ax.axvspan(q6.metrics_from_s, t[-1], facecolor="0.9", edgecolor="none", zorder=0.5)
+        if log:
+            ax.set_yscale("log")
+        ax.set_ylabel(label, fontsize=8)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper right", ncol=2)
+    mode = tr[:, :, ch.index("mode")]
+    shares = [np.mean(mode == k, axis=0) for k in range(3)]
+    axes[-1].stackplot(t, *shares, labels=("detumble", "sun acquisition", "nadir pointing"),
+                       colors=("C1", "C2", "C0"), alpha=0.7)
+    axes[-1].set_ylabel("share of samples per mode", fontsize=8)
+    axes[-1].set_ylim(0.0, 1.0)
+    axes[-1].legend(fontsize=7, loc="center right")
+    axes[-1].set_xlabel("time [s] (grey: the requirement window, the third orbit)")
+    fig.suptitle(f"Q6: 12U reference mode sequence, detumble -> sun -> nadir, first seed's {rec.n_samples} samples",
+                 fontsize=10)
     return fig

@@ -10,7 +10,7 @@ import numpy as np
 from adcskit.studies.closed_loop.config import Config
 from adcskit.studies.closed_loop.experiment import Measurements
 
-__all__ = ["DIFFERENCES", "TITLE", "measured", "q5_text", "row", "summary", "tables"]
+__all__ = ["DIFFERENCES", "TITLE", "measured", "q5_text", "q6_text", "row", "summary", "tables"]
 
 TITLE = "Closed-loop 3-axis ADCS: layouts, estimators, robust gains and optimal slews in Monte-Carlo"
 
@@ -28,6 +28,10 @@ DIFFERENCES = (
     "dispersion); the law (quaternion PD, no integral, vs S4's PID + Schmitt trigger); the knowledge (star tracker "
     "propagated by the gyro vs the MEKF); the disturbance (nominal in the wheel loop, 100 % dispersed in the "
     "thruster loop: the wheel kernel has no disturbance dispersion).",
+    "Q6 (the 12U reference mode sequence, our question): the reference scenario of docs/wheels.md with its "
+    "dispersions, one Monte-Carlo campaign per seed from Q6's own random stream, signed off by the requirement "
+    "table of docs/wheels.md; a table with an inconclusive row (too few samples to bound it) counts as a tie, "
+    "neither met nor failed.",
 )
 
 
@@ -68,6 +72,12 @@ def measured(m: Measurements) -> dict[str, Any]:
     out["q5_wheel_kernel_sample_steps_per_s"] = m.wheels.wheel_sample_steps_per_s
     out["kernel_sample_steps_per_s_median"] = float(np.median(m.sample_steps_per_s))
     out["n_simulate_calls"] = len(m.sample_steps_per_s)
+    q6 = m.modes.rows  # medians over the seeds' campaigns
+    for key in ("t_detumbled_p99_s", "t_acquired_p99_s", "pointing_max_p99_deg", "pointing_rms_p99_deg",
+                "knowledge_rms_p99_deg", "max_wheel_speed_max_rpm", "cpu_s"):
+        out[f"q6_{key}_median"] = float(np.median([getattr(r, key) for r in q6]))
+    out["q6_pointing_at_end_fraction"] = float(sum(r.n_pointing_at_end for r in q6) / sum(r.n_samples for r in q6))
+    out["q6_wheel_kernel_sample_steps_per_s"] = m.modes.sample_steps_per_s
     return out
 
 
@@ -80,6 +90,8 @@ def tables(m: Measurements) -> dict[str, list[dict[str, Any]]]:
         "q4_slew": [row(r) for r in m.slews.rows],
         "q5_wheels_vs_thrusters": [row(r) for r in m.wheels.rows],
         "q5_requirements": [row(r) for r in m.wheels.requirements],
+        "q6_seeds": [row(r) for r in m.modes.rows],
+        "q6_requirements": [row(r) for r in m.modes.requirements],
     }
 
 
@@ -87,9 +99,10 @@ def summary(cfg: Config, m: Measurements, findings: list) -> str:
     """One paragraph: protocol size, each finding's outcome, the kernel's speed."""
     rate = float(np.median(m.sample_steps_per_s))
     return (
-        f"{cfg.n_seeds} seeds x {cfg.n_samples} samples per configuration. "
-        + "; ".join(f"{f.id}: {f.outcome} (mean ratio {f.measured:.3g})" for f in findings)
-        + f". Kernel median {rate:.3g} sample-steps/s. " + q5_text(m)
+        f"{cfg.n_seeds} seeds x {cfg.n_samples} samples per configuration (Q6: {cfg.q6_n_samples} per seed). "
+        + "; ".join(f"{f.id}: {f.outcome} (mean {'score' if f.id.startswith('q6') else 'ratio'} {f.measured:.3g})"
+                    for f in findings)
+        + f". Kernel median {rate:.3g} sample-steps/s. " + q5_text(m) + " " + q6_text(m)
     )
 
 
@@ -109,3 +122,26 @@ def q5_text(m: Measurements) -> str:
     for r in m.wheels.requirements:
         loops.setdefault(r.loop, []).append(f"{r.name} {r.outcome} (estimate {r.estimate:.3g}, bound {r.bound:.3g})")
     return "Q5 sign-off (last seed): " + "; ".join(f"{k}: {', '.join(v)}" for k, v in loops.items()) + "."
+
+
+def q6_text(m: Measurements) -> str:
+    """Q6's sign-off: the first seed's table row by row, then every seed's table outcome.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> from adcskit.studies.closed_loop.experiment import ModeRequirementRow, Q6_READINGS, SeedTable
+    >>> r = ModeRequirementRow(seed=0, name="Q6-1", requirement="pointing_max_deg p99 <= 0.2 after 11400 s",
+    ...                        n=1000, n_violating=0, estimate=0.114, bound=0.118, verdict="met",
+    ...                        bound_bonferroni=0.12, verdict_bonferroni="met")
+    >>> t = SeedTable(seed=0, outcome="met", score=1.0, n_met=1, n_not_met=0, n_inconclusive=0, open_rows="")
+    >>> q6_text(SimpleNamespace(modes=SimpleNamespace(requirements=(r,), runs={q: (t,) for q in Q6_READINGS})))
+    'Q6 sign-off, reference mode sequence (seed 0, 1000 samples, each row at its stated confidence): Q6-1 met (estimate 0.114, bound 0.118). Table per seed, each row at its stated confidence: met; whole table at once (Bonferroni): met.'
+    """
+    rows = [r for r in m.modes.requirements if r.seed == 0]
+    n = rows[0].n if rows else 0
+    head = "; ".join(f"{r.name or r.requirement} {r.verdict} (estimate {r.estimate:.3g}, bound {r.bound:.3g})"
+                     for r in rows)
+    per_seed = "; ".join(f"{reading}: {', '.join(t.outcome for t in runs)}" for reading, runs in m.modes.runs.items())
+    return (f"Q6 sign-off, reference mode sequence (seed 0, {n} samples, each row at its stated confidence): {head}. "
+            f"Table per seed, {per_seed}.")
