@@ -172,18 +172,22 @@ needs_gpu = pytest.mark.skipif(not _targets.cuda_usable(), reason="no CUDA devic
 
 @needs_gpu
 def test_real_gpu_matches_cpu_kernel():
-    # FMA contraction on the GPU: the closed loop (a Schmitt limit cycle) can turn a rounding
-    # difference into a different firing, so the comparison is statistical over 4096 samples:
-    # the same mean pointing RMS and propellant within 1 % (seeded; the spread across samples
-    # is ~10 %, so 1 % of the mean is > 3 standard errors of a 4096-sample mean only if biased)
+    # FMA contraction on the GPU: a rounding difference can move a Schmitt switch, after which
+    # a sample's limit cycle differs, so the comparison is statistical (design.md "seeded
+    # statistical bounds"): over the same 4096 samples (same parameters and noise seeds) the
+    # mean pointing RMS and propellant agree within 4 standard errors of the difference of
+    # two means (a bound that holds even if every sample decorrelated); the fraction of
+    # samples with the same firings is reported by benchmarks/bench_simulators_gpu.py
     sc = Scenario(sim=SimSpec(dt=0.02, t_final=20.0, metrics_from_s=10.0),
                   dispersions=DispersionSpec(inertia_rel=0.05, thrust_rel=0.03))
-    gpu = simulate(sc, n_samples=4096, rng=4, backend="cuda")
-    cpu = simulate(sc, n_samples=4096, rng=4, backend="cpu")
-    assert gpu.backend == "cuda" and gpu.success
+    n = 4096
+    gpu = simulate(sc, n_samples=n, rng=4, backend="cuda")
+    cpu = simulate(sc, n_samples=n, rng=4, backend="cpu")
+    assert gpu.backend == "cuda" and gpu.success, gpu.message
     for m in ("pointing_rms_deg", "propellant_kg"):
-        g, c = np.mean(gpu.metrics[m]), np.mean(cpu.metrics[m])
-        assert abs(g - c) <= 0.01 * abs(c), (m, g, c)
+        g, c = gpu.metrics[m], cpu.metrics[m]
+        se = np.sqrt((np.var(g, ddof=1) + np.var(c, ddof=1)) / n)
+        assert abs(np.mean(g) - np.mean(c)) <= 4.0 * se + 1e-12 * abs(np.mean(c)), (m, np.mean(g), np.mean(c), se)
 
 
 def _cpu_twice(x):

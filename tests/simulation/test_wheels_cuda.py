@@ -122,12 +122,19 @@ needs_gpu = pytest.mark.skipif(not _targets.cuda_usable(), reason="no CUDA devic
 
 @needs_gpu
 def test_real_gpu_matches_cpu_driver():
-    # FMA contraction on the GPU: the same modes reached; continuous metrics within a
-    # rounding-level budget that the 60 s loop can amplify (stable closed loop: 1e-6 relative)
+    # FMA contraction on the GPU, and the torque quantisation of the wheel electronics can move
+    # a level on a rounding difference, so the comparison is statistical (design.md "seeded
+    # statistical bounds"): over the same 512 samples (same parameters and noise seeds) the
+    # metric means agree within 4 standard errors of the difference of two means, and every
+    # sample ends in the same mode
     sc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
                        sim=SimSpec(dt=0.1, t_final=60.0, metrics_from_s=30.0))
-    gpu = simulate_wheels(sc, n_samples=512, rng=2, backend="cuda")
-    cpu = simulate_wheels(sc, n_samples=512, rng=2, backend="cpu")
+    n = 512
+    gpu = simulate_wheels(sc, n_samples=n, rng=2, backend="cuda")
+    cpu = simulate_wheels(sc, n_samples=n, rng=2, backend="cpu")
+    assert gpu.backend == "cuda" and gpu.success, gpu.message
     np.testing.assert_array_equal(gpu.metrics["final_mode"], cpu.metrics["final_mode"])
     for m in ("pointing_rms_deg", "final_rate_deg_s", "max_wheel_momentum_nms"):
-        np.testing.assert_allclose(gpu.metrics[m], cpu.metrics[m], rtol=1e-6, atol=1e-12)
+        g, c = gpu.metrics[m], cpu.metrics[m]
+        se = np.sqrt((np.var(g, ddof=1) + np.var(c, ddof=1)) / n)
+        assert abs(np.mean(g) - np.mean(c)) <= 4.0 * se + 1e-12 * abs(np.mean(c)), (m, np.mean(g), np.mean(c), se)
