@@ -50,18 +50,23 @@ it, on either target (numba's generic-target ``register_jitable``), and that sta
 Python function for the reference paths. Shared helpers live once, next to the model they
 belong to (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`).
 
-Users:
+Users (each with a CPU and a GPU driver; the GPU ones tested bit for bit against the CPU
+ones under the CUDA simulator and compiled to PTX for sm_90 by ``tests/test_cuda_ptx.py``):
 
-* :mod:`adcskit.control._onoff_kernels` (the on-off loop): CPU and GPU drivers, the GPU one
-  tested under the CUDA simulator;
-* :mod:`adcskit.simulation._kernels` (the closed-loop simulator): its per-sample function
-  ``sample_loop`` is declared as a :class:`PerSample` and its CPU driver calls
-  ``SAMPLE.cpu``; it has **no GPU driver yet**. ``SAMPLE.cuda()`` cannot compile it today:
-  the loop calls the Wahba / min-max solvers and the MEKF steps through their CPU-only
-  ``njit`` dispatchers (the determination kernels are ``numba.njit`` functions, some with
-  NumPy linear algebra), and its scratch is allocated by the Python driver as whole-batch
-  arrays rather than per-thread local arrays. Those are the pieces a CUDA driver must bind to
-  device compilations of the same sources.
+* :mod:`adcskit.control._onoff_kernels` (the on-off loop);
+* :mod:`adcskit.simulation._wheel_kernels` (the wheel / magnetorquer simulator): its
+  per-sample scratch rows stay global arrays passed in by the driver, as on the CPU;
+* :mod:`adcskit.simulation._kernels` (the thruster closed-loop simulator): its loop calls the
+  MEKF steps and the gyro model through CPU-only ``njit`` dispatchers (compiled once, cached
+  on disk); the CUDA compilation rebinds those names to the device sources they were built
+  from (``PerSample(device_names=...)``, the same code object with other globals), and the
+  Wahba / min-max solvers, numba kernels with NumPy linear algebra that the device compiler
+  cannot take, to stand-ins the GPU driver never reaches (``simulate`` refuses those
+  estimators with ``backend="cuda"``).
+
+Compiling a device function without a GPU (``numba.cuda.compile_ptx``) needs numba-cuda (the
+``gpu`` extra): numba's own deprecated ``numba.cuda`` target cannot type ``max(a, b)`` for
+the device in numba 0.68.
 
 Hand-written here: only the thin compile/dispatch helper; the compilers are numba's.
 """
@@ -69,6 +74,7 @@ Hand-written here: only the thin compile/dispatch helper; the compilers are numb
 from __future__ import annotations
 
 import threading
+import types
 from collections.abc import Callable
 from typing import Any
 
@@ -238,6 +244,14 @@ class PerSample:
         numba's ``error_model`` of the CPU compilation: ``"numpy"`` drops the zero-divisor
         check (and its exception branch) of every division; a kernel that never divides by
         zero computes the same numbers either way (the CUDA target never checks).
+    device_names : dict of str to callable, optional
+        Module globals of ``fn`` rebound for the CUDA compilation only: a name that the CPU
+        compilation resolves to a CPU-only ``numba.njit`` dispatcher (compiled once and
+        cached on disk, called rather than inlined) is bound to a device-compilable function
+        of the same source (its :func:`device` / ``register_jitable`` original) or to a
+        device stand-in for a branch the GPU driver refuses to take. The CUDA compilation
+        is of the same code object with these globals replaced; the CPU compilation is
+        untouched.
 
     Attributes
     ----------
@@ -259,21 +273,38 @@ class PerSample:
     """
 
     def __init__(self, fn: Callable[..., Any], *, cache: bool = True, inline: str = "always",
-                 error_model: str = "python") -> None:
+                 error_model: str = "python", device_names: dict[str, Any] | None = None) -> None:
         if inline not in ("always", "never"):
             raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
         if error_model not in ("python", "numpy"):
             raise InputError(f"error_model must be 'python' or 'numpy'; got {error_model!r}")
         self.py = fn
         self.cpu = numba.njit(cache=cache, nogil=True, inline=inline, error_model=error_model)(fn)
+        self.device_names = dict(device_names or {})
+        unknown = sorted(set(self.device_names) - set(fn.__code__.co_names))
+        if unknown:
+            raise InputError(f"device_names must name globals that {fn.__name__} uses; got {unknown}")
         self._cuda: Any = None
         self._lock = threading.Lock()
+
+    def device_source(self) -> Callable[..., Any]:
+        """The plain function that the CUDA target compiles: ``fn`` itself, or ``fn``'s code
+        with :attr:`device_names` rebound in a copy of its module globals."""
+        fn = self.py
+        if not self.device_names:
+            return fn
+        g = dict(fn.__globals__)
+        g.update(self.device_names)
+        dev = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
+        dev.__qualname__ = fn.__qualname__
+        dev.__doc__ = fn.__doc__
+        return dev
 
     def cuda(self) -> Any:
         """The ``numba.cuda.jit(device=True)`` compilation (imports numba.cuda)."""
         with self._lock:
             if self._cuda is None:
-                self._cuda = import_cuda().jit(device=True)(self.py)
+                self._cuda = import_cuda().jit(device=True)(self.device_source())
             return self._cuda
 
 

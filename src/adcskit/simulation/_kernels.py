@@ -9,8 +9,13 @@ as a :class:`adcskit._targets.PerSample` (``SAMPLE``) and the CPU driver
 S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
 kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The scratch
 memory of a lane is passed in by the driver (:mod:`adcskit.simulation.core` allocates it).
-Only the CPU driver is built here; why ``SAMPLE.cuda()`` cannot compile the loop yet is
-said in :mod:`adcskit._targets`.
+The GPU driver :func:`run_cuda` runs the same source, one CUDA thread per sample: its
+compilation binds the names that the CPU build resolves to CPU-only dispatchers (the MEKF
+steps, the gyro model, the rotation-vector update) to device compilations of the same
+sources (``PerSample(device_names=...)``), and the Wahba / min-max solvers, numba kernels
+with NumPy linear algebra (``eigh``, ``svd``) that the device compiler cannot take, to
+stand-ins that are never reached: :func:`adcskit.simulation.simulate` refuses those
+estimators with ``backend="cuda"`` (:data:`CUDA_EST_MODES`).
 
 Randomness is a counter-free per-sample stream (SplitMix64, Steele, Lea & Flood 2014) seeded
 with one 64-bit integer per sample: a sample's noise depends only on its seed, never on the
@@ -36,10 +41,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
-from adcskit._targets import PerSample
+from adcskit._targets import LazyKernels, PerSample, import_cuda
 from adcskit.attitude._device import compose_rotvec, qerr, rotate
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -50,8 +56,8 @@ from adcskit.simulation._random import uniform as _uniform
 
 # The heavy per-sample pieces of other packages are called through their own compiled
 # (and disk-cached) numba dispatchers rather than inlined into this kernel, so numba compiles
-# each of them once. A CUDA build of the loop would bind these names to device compilations
-# of the same sources (the MEKF kernels are plain ``register_jitable`` functions).
+# each of them once. The CUDA build of the loop binds these names to device compilations of
+# the same sources (the MEKF kernels are plain ``register_jitable`` functions): see SAMPLE.
 mekf_propagate = _mk.mekf_propagate_jit
 mekf_update_vector = _mk.mekf_update_vector_jit
 mekf_update_quaternion = _mk.mekf_update_quaternion_jit
@@ -933,10 +939,37 @@ def _record(REC, i, r, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, nees, pr
         REC[i, r, N_REC_FIXED + j] = ts[x2o + j]
 
 
+@register_jitable
+def _wahba_unavailable(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
+    """Device stand-in of :func:`wahba_one` (never reached: the GPU driver refuses the Wahba
+    estimator); returns a failure status."""
+    return -1
+
+
+@register_jitable
+def _minmax_unavailable(VB, VR, WW, i, search_range, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp, qt, lb,
+                        ub, qb):
+    """Device stand-in of :func:`adcskit.determination._box.minmax_one` (never reached: the GPU
+    driver refuses the min-max estimator); returns a failure status."""
+    return -1, False
+
+
+#: Estimator modes the GPU driver runs (the others call CPU-only determination kernels).
+CUDA_EST_MODES = (EST_TRUTH, EST_MEKF)
+
 #: The per-sample function, declared through :mod:`adcskit._targets` (one source for the CPU
-#: and, later, the GPU driver). ``inline="never"``: the loop stays one compiled function
-#: called by :func:`run_parallel` (as before the declaration: same code, same numbers).
-SAMPLE = PerSample(sample_loop, inline="never", error_model="numpy")
+#: and the GPU driver). ``inline="never"``: the loop stays one compiled function called by
+#: :func:`run_parallel` (as before the declaration: same code, same numbers). The CUDA
+#: compilation rebinds the CPU-only dispatchers to the device sources they were built from.
+SAMPLE = PerSample(
+    sample_loop, inline="never", error_model="numpy",
+    device_names={
+        "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
+        "mekf_update_quaternion": _mk.mekf_update_quaternion, "mekf_nees": _mk.mekf_nees,
+        "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec,
+        "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable,
+    },
+)
 sample_loop_jit = SAMPLE.cpu
 
 
@@ -954,3 +987,92 @@ def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, AT
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
 bvls_allocate_jit = njit(cache=True, nogil=True)(bvls_allocate)
 rk4_step_jit = njit(cache=True, nogil=True)(rk4_step)
+
+
+# --- CUDA driver -----------------------------------------------------------------------------
+# One thread per sample over the same argument list as run_parallel. The scratch stays the
+# per-sample rows of global arrays that the CPU driver gets (core.py allocates them): the loop
+# indexes BUF[i], TS[i], PE[i]..., whose lengths depend on the thruster count and the delay
+# line (runtime values), so no change to the one source is needed and no kernel is compiled
+# per layout; each row is touched by its own thread only.
+THREADS_PER_BLOCK = 128
+CUDA_CHUNK = 1 << 16  # samples per device round trip (scratch ~ (9 + 2 L) n_thr + 200 floats each)
+
+#: Arguments of run_parallel / run_cuda that have one row per sample (the others are shared).
+_SHARED_ARGS = frozenset({"C", "POS", "FAILED", "ENV", "QREF", "WREF", "ATAB", "ANOM", "FNOM", "AMASK", "WC"})
+_ARG_NAMES = ("P", "C", "SEEDS", "DIRS", "FLEV", "POS", "MDOT", "FAILED", "ENV", "QREF", "WREF", "ATAB",
+              "ANOM", "FNOM", "AMASK", "BUF", "TS", "QE", "BE", "PE", "WK", "GY", "BIAS", "VB", "VR", "WW",
+              "WQ", "WO", "WC", "SB", "SR", "SQ", "SBB", "SFF", "SKK", "SAA", "SBK", "SQP", "RS", "OUT",
+              "REC", "TOT")
+
+cuda = None  # numba.cuda, bound on first GPU use (a module global: see adcskit._targets)
+
+
+def _make_cuda_kernel():
+    global cuda
+    cuda = import_cuda()
+    sample = SAMPLE.cuda()
+
+    @cuda.jit
+    def kernel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM, AMASK,
+               BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK,
+               SAA, SBK, SQP, RS, OUT, REC, TOT):
+        i = cuda.grid(1)
+        if i < P.shape[0]:
+            sample(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
+                   AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ, SBB,
+                   SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT)
+
+    return kernel
+
+
+CUDA_KERNELS = LazyKernels(_make_cuda_kernel)
+
+
+def _cuda_signature():
+    """numba argument types of the CUDA kernel (C-contiguous arrays, as :func:`run_cuda` passes)."""
+    from numba import types as t
+
+    f1, f2, f3 = t.float64[::1], t.float64[:, ::1], t.float64[:, :, ::1]
+    three = {"DIRS", "BUF", "PE", "VB", "VR", "WC", "SB", "SR", "SBB", "SFF", "SKK", "SAA", "SBK", "REC"}
+    one = {"C", "FAILED", "FNOM", "AMASK"}
+    return tuple(t.uint64[::1] if a == "SEEDS" else f3 if a in three else f1 if a in one else f2
+                 for a in _ARG_NAMES)
+
+
+def run_cuda(*args, chunk=None):
+    """GPU driver: the same per-sample function as :func:`run_parallel` (same arguments, host
+    arrays), one CUDA thread per sample.
+
+    Samples go to the device in chunks of ``chunk`` rows (default :data:`CUDA_CHUNK`, read at
+    call time); the shared inputs are copied once. ``OUT``, ``TOT`` and (when recording)
+    ``REC`` are filled in place; the scratch arrays are not copied back.
+    """
+    if len(args) != len(_ARG_NAMES):
+        raise TypeError(f"run_cuda takes {len(_ARG_NAMES)} arrays; got {len(args)}")
+    if chunk is None:
+        chunk = CUDA_CHUNK
+    kernel = CUDA_KERNELS.get()  # binds the module global ``cuda``
+    named = dict(zip(_ARG_NAMES, args))
+    n = named["P"].shape[0]
+    record = named["REC"].shape[0] > 0
+    shared = {a: cuda.to_device(np.ascontiguousarray(named[a])) for a in _SHARED_ARGS}
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
+        m = hi - lo
+        dev = {}
+        for a in _ARG_NAMES:
+            if a in shared:
+                dev[a] = shared[a]
+            elif a == "REC" and not record:
+                dev[a] = cuda.to_device(named[a])
+            elif a == "OUT":
+                dev[a] = cuda.device_array((m, named[a].shape[1]))
+            else:
+                dev[a] = cuda.to_device(np.ascontiguousarray(named[a][lo:hi]))
+        blocks = (m + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+        kernel[blocks, THREADS_PER_BLOCK](*(dev[a] for a in _ARG_NAMES))
+        named["OUT"][lo:hi] = dev["OUT"].copy_to_host()
+        named["TOT"][lo:hi] = dev["TOT"].copy_to_host()
+        if record:
+            named["REC"][lo:hi] = dev["REC"].copy_to_host()

@@ -6,9 +6,11 @@ blocks of samples on threads, each through the compiled, GIL-free :func:`run_blo
 ``SAMPLE.cpu`` (not a ``prange`` driver: see :func:`run_wheels`); its helpers are
 :func:`adcskit._targets.device` functions. Rules of the one-source idiom: scalars, ``math``
 and indexing of arrays passed in; the per-sample scratch rows (``X``, ``XT``, ``KS``,
-``KD``, ``TM``) are allocated by the Python driver (:mod:`adcskit.simulation.wheels`). Only
-the CPU driver is built; the function calls only device helpers (no CPU-only dispatcher), but
-no CUDA driver exists and ``SAMPLE.cuda()`` has not been compiled or tested.
+``KD``, ``TM``) are allocated by the Python driver (:mod:`adcskit.simulation.wheels`). The
+function calls only device helpers (no CPU-only dispatcher), so the same source is also
+compiled by ``numba.cuda.jit(device=True)``: the GPU driver :func:`run_wheels_cuda` runs one
+CUDA thread per sample (tested bit for bit against the CPU driver under numba's CUDA
+simulator, and compiled to PTX for sm_90 when numba-cuda and NVVM are installed).
 
 Plant (Markley & Crassidis 2014, §3.3.5, eqs. 3.147-3.150 in their notation; Wie 2008,
 §7.2): a rigid spacecraft with ``n_w`` reaction wheels along unit axes ``a_j`` (columns of
@@ -54,7 +56,7 @@ import math
 import numpy as np
 from numba import njit
 
-from adcskit._targets import PerSample, device
+from adcskit._targets import LazyKernels, PerSample, device, import_cuda
 from adcskit.attitude._device import compose_rotvec, rotate
 from adcskit.estimation import _mekf_kernels as _mk
 from adcskit.estimation._mekf_kernels import (
@@ -912,7 +914,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     OUT[i, M_NEES_N] = nees_n
 
 
-#: The per-sample function, one source for the CPU (and a future CUDA) driver.
+#: The per-sample function, one source for the CPU and the CUDA driver.
 SAMPLE = PerSample(wheel_sample, inline="never")
 wheel_sample_jit = SAMPLE.cpu
 
@@ -963,3 +965,76 @@ def run_wheels(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, K
         futures = [pool.submit(run_block, int(lo), int(hi), *args) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
         for f in futures:
             f.result()
+
+
+# --- CUDA driver -----------------------------------------------------------------------------
+# One thread per sample. The scratch rows (X, XT, KS, KD: 7 + n_w floats; TM: n_w) stay what
+# the CPU driver passes: per-sample rows of global device arrays, not ``cuda.local.array``.
+# Why: the per-sample function indexes ``X[i]``..., so rows of (n, 7 + n_w) arrays need no
+# change to its source (one source, and it is being extended in parallel), the lengths are
+# runtime values (n_w: no kernel per wheel count), and the rows are small (4 x 11 + 4 floats for
+# four wheels) and read/written by their own thread only, so they live in L1/L2 like local
+# memory would. The per-sample function compiles to PTX for sm_90 unchanged (tests/simulation/
+# test_cuda_ptx.py).
+THREADS_PER_BLOCK = 128
+CUDA_CHUNK = 1 << 18  # samples per device round trip (scratch + params: ~0.3 KB per sample)
+
+cuda = None  # numba.cuda, bound on first GPU use (a module global: see adcskit._targets)
+
+
+def _make_cuda_kernel():
+    global cuda
+    cuda = import_cuda()
+    sample = SAMPLE.cuda()
+
+    @cuda.jit
+    def kernel(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR, KP, KW):
+        i = cuda.grid(1)
+        if i < P.shape[0]:
+            sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC, THR, KP, KW)
+
+    return kernel
+
+
+CUDA_KERNELS = LazyKernels(_make_cuda_kernel)
+
+
+def run_wheels_cuda(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC,
+                    chunk=None, THR=None, KP=None, KW=None):
+    """GPU driver: the same per-sample function as :func:`run_wheels`, one CUDA thread per sample.
+
+    Same arguments as :func:`run_wheels` (host arrays; ``OUT`` and, when its second axis is
+    non-zero, ``REC`` are filled in place; ``THR``, ``KP``, ``KW`` as there). Samples go to the
+    device in chunks of ``chunk`` rows (default :data:`CUDA_CHUNK`, read at call time); the
+    shared inputs (``C``, ``ENV``, the allocation matrices, the thruster table) are copied once.
+    """
+    if chunk is None:
+        chunk = CUDA_CHUNK
+    kernel = CUDA_KERNELS.get()  # binds the module global ``cuda``
+    n = P.shape[0]
+    if THR is None:
+        THR = np.zeros((N_THR_ROWS, 0))
+    if KP is None:
+        KP = np.zeros((n, 0, 0))
+    if KW is None:
+        KW = np.zeros((n, 0))
+    record = REC.shape[1] > 0
+
+    def put(a):  # zero-size arrays: an empty device array of the same shape
+        a = np.ascontiguousarray(a)
+        return cuda.to_device(a) if a.size else cuda.device_array(a.shape, a.dtype)
+
+    shared = [put(a) for a in (C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, THR)]
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
+        m = hi - lo
+        dev = [put(a[lo:hi]) for a in (P, AX, SEEDS, X, XT, KS, KD, TM, KP, KW)]
+        out_d = cuda.device_array((m, OUT.shape[1]))
+        rec_d = put(REC[lo:hi]) if record else cuda.device_array((m, 0, REC.shape[2]))
+        blocks = (m + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+        kernel[blocks, THREADS_PER_BLOCK](dev[0], dev[1], shared[0], shared[1], shared[2], shared[3], shared[4],
+                                          shared[5], shared[6], shared[7], dev[2], dev[3], dev[4], dev[5], dev[6],
+                                          dev[7], out_d, rec_d, shared[8], dev[8], dev[9])
+        OUT[lo:hi] = out_d.copy_to_host()
+        if record:
+            REC[lo:hi] = rec_d.copy_to_host()

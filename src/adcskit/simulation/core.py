@@ -33,10 +33,11 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
 from adcskit._progress import status
+from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.attitude._kernels import quat_multiply as _quat_multiply
 from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
-from adcskit.errors import InputTypeError, UncontrollableWarning
+from adcskit.errors import InputError, InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
 from adcskit.simulation.scenario import Scenario, _triangle_ok
 from adcskit.thrusters.reference import S3_REFERENCE_A  # re-exported (S3 §6 reference layout)
@@ -146,6 +147,8 @@ class SimulationResult:
         The layout and every sample controllable, and every metric finite where it must be
         (pointing error, propellant).
     message : str
+    backend : {"cpu", "cuda"}
+        The target that ran the samples.
 
     Examples
     --------
@@ -172,6 +175,7 @@ class SimulationResult:
     executor: str
     success: bool
     message: str
+    backend: str = "cpu"
 
     def summary(self) -> dict[str, dict[str, float]]:
         """Mean, std, 5/50/95 % quantiles and NaN count of every metric."""
@@ -592,9 +596,13 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     return {"shared": shared, "per_sample": per_sample, "feasibility": feas}, params
 
 
-def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bool]) -> dict[str, Any]:
-    """Run one block of samples through the kernel (module level: picklable for executors)."""
-    shared, ps, seeds, record = task
+def _run_block(task: tuple[Any, ...]) -> dict[str, Any]:
+    """Run one block of samples through the kernel (module level: picklable for executors).
+
+    ``task`` is ``(shared, per_sample, seeds, record)``, plus ``"cuda"`` as a fifth item for the
+    GPU driver (a CPU task keeps its four items: the same campaign keys as before)."""
+    shared, ps, seeds, record = task[:4]
+    run = _k.run_cuda if len(task) > 4 and task[4] == "cuda" else _k.run_parallel
     C = shared["C"]
     n = ps["P"].shape[0]
     nt = shared["POS"].shape[0]
@@ -606,7 +614,7 @@ def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bo
     REC = np.full((n, n_rec, _k.N_REC_FIXED + nt), np.nan) if record else np.empty((0, 0, _k.N_REC_FIXED + nt))
     e = np.empty
     t0 = time.perf_counter()
-    _k.run_parallel(
+    run(
         ps["P"], C, seeds, ps["DIRS"], ps["FLEV"], shared["POS"], ps["MDOT"], shared["FAILED"],
         shared["ENV"], shared["QREF"], shared["WREF"], shared["ATAB"], shared["ANOM"], shared["FNOM"],
         shared["AMASK"], np.zeros((n, shared["buf_len"], nt)), np.zeros((n, _k.N_TS_PER_THR * nt + _k.N_TS_EXTRA)),
@@ -619,6 +627,25 @@ def _run_block(task: tuple[dict[str, Any], dict[str, np.ndarray], np.ndarray, bo
     return {"out": OUT, "tot": TOT, "rec": REC if record else None, "wall": wall}
 
 
+#: Estimator kinds that the GPU driver runs (the Wahba and min-max solvers are CPU-only).
+CUDA_ESTIMATORS = ("truth", "mekf")
+
+
+def _resolve_backend(backend: str, scenario: Scenario) -> str:
+    """``"cpu"`` or ``"cuda"`` for :func:`simulate` (see its ``backend`` parameter)."""
+    if backend not in TARGET_BACKENDS:
+        return resolve_backend(backend)  # raises, listing the names
+    kind = scenario.estimator.kind
+    if kind not in CUDA_ESTIMATORS:
+        if backend == "cuda":
+            raise InputError(
+                f"backend='cuda' cannot run estimator.kind={kind!r}: its {kind} solver is a CPU-only numba "
+                f"kernel (NumPy linear algebra: eigen / singular value decompositions); allowed with "
+                f"backend='cuda': {', '.join(map(repr, CUDA_ESTIMATORS))} (or use backend='cpu' or 'auto')")
+        return "cpu"
+    return resolve_backend(backend)
+
+
 def simulate(
     scenario: Scenario,
     n_samples: int = 1,
@@ -628,6 +655,7 @@ def simulate(
     record: bool = False,
     chunk_size: int | None = None,
     directory: Any = None,
+    backend: str = "cpu",
 ) -> SimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a closed-loop scenario.
 
@@ -649,15 +677,32 @@ def simulate(
     record : bool
         Return time histories (decimated by ``scenario.sim.record_every``).
     chunk_size : int, optional
-        Samples per kernel call (default: all samples in 8 chunks at most, >= 64 each).
+        Samples per kernel call (default: all samples in 8 chunks at most, >= 64 each; with
+        ``backend="cuda"`` all samples in one call, which the GPU driver splits into device
+        chunks of its own).
     directory : path, optional
         Campaign directory: finished chunks are kept and a re-run resumes.
+    backend : {"cpu", "cuda", "auto"}
+        ``"cpu"`` (default): numba on the CPU cores. ``"cuda"``: the same per-sample function
+        compiled for an NVIDIA GPU, one thread per sample (needs the ``gpu`` extra and a
+        device); the estimators ``"truth"`` and ``"mekf"`` only. ``"auto"``: CUDA when a real
+        device is usable and the estimator runs there, else the CPU. On a device the results
+        agree with the CPU's to rounding (fused multiply-adds); under numba's CUDA simulator
+        they are bit-identical.
 
     Returns
     -------
     SimulationResult
         ``success=False`` (and :attr:`~SimulationResult.controllable` False for the samples
         concerned) when a sample's thrusters cannot produce torque in every direction.
+
+    Raises
+    ------
+    InputError
+        ``backend="cuda"`` with an estimator the GPU cannot run (``"wahba"``, ``"minmax"``).
+    SolverError
+        ``backend="cuda"`` without numba-cuda or without a visible device (the message names
+        the ``gpu`` extra).
 
     Warns
     -----
@@ -691,6 +736,7 @@ def simulate(
         raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    target = _resolve_backend(backend, scenario)
     if isinstance(rng, np.random.SeedSequence):
         # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
         # SeedSequence, so reusing the caller's object would give every call other dispersions
@@ -706,17 +752,18 @@ def simulate(
         warnings.warn(f"simulate: {feas_msg}", UncontrollableWarning, stacklevel=2)
     seeds = np.random.SeedSequence(int(gen.integers(2**63))).generate_state(n_samples, dtype=np.uint64)
     if chunk_size is None:
-        chunk_size = max(64, -(-n_samples // 8))
+        chunk_size = n_samples if target == "cuda" else max(64, -(-n_samples // 8))
     chunk_size = check_int("chunk_size", chunk_size, minimum=1)
     shared = prep["shared"]
     ps = prep["per_sample"]
     tasks = []
     for lo in range(0, n_samples, chunk_size):
         hi = min(n_samples, lo + chunk_size)
-        tasks.append((shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi], record))
+        task = (shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi], record)
+        tasks.append(task + ("cuda",) if target == "cuda" else task)
     from adcskit.uncertainty import run_campaign
 
-    if will_compile(_k.run_parallel):
+    if target == "cpu" and will_compile(_k.run_parallel):
         status(CLOSED_LOOP_NOTICE)
     camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
                         description="closed-loop samples")
@@ -746,5 +793,5 @@ def simulate(
         parameters=params, seeds=seeds, n_samples=n_samples, n_steps=n_steps,
         sample_steps_per_s=n_samples * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed,
-        executor=camp.executor, success=ok, message=msg,
+        executor=camp.executor, success=ok, message=msg, backend=target,
     )

@@ -75,6 +75,7 @@ from typing import Any, Literal
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from adcskit._targets import resolve_backend
 from adcskit._validation import (
     as_array,
     as_rng,
@@ -840,6 +841,8 @@ class WheelSimulationResult:
         Tasks the samples were split into (``chunk_size``).
     n_resumed : int
         Chunks loaded from the campaign ``directory`` instead of computed.
+    backend : {"cpu", "cuda"}
+        The target that ran the samples.
 
     Examples
     --------
@@ -866,6 +869,7 @@ class WheelSimulationResult:
     message: str
     n_chunks: int = 1
     n_resumed: int = 0
+    backend: str = "cpu"
 
     def summary(self) -> dict[str, dict[str, float]]:
         """Mean, 5/50/95/99 % quantiles, max and NaN count of every metric."""
@@ -1252,7 +1256,8 @@ def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shar
     OUT = np.empty((n, _k.N_METRICS))
     ns = 7 + nw
     t0 = time.perf_counter()
-    _k.run_wheels(P, AX, shared["C"], shared["ENV"], shared["AXN"], shared["PINV"], shared["NULLP"], shared["HSTAR"],
+    run = _k.run_wheels_cuda if shared.get("backend") == "cuda" else _k.run_wheels
+    run(P, AX, shared["C"], shared["ENV"], shared["AXN"], shared["PINV"], shared["NULLP"], shared["HSTAR"],
                   shared["WPAR"], shared["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
                   np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=shared["THR"],
                   KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
@@ -1261,7 +1266,7 @@ def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shar
 
 def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
                     record: bool = False, chunk_size: int | None = None,
-                    directory: Any = None) -> WheelSimulationResult:
+                    directory: Any = None, backend: str = "cpu") -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
     The samples are split into chunks (tasks of :func:`adcskit.uncertainty.run_campaign`) run
@@ -1270,7 +1275,8 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     chunk they run in blocks on ``numba.get_num_threads()`` threads, each block one call of
     the compiled, GIL-free kernel. A sample's result depends only on its parameters and its
     64-bit noise seed, so it does not depend on the executor, the chunks, the thread count
-    or the blocks: bit-identical results whatever the split.
+    or the blocks: bit-identical results whatever the split. With ``backend="cuda"`` one CUDA
+    thread per sample runs the same per-sample source (all samples in one chunk by default).
 
     Parameters
     ----------
@@ -1289,15 +1295,27 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     directory : path, optional
         Campaign directory: finished chunks are kept (written atomically) and a re-run with
         the same scenario, samples and ``rng`` resumes from them.
+    backend : {"cpu", "cuda", "auto"}
+        ``"cpu"`` (default): numba on the CPU cores. ``"cuda"``: the same per-sample function
+        compiled for an NVIDIA GPU (one thread per sample; needs the ``gpu`` extra and a
+        device). ``"auto"``: CUDA when a real device is usable, else the CPU. On a device the
+        results agree with the CPU's to rounding (the GPU contracts ``a * b + c`` into fused
+        multiply-adds); under numba's CUDA simulator they are bit-identical.
 
     Returns
     -------
     WheelSimulationResult
 
+    Raises
+    ------
+    SolverError
+        ``backend="cuda"`` without numba-cuda or without a visible device (the message names
+        the ``gpu`` extra).
+
     Notes
     -----
     The first call in a fresh installation compiles the kernel (about 12 s of CPU; cached on
-    disk afterwards).
+    disk afterwards); the CUDA kernel compiles on its first use in a process (not cached).
 
     Examples
     --------
@@ -1317,6 +1335,7 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         raise InputTypeError(f"scenario must be a WheelScenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    target = resolve_backend(backend)
     if isinstance(rng, np.random.SeedSequence):
         rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
                                      n_children_spawned=rng.n_children_spawned)
@@ -1334,8 +1353,10 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
     n_rec = n_steps // rec_every + 1
     nt = sh["THR"].shape[1]
     filt = scenario.estimator is not None
+    if target == "cuda":  # the device driver chunks for itself: one campaign task by default
+        sh = {**sh, "backend": "cuda"}
     if chunk_size is None:
-        chunk_size = max(64, -(-n // 8))
+        chunk_size = n if target == "cuda" else max(64, -(-n // 8))
     tasks = [(np.ascontiguousarray(prep["P"][lo:lo + chunk_size]), np.ascontiguousarray(prep["AX"][lo:lo + chunk_size]),
               seeds[lo:lo + chunk_size], record) for lo in range(0, n, chunk_size)]
     from adcskit.uncertainty import run_campaign
@@ -1362,5 +1383,6 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         metrics=metrics, t=t, trace=REC, channels=_channels(nw, nt > 0, filt), parameters=params,
         seeds=seeds, n_samples=n, n_steps=n_steps, sample_steps_per_s=n * n_steps / wall if wall > 0 else math.inf,
         runtime_s=time.perf_counter() - t_start, metrics_from_s=scenario.sim.metrics_from_s,
-        success=finite and reached, message=msg, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed)
+        success=finite and reached, message=msg, n_chunks=camp.n_chunks, n_resumed=camp.n_resumed,
+        backend=target)
 
