@@ -513,26 +513,28 @@ def _as_dataset(obj: Any, scenario: Any, rng_seed: Any) -> Any:
     xr = _xarray()
     if isinstance(obj, xr.Dataset):
         if scenario is not None or rng_seed is not None:
-            raise InputError("scenario and rng_seed apply to a SimulationResult, not to a Dataset "
+            raise InputError("scenario and rng_seed apply to a simulation result, not to a Dataset "
                              "(pass them to to_dataset); got a Dataset with scenario/rng_seed")
         return obj
     return to_dataset(obj, scenario, rng_seed=rng_seed)
 
 
-def write_netcdf(result: Any, path: Any, scenario: Scenario | None = None, *, rng_seed: Any = None) -> Path:
+def write_netcdf(result: Any, path: Any, scenario: Scenario | WheelScenario | None = None, *,
+                 rng_seed: Any = None) -> Path:
     """Write a simulation result (or its :func:`to_dataset`) as a netCDF3 file.
 
     Uses xarray's ``scipy`` engine (netCDF3, 64-bit offset format: no C library needed).
     NetCDF3 has no 64-bit integer type, so ``noise_seed`` is stored as decimal text (exact);
     :func:`read_dataset` restores it as uint64, and booleans come back as bool through
-    xarray's own encoding.
+    xarray's own encoding (the wheel loop's ``int8`` mode codes are netCDF3 bytes).
 
     Parameters
     ----------
-    result : SimulationResult or xarray.Dataset
+    result : SimulationResult, WheelSimulationResult or xarray.Dataset
+        Either loop's result (see :func:`to_dataset`), or a dataset made from one.
     path : str or os.PathLike
         The file to write (overwritten).
-    scenario : Scenario, optional
+    scenario : Scenario or WheelScenario, optional
     rng_seed : int, optional
         See :func:`to_dataset`.
 
@@ -556,6 +558,20 @@ def write_netcdf(result: Any, path: Any, scenario: Scenario | None = None, *, rn
     >>> ds = read_dataset(p)
     >>> bool((ds["noise_seed"].values == res.seeds).all()), ds["pointing_error"].attrs["units"]
     (True, 'rad')
+
+    A wheel run, with its scenario read back from the file:
+
+    >>> import tomllib
+    >>> from adcskit.simulation import ModeSpec, WheelScenario, load_wheel_scenario, simulate_wheels
+    >>> wsc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
+    ...                     sim=SimSpec(dt=0.1, t_final=5.0, metrics_from_s=1.0))
+    >>> p = write_netcdf(simulate_wheels(wsc, n_samples=2, rng=1, record=True),
+    ...                  os.path.join(tempfile.mkdtemp(), "wheels.nc"), wsc, rng_seed=1)
+    >>> wds = read_dataset(p)
+    >>> wds["h"].dims, wds["h"].attrs["units"], wds["mode"].attrs["flag_meanings"]
+    (('sample', 'time', 'wheel'), 'N m s', 'detumble sun point')
+    >>> load_wheel_scenario(tomllib.loads(wds.attrs["scenario_toml"])) == wsc
+    True
     """
     ds = _as_dataset(result, scenario, rng_seed)
     p = _target("path", path)
@@ -575,15 +591,17 @@ def write_netcdf(result: Any, path: Any, scenario: Scenario | None = None, *, rn
     return p
 
 
-def write_zarr(result: Any, path: Any, scenario: Scenario | None = None, *, rng_seed: Any = None) -> Path:
+def write_zarr(result: Any, path: Any, scenario: Scenario | WheelScenario | None = None, *,
+               rng_seed: Any = None) -> Path:
     """Write a simulation result (or its :func:`to_dataset`) as a Zarr store (a directory).
 
     Parameters
     ----------
-    result : SimulationResult or xarray.Dataset
+    result : SimulationResult, WheelSimulationResult or xarray.Dataset
+        Either loop's result (see :func:`to_dataset`), or a dataset made from one.
     path : str or os.PathLike
         The store (a directory; overwritten).
-    scenario : Scenario, optional
+    scenario : Scenario or WheelScenario, optional
     rng_seed : int, optional
         See :func:`to_dataset`.
 
@@ -605,6 +623,12 @@ def write_zarr(result: Any, path: Any, scenario: Scenario | None = None, *, rng_
     >>> p = write_zarr(simulate(sc, n_samples=3, rng=1), os.path.join(tempfile.mkdtemp(), "run.zarr"), sc)
     >>> read_dataset(p)["pointing_rms_deg"].attrs["units"]
     'deg'
+    >>> from adcskit.simulation import ModeSpec, WheelScenario, simulate_wheels
+    >>> wsc = WheelScenario(modes=ModeSpec(initial="point", sequence=False),
+    ...                     sim=SimSpec(dt=0.1, t_final=5.0, metrics_from_s=1.0))
+    >>> p = write_zarr(simulate_wheels(wsc, n_samples=2, rng=1), os.path.join(tempfile.mkdtemp(), "w.zarr"), wsc)
+    >>> read_dataset(p)["max_wheel_speed_rpm"].attrs["units"]
+    'rpm'
     """
     ds = _as_dataset(result, scenario, rng_seed)
     try:
