@@ -19,12 +19,22 @@ from hypothesis.extra.numpy import arrays
 
 from adcskit.errors import InputError, InputTypeError, SolverError
 from adcskit.simulation import (
+    MODE_NAMES,
     DispersionSpec,
+    EstimatorSpec,
     GuidanceSpec,
+    ModeSpec,
     Scenario,
     SimSpec,
+    ThrusterSpec,
+    ThrusterUnloadSpec,
+    WheelDispersionSpec,
+    WheelScenario,
+    WheelSpec,
     load_scenario,
+    load_wheel_scenario,
     simulate,
+    simulate_wheels,
 )
 from adcskit.simulation import envelopes as env
 from adcskit.simulation import export as ex
@@ -131,6 +141,119 @@ def test_export_type_errors(run):
         ex.to_dataset(res, sc, rng_seed=-1)
     with pytest.raises(InputError, match="must be an existing"):
         ex.read_dataset("/nonexistent/run.nc")
+
+
+# ------------------------------------------------------------------------------ wheel export
+
+#: 12 x 10 mN cold-gas unloading thrusters in +-pairs (as tests/simulation/test_wheels.py's JETS).
+_POS = ((0.1, 0.0, 0.0), (-0.1, 0.0, 0.0), (0.0, 0.1, 0.0), (0.0, -0.1, 0.0), (0.0, 0.0, 0.15), (0.0, 0.0, -0.15))
+_DIR = ((0.0, 1.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0))
+_JETS = ThrusterSpec(positions=_POS + _POS, directions=_DIR + tuple((-a, -b, -c) for a, b, c in _DIR),
+                     f_max=0.01, mdot=1.4e-5, t_min=0.01)
+
+
+def _wheel_scenario(extras: bool = True) -> WheelScenario:
+    """Inertial hold of the 12U reference with dispersions; wheels at |A h| = 0.0168 N m s, above
+    the unloading start (0.01 N m s), so that the thrusters fire within the 10 s."""
+    kw = dict(thruster_unloading=ThrusterUnloadSpec(thrusters=_JETS, start_nms=0.01, stop_nms=0.002, torque_nm=5e-4),
+              estimator=EstimatorSpec(kind="mekf")) if extras else {}
+    return WheelScenario(modes=ModeSpec(initial="point", sequence=False, pointing="inertial"),
+                         wheels=WheelSpec.pyramid(initial_speed_rpm=(3000.0, 3000.0, 2000.0, 3500.0)),
+                         dispersions=WheelDispersionSpec(inertia_rel=0.05, initial_rate_deg_s=0.05, sensor_noise_rel=0.2,
+                                                         wheel_misalignment_deg=0.1),
+                         initial_rate_deg_s=(0.0, 0.0, 0.0),
+                         sim=SimSpec(dt=0.1, t_final=10.0, metrics_from_s=2.0, record_every=2), **kw)
+
+
+@pytest.fixture(scope="module")
+def wheel_run():
+    sc = _wheel_scenario()
+    return sc, simulate_wheels(sc, n_samples=5, rng=4, record=True)
+
+
+def test_wheel_dataset_has_every_metric_channel_and_parameter_with_units(wheel_run):
+    sc, res = wheel_run
+    ds = ex.to_dataset(res, sc, rng_seed=4)
+    assert dict(ds.sizes) == {"sample": 5, "time": 51, "wheel": 4, "row": 3, "col": 3, "axis": 3,
+                              "quaternion_component": 4}
+    for name in res.metrics:  # every metric, declared (a long_name of its own) and with its unit
+        np.testing.assert_array_equal(ds[name].values, res.metrics[name], err_msg=name)
+        assert ds[name].attrs["units"] == ex.metric_units(name) and name in ex.WHEEL_METRIC_INFO, name
+    units = {"max_wheel_speed_rpm": "rpm", "max_wheel_momentum_nms": "N m s", "max_dipole_am2": "A m^2",
+             "thruster_impulse_ns": "N s", "propellant_kg": "kg", "t_acquired_s": "s", "final_rate_deg_s": "deg/s",
+             "momentum_drift_rel": "1", "nees_mean": "1"}
+    assert {k: ds[k].attrs["units"] for k in units} == units
+    # every channel: scalar ones under their own name, speed_j / h_j on "wheel", SI units
+    for c, name in enumerate(res.channels):
+        base, _, j = name.rpartition("_")
+        if base in ("speed", "h") and j.isdigit():
+            np.testing.assert_array_equal(ds[base].values[:, :, int(j)], res.trace[:, :, c], err_msg=name)
+        elif name != "mode":
+            np.testing.assert_array_equal(ds[name].values, res.trace[:, :, c], err_msg=name)
+            assert ds[name].attrs["units"] == ex.WHEEL_CHANNEL_INFO[name][0] and ds[name].dims == ("sample", "time")
+    assert ds["speed"].dims == ds["h"].dims == ("sample", "time", "wheel")
+    chan_units = {"speed": "rad/s", "h": "N m s", "omega_x": "rad/s", "error": "rad", "H_eci_z": "N m s",
+                  "dipole_y": "A m^2", "thruster_torque_x": "N m", "thruster_impulse_eci_y": "N m s",
+                  "propellant": "kg", "nees": "1"}
+    assert {k: ds[k].attrs["units"] for k in chan_units} == chan_units
+    # the extra parts' channels carry data: the thrusters fired, the filter ran
+    assert ds["propellant"].values[:, -1].min() > 0 and np.isfinite(ds["nees"].values[:, -1]).all()
+    # modes: int8 codes with CF flag attributes (flag_values / flag_meanings, CF-1.8 section 3.5)
+    for name in ("mode", "final_mode"):
+        assert ds[name].dtype == np.int8 and ds[name].attrs["flag_meanings"] == " ".join(MODE_NAMES)
+        np.testing.assert_array_equal(ds[name].attrs["flag_values"], [0, 1, 2])
+    np.testing.assert_array_equal(ds["mode"].values, res.trace[:, :, res.channels.index("mode")])
+    # parameters: per sample, except the campaign's null-motion bias (one per wheel)
+    np.testing.assert_array_equal(ds["param_wheel_axes"].values, res.parameters["wheel_axes"])
+    assert ds["param_wheel_axes"].dims == ("sample", "axis", "wheel") and ds["param_null_momentum"].dims == ("wheel",)
+    assert ds["param_initial_rate"].attrs["units"] == "rad/s" and ds["param_inertia"].attrs["units"] == "kg m^2"
+    assert np.ptp(ds["param_sensor_noise_scale"].values) > 0  # dispersed
+    np.testing.assert_array_equal(ds["noise_seed"].values, res.seeds)
+    assert load_wheel_scenario(tomllib.loads(ds.attrs["scenario_toml"])) == sc
+    assert ds.attrs["scenario_loader"] == "adcskit.simulation.load_wheel_scenario"
+    assert ds.attrs["adcskit_result"] == "WheelSimulationResult" and ds.attrs["adcskit_version"]
+    assert ds.attrs["rng_seed"] == 4 and ds.attrs["metrics_from_s"] == 2.0 and ds.attrs["dt_s"] == 0.1
+
+
+def test_wheel_dataset_without_extras_or_traces(wheel_run):
+    # the thrusters' and the filter's metrics and channels exist only when those parts are configured
+    sc = _wheel_scenario(extras=False)
+    ds = ex.to_dataset(simulate_wheels(sc, n_samples=2, rng=0, record=True), sc)
+    assert not {"propellant_kg", "nees_mean", "thruster_torque_x", "propellant", "nees"} & set(ds.data_vars)
+    assert "speed" in ds and "max_wheel_speed_rpm" in ds
+    ds = ex.to_dataset(simulate_wheels(sc, n_samples=2, rng=0))
+    assert "time" not in ds.sizes and "scenario_toml" not in ds.attrs and ds["final_mode"].dtype == np.int8
+
+
+@pytest.mark.parametrize("fmt", ["netcdf", "zarr"])
+def test_wheel_round_trip_values_dims_and_units(wheel_run, tmp_path, fmt):
+    sc, res = wheel_run
+    ds = ex.to_dataset(res, sc, rng_seed=4)
+    if fmt == "zarr":
+        pytest.importorskip("zarr")
+        path = ex.write_zarr(res, tmp_path / "wheels.zarr", sc, rng_seed=4)
+    else:
+        path = ex.write_netcdf(res, tmp_path / "wheels.nc", sc, rng_seed=4)
+    back = ex.read_dataset(path)
+    assert set(back.data_vars) == set(ds.data_vars) and dict(back.sizes) == dict(ds.sizes)
+    for name in ds.variables:
+        np.testing.assert_array_equal(back[name].values, ds[name].values, err_msg=name)  # NaN == NaN here
+        assert back[name].dims == ds[name].dims, name
+        assert back[name].dtype == ds[name].dtype or (fmt == "netcdf" and back[name].dtype.kind == ds[name].dtype.kind
+                                                      and back[name].dtype.kind == "i"), name
+        for key in ("units", "long_name", "flag_meanings"):
+            assert back[name].attrs.get(key) == ds[name].attrs.get(key), (name, key)
+    assert list(back["mode"].attrs["flag_values"]) == [0, 1, 2] and back["mode"].dtype == np.int8
+    assert back.attrs["scenario_toml"] == ds.attrs["scenario_toml"] and back.attrs["rng_seed"] == 4
+
+
+def test_export_refuses_the_other_loops_scenario(run, wheel_run):
+    sc, res = run
+    wsc, wres = wheel_run
+    with pytest.raises(InputTypeError, match="WheelScenario"):
+        ex.to_dataset(wres, sc)
+    with pytest.raises(InputTypeError, match="must be a Scenario"):
+        ex.to_dataset(res, wsc)
 
 
 # ----------------------------------------------------------------------------------- envelopes

@@ -199,3 +199,45 @@ def test_nees_check_uses_the_strict_band_of_the_grand_mean():
     assert check([6.0] * 5).passed
     assert not check([hi * 1.01] * 5).passed  # no 1.5x allowance above the band
     assert not check([6.0, float("nan")], n_seeds=2).passed  # a failed seed decides nothing
+
+
+def test_q1_q4_protocol_follows_their_own_keys_only():
+    """F1-F4B declare the shared "findings" keys: a change of a Q5/Q6 key leaves Q1-Q4's
+    protocol label as it was, a change of a shared key marks them "custom settings" (the
+    runner's rule, ``_mark_comparable``, on the config changes it records). No simulation."""
+    from adcskit.studies import get_study
+    from adcskit.studies._base import protocol_keys
+    from adcskit.studies._runner import (
+        _mark_comparable,
+        _quick_reductions,
+        config_changes,
+        resolve_config,
+    )
+    from adcskit.studies._verdict import CUSTOM_SETTINGS, Finding
+    from adcskit.studies.closed_loop import Config
+    from adcskit.studies.closed_loop import claims as cl
+
+    q14 = (cl.F1, cl.F2, cl.F2B, cl.F3, cl.F4A, cl.F4B)
+    assert all(s.protocol_keys == protocol_keys(Config, "findings") for s in q14)
+    assert not any(k.startswith(("q5_", "q6_")) for k in cl.F1.protocol_keys)
+    specs = (*q14, cl.F5, cl.F6)
+    findings = [Finding(id=s.id, statement=s.statement, outcome="holds", protocol_keys=s.protocol_keys) for s in specs]
+    neutral = get_study("closed-loop").neutral_keys
+
+    def labels(changed, quick=False):
+        cfg = resolve_config("closed-loop", changed, quick=quick)
+        reduced = _quick_reductions("closed-loop", cfg) if quick else {}
+        marked = _mark_comparable(findings, config_changes("closed-loop", cfg, quick=quick), neutral, reduced)
+        return {f.id: f.protocol for f in marked}
+
+    ids14 = [s.id for s in q14]
+    for quick in (False, True):
+        base = labels(None, quick)
+        for own in ({"q6_n_samples": 30}, {"q5_wheel_damping": 0.7}):
+            new = labels(own, quick)
+            assert [new[i] for i in ids14] == [base[i] for i in ids14], own
+        assert labels({"q6_n_samples": 30}, quick)[cl.F6.id] == CUSTOM_SETTINGS
+        for shared in ({"geo_dt_s": 0.01}, {"n_samples": 40}):
+            new = labels(shared, quick)
+            assert all(new[i] == CUSTOM_SETTINGS for i in ids14), shared
+        assert labels({"geo_dt_s": 0.01}, quick)[cl.F6.id] == base[cl.F6.id]  # Q6 does not use the GEO plant

@@ -34,6 +34,15 @@ def _ratio(run: Any) -> float:
     return run.ratio
 
 
+#: Protocol keys of questions 1-4 (F1 ... F4B): the settings tagged ``"findings"`` on
+#: :class:`~.config.Config` (the GEO, LEO and S4 scenarios, the layout search, the slew, the
+#: sample count). One group, not a split per question: several keys are shared (``n_samples`` by
+#: all, the S4 plant by Q3 and Q5) and the questions draw from the same per-seed seed sequences.
+#: Q5's and Q6's own keys (``q5_*``, ``q6_*``) are not in it: changing one of them leaves Q1-Q4's
+#: protocol label unchanged (before, with no keys declared, any non-neutral key marked them).
+_Q1_Q4_KEYS: tuple[str, ...] = protocol_keys(Config, "findings")
+
+
 F1 = FindingSpec(
     id="q1-layout-propellant",
     statement="the S3-optimised 6-thruster layout uses less propellant than S3's reference layout in closed loop "
@@ -41,6 +50,7 @@ F1 = FindingSpec(
     where="S3 Fig. 5 (open-loop on-times) taken into the closed loop",
     quantity="mean propellant, optimised / reference",
     value=_ratio, threshold=1.0, better="below", readings=Q1_READINGS,
+    protocol_keys=_Q1_Q4_KEYS,
 )
 F2 = FindingSpec(
     id="q2-mekf-vs-qmethod",
@@ -48,6 +58,7 @@ F2 = FindingSpec(
     where="S0 orbit scenario (bounded errors) in closed loop",
     quantity="mean RMS pointing error, MEKF / q-method",
     value=_ratio, threshold=1.0, better="below", readings=Q2_READINGS,
+    protocol_keys=_Q1_Q4_KEYS,
 )
 F2B = FindingSpec(
     id="q2-minmax-vs-qmethod",
@@ -56,6 +67,7 @@ F2B = FindingSpec(
     where="S0 eqs. 3-8 (min-max, TRIAD +-10 % search box) per epoch in the S0 orbit scenario, closed loop",
     quantity="mean RMS pointing error, min-max / q-method",
     value=_ratio, threshold=1.0, better="below", readings=Q2_MINMAX_READINGS,
+    protocol_keys=_Q1_Q4_KEYS,
 )
 F3 = FindingSpec(
     id="q3-robust-gains-spread",
@@ -63,6 +75,7 @@ F3 = FindingSpec(
     where="S4 Tables 4-6 in a 3-axis loop",
     quantity="std of the per-sample RMS pointing error (last 10 s), robust / nominal",
     value=_ratio, threshold=1.0, better="below",
+    protocol_keys=_Q1_Q4_KEYS,
 )
 F4A = FindingSpec(
     id="q4-optimal-slew-settling",
@@ -70,6 +83,7 @@ F4A = FindingSpec(
     where="S2 guidance in an S3/S4 loop",
     quantity="mean settling time, optimal profile / step",
     value=_ratio, threshold=1.0, better="below",
+    protocol_keys=_Q1_Q4_KEYS,
 )
 F4B = FindingSpec(
     id="q4-optimal-slew-propellant",
@@ -77,6 +91,7 @@ F4B = FindingSpec(
     where="S2 guidance in an S3/S4 loop",
     quantity="mean propellant, optimal profile / step",
     value=_ratio, threshold=1.0, better="below",
+    protocol_keys=_Q1_Q4_KEYS,
 )
 
 F5 = FindingSpec(
