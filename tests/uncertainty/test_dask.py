@@ -309,3 +309,42 @@ def test_existing_cluster_via_dask_url(tmp_path):
     finally:
         registry.STUDIES = old
     assert d["measured"]["means"] == serial.measured["means"]
+
+
+def _array_checksum(task):
+    """Task (index, array): the index and a SHA-256 of the array's bytes, taken in the worker.
+
+    (Not ``np.sum``: its pairwise SIMD summation depends on the buffer's alignment, which
+    differs after unpickling, so a sum can differ in the last bit for the same data.)"""
+    import hashlib
+
+    i, a = task
+    return i, a.shape, hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+
+
+def test_large_tasks_travel_by_scatter_not_inside_the_task_graph(dask_local2, monkeypatch):
+    # Found with benchmarks/scaleout_campaign.py: simulate's tasks carry their samples (a
+    # 1e6-sample closed-loop campaign: 572 MiB of task arguments), and client.map put them
+    # all in the task graph ("UserWarning: Sending large graph of size 572.28 MiB"), through
+    # the scheduler. Tasks this large are now scattered to the workers (fresh random keys),
+    # the graph carries references, and the data is released once the results are back.
+    # (scaled down to keep the test fast: our threshold 1 MiB, Dask's warning from 1 MB)
+    import warnings
+
+    import dask
+    import test_dask as mod
+
+    from adcskit.uncertainty import executor as executor_module
+
+    monkeypatch.setattr(executor_module, "SCATTER_TASKS_BYTES", 2**20)
+    rng = np.random.default_rng(3)
+    n_items = -(-(2**20) // 8 // 3)  # three tasks together exceed the threshold
+    tasks = [(i, rng.normal(size=n_items)) for i in range(4)]
+    expected = SerialExecutor().map(mod._array_checksum, tasks)
+    with warnings.catch_warnings(record=True) as caught, \
+            dask.config.set({"distributed.admin.large-graph-warning-threshold": "1MB"}):
+        warnings.simplefilter("always")
+        got = dask_local2.map(mod._array_checksum, tasks)
+    assert got == expected
+    assert not [w for w in caught if "large graph" in str(w.message)], [str(w.message) for w in caught]
+    _wait_until(lambda: _n_scheduler_tasks(dask_local2.client) == 0, "the scheduler to forget every key")

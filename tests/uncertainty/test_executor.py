@@ -92,3 +92,15 @@ def test_bad_specs(spec, fragment):
     with pytest.raises(InputError) as err:
         make_executor(spec)
     assert fragment in str(err.value)
+
+
+def test_array_bytes_counts_the_arrays_inside_tasks():
+    # what decides whether DaskExecutor scatters the tasks (SCATTER_TASKS_BYTES): the arrays'
+    # nbytes inside tuples, lists and dict values (a simulate task: (shared dict, per-sample
+    # dict, seeds, flag)), counted only until the limit is reached
+    from adcskit.uncertainty.executor import _array_bytes
+
+    task = ({"C": np.zeros(54)}, {"P": np.zeros((10, 44)), "DIRS": np.zeros((10, 6, 3))}, np.zeros(10, np.uint64), False)
+    assert _array_bytes([task, task], limit=10**9) == 2 * 8 * (54 + 440 + 180 + 10)
+    assert _array_bytes([task, task], limit=100) < 2 * 8 * (54 + 440 + 180 + 10)  # stopped early
+    assert _array_bytes([(1, "text", None), b"abcd"], limit=10**9) == 4
