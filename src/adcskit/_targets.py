@@ -88,7 +88,6 @@ __all__ = [
     "PerSample",
     "LazyKernels",
     "device",
-    "rebound",
     "import_cuda",
     "cuda_status",
     "cuda_usable",
@@ -291,9 +290,15 @@ class PerSample:
     def device_source(self) -> Callable[..., Any]:
         """The plain function that the CUDA target compiles: ``fn`` itself, or ``fn``'s code
         with :attr:`device_names` rebound in a copy of its module globals."""
+        fn = self.py
         if not self.device_names:
-            return self.py
-        return rebound(self.py, self.device_names)
+            return fn
+        g = dict(fn.__globals__)
+        g.update(self.device_names)
+        dev = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
+        dev.__qualname__ = fn.__qualname__
+        dev.__doc__ = fn.__doc__
+        return dev
 
     def cuda(self) -> Any:
         """The ``numba.cuda.jit(device=True)`` compilation (imports numba.cuda)."""
@@ -301,42 +306,6 @@ class PerSample:
             if self._cuda is None:
                 self._cuda = import_cuda().jit(device=True)(self.device_source())
             return self._cuda
-
-
-def rebound(fn: Callable[..., Any], names: dict[str, Any]) -> Callable[..., Any]:
-    """A copy of ``fn`` whose module globals ``names`` are rebound (``fn`` is unchanged).
-
-    How a per-sample function or a step function it calls gets its CUDA build
-    (:attr:`PerSample.device_names`): the same code object, with the names that the CPU
-    build resolves to CPU-only dispatchers bound to device-compilable functions.
-
-    Parameters
-    ----------
-    fn : callable
-        A plain Python function.
-    names : dict of str to object
-        Global names of ``fn`` and what they are bound to in the copy.
-
-    Returns
-    -------
-    callable
-        The copy (same code, name, qualified name and docstring).
-
-    Examples
-    --------
-    >>> def twice(x):
-    ...     return scale * x
-    >>> scale = 2.0
-    >>> thrice = rebound(twice, {"scale": 3.0})
-    >>> twice(1.0), thrice(1.0)
-    (2.0, 3.0)
-    """
-    g = dict(fn.__globals__)
-    g.update(names)
-    dev = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
-    dev.__qualname__ = fn.__qualname__
-    dev.__doc__ = fn.__doc__
-    return dev
 
 
 def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> Any:
