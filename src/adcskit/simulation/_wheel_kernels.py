@@ -43,8 +43,10 @@ increment plus the held reading error), updated by the star tracker, sun sensor 
 the controller then uses its attitude and bias-corrected rate.
 
 Randomness: a SplitMix64 stream per sample (Steele, Lea & Flood 2014) seeded with one 64-bit
-integer, normals by Box-Muller; the generator is the simulator's (:mod:`adcskit.simulation._kernels`,
-a copy of its ten lines, because that module is being rewritten and its helpers are private).
+integer, normals by Box-Muller; the generator is the thruster simulator's
+(:mod:`adcskit.simulation._random`). The quaternion helpers (``qdiff``, ``qdot``,
+``unit_q4_pos``, ``rotate``, ``compose_rotvec``) are :mod:`adcskit.attitude._device`'s, shared
+with the thruster simulator and the MEKF.
 
 Conventions: quaternion scalar last, ``A(q)`` maps ECI to body; SI units, rad.
 """
