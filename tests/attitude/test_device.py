@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from adcskit.attitude import error_angle, quat_to_dcm
-from adcskit.attitude._device import compose_rotvec, qerr, rotate
+from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 
 _unit = st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4).filter(lambda v: np.linalg.norm(v) > 0.1)
 _vec = st.lists(st.floats(-10.0, 10.0), min_size=3, max_size=3)
@@ -233,25 +233,68 @@ def test_qerr_and_compose_rotvec_keep_their_bits():
     assert outs[0] == outs[1]
 
 
-def test_qdot_is_the_simulator_kinematics_bit_for_bit():
-    # attitude._device.qdot is the quaternion part of simulation._kernels._rhs (and of the wheel
-    # kernel's rhs, the same expressions), so that the kernels can call it: same bits
-    from adcskit.attitude._device import qdot
-    from adcskit.simulation._kernels import _rhs
+def _former_kernel_pieces(q0, q1, q2, q3, w0, w1, w2, r0, r1, r2, r3):
+    # the kernels' own copies before they called the shared helpers (main bc6d017, verbatim):
+    # simulation._kernels._rhs's kinematics (= _wheel_kernels.rhs's), rk4_step's
+    # renormalisation (= _wheel_kernels.rk4's), _wheel_kernels.qdiff, _kernels._outside's
+    # squared vector part and squared scalar part of q (x) r^-1
+    dq = (0.5 * (q3 * w0 - (w1 * q2 - w2 * q1)),
+          0.5 * (q3 * w1 - (w2 * q0 - w0 * q2)),
+          0.5 * (q3 * w2 - (w0 * q1 - w1 * q0)),
+          -0.5 * (w0 * q0 + w1 * q1 + w2 * q2))
+    nrm = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    if q3 < 0.0:
+        nrm = -nrm
+    un = (q0 / nrm, q1 / nrm, q2 / nrm, q3 / nrm)
+    c0, c1, c2, c3 = -r0, -r1, -r2, r3
+    d0 = q3 * c0 + c3 * q0 - (q1 * c2 - q2 * c1)
+    d1 = q3 * c1 + c3 * q1 - (q2 * c0 - q0 * c2)
+    d2 = q3 * c2 + c3 * q2 - (q0 * c1 - q1 * c0)
+    d3 = q3 * c3 - (q0 * c0 + q1 * c1 + q2 * c2)
+    dd = (-d0, -d1, -d2, -d3) if d3 < 0.0 else (d0, d1, d2, d3)
+    e0 = q3 * -r0 + r3 * q0 - (q1 * -r2 - q2 * -r1)
+    e1 = q3 * -r1 + r3 * q1 - (q2 * -r0 - q0 * -r2)
+    e2 = q3 * -r2 + r3 * q2 - (q0 * -r1 - q1 * -r0)
+    e3 = q3 * r3 - (q0 * -r0 + q1 * -r1 + q2 * -r2)
+    return dq + un + dd + (e0 * e0 + e1 * e1 + e2 * e2, e3 * e3)
 
-    rng = np.random.default_rng(23)
-    J = np.eye(3).ravel()
-    for q, w in zip(rng.normal(size=(100, 4)), rng.normal(size=(100, 3)), strict=True):
-        want = _rhs(*q, *w, J, J, 0.0, 0.0, 0.0)[:4]
-        assert np.array(qdot(*q, *w)).tobytes() == np.array(want).tobytes()
+
+def _shared_kernel_pieces(q0, q1, q2, q3, w0, w1, w2, r0, r1, r2, r3):
+    # the same pieces from the shared helpers, as the kernels now compute them
+    d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
+    return (qdot(q0, q1, q2, q3, w0, w1, w2) + unit_q4_pos(q0, q1, q2, q3) + (d0, d1, d2, d3)
+            + (d0 * d0 + d1 * d1 + d2 * d2, d3 * d3))
 
 
-def test_qdiff_is_the_wheel_kernels_copy_bit_for_bit():
-    # simulation/_wheel_kernels.qdiff is still a copy (that file was being changed elsewhere;
-    # docs/design-notes.md names the edit): same bits, so the swap will not move a number
-    from adcskit.attitude._device import qdiff
-    from adcskit.simulation._wheel_kernels import qdiff as wheel_qdiff
+def test_kernels_former_quaternion_copies_equal_the_shared_helpers_bit_for_bit():
+    # issue 20 item 4: _kernels (_rhs, rk4_step, _outside) and _wheel_kernels (rhs, rk4, qdiff)
+    # now call qdot, unit_q4_pos and qdiff; their former copies give the same bits, in Python
+    # and compiled into one njit caller (no fused multiply-add on the CPU), on random inputs
+    # including equal and opposite quaternions and negative scalar parts
+    from adcskit.simulation import _kernels, _wheel_kernels
 
+    assert _wheel_kernels.qdiff is qdiff and _kernels.qdot is qdot and _wheel_kernels.unit_q4_pos is unit_q4_pos
     rng = np.random.default_rng(24)
-    for a, b in zip(rng.normal(size=(100, 4)), rng.normal(size=(100, 4)), strict=True):
-        assert np.array(qdiff(*a, *b)).tobytes() == np.array(wheel_qdiff(*a, *b)).tobytes()
+    q, w, r = rng.normal(size=(200, 4)), rng.normal(size=(200, 3)), rng.normal(size=(200, 4))
+    r[:20], r[20:40] = q[:20], -q[20:40]
+    x = np.hstack([q, w, r])
+    jit = numba.extending.register_jitable
+
+    def batch(fn):
+        f = jit(fn)
+
+        @numba.njit(cache=False)
+        def run(x, out):
+            for i in range(x.shape[0]):
+                v = f(x[i, 0], x[i, 1], x[i, 2], x[i, 3], x[i, 4], x[i, 5], x[i, 6], x[i, 7], x[i, 8], x[i, 9],
+                      x[i, 10])
+                for m in range(14):
+                    out[i, m] = v[m]
+        out = np.empty((x.shape[0], 14))
+        run(x, out)
+        return out
+
+    former = np.array([_former_kernel_pieces(*row) for row in x])
+    shared = np.array([_shared_kernel_pieces(*row) for row in x])
+    assert former.tobytes() == shared.tobytes()
+    assert batch(_former_kernel_pieces).tobytes() == batch(_shared_kernel_pieces).tobytes() == former.tobytes()

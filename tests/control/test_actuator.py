@@ -18,15 +18,26 @@ from adcskit.simulation.core import _lag_coefficients
 @given(st.lists(st.floats(-0.5, 0.5), min_size=1, max_size=40), st.floats(0.01, 0.3),
        st.floats(0.1, 0.9))
 def test_schmitt_helper_equals_public_trigger(u, u_on, ratio):
-    # two implementations of S4 Fig. 1's three-level trigger with memory: the vectorised public
-    # one (adcskit.control.schmitt_trigger) and the kernels' scalar helper; comparisons only,
-    # so exact equality
+    # S4 Fig. 1's three-level trigger with memory: the kernels' scalar helper, the public
+    # adcskit.control.schmitt_trigger (which now runs that helper, issue 20 item 4) and the
+    # public trigger's former own loop (main bc6d017, verbatim, an independent statement of the
+    # same rule); comparisons only, so exact equality
     u_off = ratio * u_on
     s = 0.0
     mine = []
     for x in u:
         s = schmitt(s, x, u_on, u_off)
         mine.append(s)
+    former, s = [], 0.0
+    for x in u:
+        if s == 0.0:
+            s = 1.0 if x >= u_on else (-1.0 if x <= -u_on else 0.0)
+        elif s == 1.0:
+            s = -1.0 if x <= -u_on else (0.0 if x < u_off else 1.0)
+        else:
+            s = 1.0 if x >= u_on else (0.0 if x > -u_off else -1.0)
+        former.append(s)
+    np.testing.assert_array_equal(mine, former)
     np.testing.assert_array_equal(mine, schmitt_trigger(u, u_on=u_on, u_off=u_off))
 
 

@@ -53,6 +53,7 @@ from adcskit._results import Result
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_array, check_choice, check_flag, check_positive, check_range
 from adcskit.control import _onoff_kernels as _k
+from adcskit.control._actuator import schmitt
 from adcskit.errors import InputError
 
 __all__ = [
@@ -353,13 +354,8 @@ def schmitt_trigger(u: Any, u_on: float, u_off: float, state: float = 0.0) -> np
         raise InputError(f"state must be -1, 0 or 1; got {state!r}")
     out = np.empty_like(arr)
     s = float(state)
-    for k, x in enumerate(arr):  # a short reference loop (the kernels inline the same logic)
-        if s == 0.0:
-            s = 1.0 if x >= on else (-1.0 if x <= -on else 0.0)
-        elif s == 1.0:
-            s = -1.0 if x <= -on else (0.0 if x < off else 1.0)
-        else:
-            s = 1.0 if x >= on else (0.0 if x > -off else -1.0)
+    for k, x in enumerate(arr):  # the kernels' device helper, run as plain Python
+        s = schmitt(s, x, on, off)
         out[k] = s
     return out
 

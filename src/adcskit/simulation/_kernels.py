@@ -46,7 +46,7 @@ from numba import njit, prange
 from numba.extending import register_jitable
 
 from adcskit._targets import LazyKernels, PerSample, import_cuda
-from adcskit.attitude._device import compose_rotvec, qerr, rotate
+from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
 from adcskit.determination._kernels import _solve_one
@@ -130,10 +130,7 @@ def _noise(s, uniform):
 @register_jitable
 def _rhs(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2):
     """Time derivative of (q, omega): q' = 1/2 [w; 0] (x) q ; J w' = tau - w x J w."""
-    dq0 = 0.5 * (q3 * w0 - (w1 * q2 - w2 * q1))
-    dq1 = 0.5 * (q3 * w1 - (w2 * q0 - w0 * q2))
-    dq2 = 0.5 * (q3 * w2 - (w0 * q1 - w1 * q0))
-    dq3 = -0.5 * (w0 * q0 + w1 * q1 + w2 * q2)
+    dq0, dq1, dq2, dq3 = qdot(q0, q1, q2, q3, w0, w1, w2)
     h0 = J[0] * w0 + J[1] * w1 + J[2] * w2
     h1 = J[3] * w0 + J[4] * w1 + J[5] * w2
     h2 = J[6] * w0 + J[7] * w1 + J[8] * w2
@@ -163,10 +160,8 @@ def rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt):
     n1 = q1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
     n2 = q2 + s * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
     n3 = q3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3)
-    nrm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
-    if n3 < 0.0:
-        nrm = -nrm
-    return (n0 / nrm, n1 / nrm, n2 / nrm, n3 / nrm,
+    u0, u1, u2, u3 = unit_q4_pos(n0, n1, n2, n3)
+    return (u0, u1, u2, u3,
             w0 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4),
             w1 + s * (a5 + 2.0 * b5 + 2.0 * c5 + d5),
             w2 + s * (a6 + 2.0 * b6 + 2.0 * c6 + d6))
@@ -897,10 +892,8 @@ def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
     ``qerr(q, r)[3] > band``, with the ``atan2`` only within a relative 1e-6 of the edge
     (``tan(angle/2)^2`` against ``tb_lo``/``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)``; a
     negative ``tb_hi`` always takes the exact path)."""
-    d0 = q3 * -r0 + r3 * q0 - (q1 * -r2 - q2 * -r1)
-    d1 = q3 * -r1 + r3 * q1 - (q2 * -r0 - q0 * -r2)
-    d2 = q3 * -r2 + r3 * q2 - (q0 * -r1 - q1 * -r0)
-    d3 = q3 * r3 - (q0 * -r0 + q1 * -r1 + q2 * -r2)
+    # the sign that qdiff fixes (q4 >= 0) does not change the squares below
+    d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
     e2 = d0 * d0 + d1 * d1 + d2 * d2
     c2 = d3 * d3
     if tb_hi > 0.0:

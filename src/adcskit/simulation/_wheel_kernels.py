@@ -43,8 +43,10 @@ increment plus the held reading error), updated by the star tracker, sun sensor 
 the controller then uses its attitude and bias-corrected rate.
 
 Randomness: a SplitMix64 stream per sample (Steele, Lea & Flood 2014) seeded with one 64-bit
-integer, normals by Box-Muller; the generator is the simulator's (:mod:`adcskit.simulation._kernels`,
-a copy of its ten lines, because that module is being rewritten and its helpers are private).
+integer, normals by Box-Muller; the generator is the thruster simulator's
+(:mod:`adcskit.simulation._random`). The quaternion helpers (``qdiff``, ``qdot``,
+``unit_q4_pos``, ``rotate``, ``compose_rotvec``) are :mod:`adcskit.attitude._device`'s, shared
+with the thruster simulator and the MEKF.
 
 Conventions: quaternion scalar last, ``A(q)`` maps ECI to body; SI units, rad.
 """
@@ -57,7 +59,7 @@ import numpy as np
 from numba import njit
 
 from adcskit._targets import LazyKernels, PerSample, device, import_cuda
-from adcskit.attitude._device import compose_rotvec, rotate
+from adcskit.attitude._device import compose_rotvec, qdiff, qdot, rotate, unit_q4_pos
 from adcskit.estimation import _mekf_kernels as _mk
 from adcskit.estimation._mekf_kernels import (
     mekf_nees,
@@ -193,10 +195,7 @@ def rhs(X, D, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2):
     m1 = t1 - at1 - (w2 * H0 - w0 * H2)
     m2 = t2 - at2 - (w0 * H1 - w1 * H0)
     d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
-    D[0] = 0.5 * (q3 * w0 - (w1 * q2 - w2 * q1))
-    D[1] = 0.5 * (q3 * w1 - (w2 * q0 - w0 * q2))
-    D[2] = 0.5 * (q3 * w2 - (w0 * q1 - w1 * q0))
-    D[3] = -0.5 * (w0 * q0 + w1 * q1 + w2 * q2)
+    D[0], D[1], D[2], D[3] = qdot(q0, q1, q2, q3, w0, w1, w2)
     D[4] = d0
     D[5] = d1
     D[6] = d2
@@ -222,24 +221,7 @@ def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
     s = dt / 6.0
     for m in range(n):
         X[m] = X[m] + s * (KS[m] + KD[m])
-    nrm = math.sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2] + X[3] * X[3])
-    if X[3] < 0.0:
-        nrm = -nrm
-    for m in range(4):
-        X[m] = X[m] / nrm
-
-
-@device
-def qdiff(a0, a1, a2, a3, b0, b1, b2, b3):
-    """``qa (x) qb^-1`` (Markley's product), sign fixed to ``q4 >= 0``."""
-    c0, c1, c2, c3 = -b0, -b1, -b2, b3
-    d0 = a3 * c0 + c3 * a0 - (a1 * c2 - a2 * c1)
-    d1 = a3 * c1 + c3 * a1 - (a2 * c0 - a0 * c2)
-    d2 = a3 * c2 + c3 * a2 - (a0 * c1 - a1 * c0)
-    d3 = a3 * c3 - (a0 * c0 + a1 * c1 + a2 * c2)
-    if d3 < 0.0:
-        return -d0, -d1, -d2, -d3
-    return d0, d1, d2, d3
+    X[0], X[1], X[2], X[3] = unit_q4_pos(X[0], X[1], X[2], X[3])
 
 
 @device
