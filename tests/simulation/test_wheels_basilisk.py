@@ -26,7 +26,11 @@ def bench():
     spec = importlib.util.spec_from_file_location("bench_basilisk_mtb", _BENCH)
     mod = importlib.util.module_from_spec(spec)
     sys.modules.setdefault("bench_basilisk_mtb", mod)
-    spec.loader.exec_module(mod)
+    saved = list(sys.path)
+    try:  # the bench puts benchmarks/ and benchmarks/../src first on sys.path: not for the tests after it
+        spec.loader.exec_module(mod)
+    finally:
+        sys.path[:] = saved
     return mod
 
 
