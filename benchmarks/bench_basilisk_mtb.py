@@ -75,7 +75,7 @@ from adcskit.simulation import (  # noqa: E402
     WheelSpec,
     simulate_wheels,
 )
-from bench_basilisk_wheels import I_HUB, _mrp_to_quat  # noqa: E402
+from bench_basilisk_wheels import I_HUB, _mrp_to_quat, _ours_speed  # noqa: E402
 
 ORBIT = OrbitSpec(altitude_km=500.0, inclination_deg=97.4, raan_deg=30.0, arg_lat0_deg=20.0,
                   epoch="2026-03-21T06:00:00", gravity_gradient=False, magnetic_model="dipole")
@@ -332,15 +332,6 @@ def bdot(t_final: float, dt: float, period: float) -> dict:
     out["traces"] = {"t": t[::stride].tolist(), "basilisk_rate_deg_s": rb[::stride].tolist(),
                      "adcskit_rate_deg_s": ro[::stride].tolist()}
     return out
-
-
-def _ours_speed(sc: WheelScenario, n: int, seed: int) -> dict:
-    c0, t0 = time.process_time(), time.perf_counter()
-    res = simulate_wheels(sc, n, rng=seed)
-    cpu, wall = time.process_time() - c0, time.perf_counter() - t0
-    steps = int(round(sc.sim.t_final / sc.sim.dt))
-    return {"cpu_s": cpu, "wall_s": wall, "sample_steps_per_cpu_s": n * steps / cpu,
-            "sample_steps_per_s": n * steps / wall, "kernel_rate": res.sample_steps_per_s}
 
 
 def speed(kind: str, t_final: float, dt: float, n: int, repeats: int, bsk_cpu_s: float = 1.0) -> dict:

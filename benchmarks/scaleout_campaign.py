@@ -38,6 +38,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 from adcskit.simulation import Scenario, SimSpec, simulate, write_zarr  # noqa: E402
 from adcskit.uncertainty import check_requirements, percentile_bound  # noqa: E402
+from bench_scaleout import _cpu_seconds  # noqa: E402  (benchmarks/ is the script's folder: on sys.path)
 
 REQUIREMENTS = [
     "ADCS-1: pointing_rms_deg p99 <= 0.5",
@@ -46,21 +47,6 @@ REQUIREMENTS = [
     "ADCS-4: P(pointing_max_deg > 1.0) <= 1 %",
     "ADCS-5: propellant_kg mean <= 1.0",
 ]
-
-
-def _cpu_seconds() -> float:
-    import psutil
-
-    own = resource.getrusage(resource.RUSAGE_SELF)
-    reaped = resource.getrusage(resource.RUSAGE_CHILDREN)
-    total = own.ru_utime + own.ru_stime + reaped.ru_utime + reaped.ru_stime
-    for child in psutil.Process().children(recursive=True):
-        try:
-            t = child.cpu_times()
-        except (psutil.NoSuchProcess, psutil.AccessDenied):
-            continue
-        total += t.user + t.system
-    return total
 
 
 class _RssSampler(threading.Thread):

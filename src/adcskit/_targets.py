@@ -68,7 +68,8 @@ Compiling a device function without a GPU (``numba.cuda.compile_ptx``) needs num
 ``gpu`` extra): numba's own deprecated ``numba.cuda`` target cannot type ``max(a, b)`` for
 the device in numba 0.68.
 
-Hand-written here: only the thin compile/dispatch helper; the compilers are numba's.
+Hand-written here: only the thin compile/dispatch helper and the chunked launch loop that every
+GPU driver shares (:func:`launch_chunked`); the compilers are numba's.
 """
 
 from __future__ import annotations
@@ -79,6 +80,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numba
+import numpy as np
 
 from adcskit.errors import InputError, SolverError
 
@@ -93,6 +95,7 @@ __all__ = [
     "cuda_usable",
     "simulator_enabled",
     "resolve_backend",
+    "launch_chunked",
 ]
 
 TARGET_BACKENDS = ("cpu", "cuda", "auto")
@@ -306,6 +309,33 @@ class PerSample:
             if self._cuda is None:
                 self._cuda = import_cuda().jit(device=True)(self.device_source())
             return self._cuda
+
+
+def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *, n: int, chunk: int,
+                   threads: int, shared: frozenset[str] | set[str] = frozenset(),
+                   outputs: tuple[str, ...] = ()) -> None:
+    """Run a one-thread-per-sample CUDA ``kernel`` over ``n`` samples in chunks of ``chunk``.
+
+    ``args`` maps each of ``names`` (the kernel's parameters, in order) to a host array. The
+    ``shared`` ones are copied to the device once; every other array has one row per sample and
+    goes in row slices ``[lo:hi]`` per chunk. After each launch the ``outputs`` slices are copied
+    back into their host arrays in place. Zero-size arrays become empty device arrays of the same
+    shape. This is the chunk loop of every GPU driver (:mod:`adcskit.simulation._kernels`,
+    :mod:`adcskit.simulation._wheel_kernels`).
+    """
+    cuda = import_cuda()
+
+    def put(a: Any) -> Any:
+        a = np.ascontiguousarray(a)
+        return cuda.to_device(a) if a.size else cuda.device_array(a.shape, a.dtype)
+
+    on_device = {a: put(args[a]) for a in shared}
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
+        dev = {a: on_device[a] if a in on_device else put(args[a][lo:hi]) for a in names}
+        kernel[(hi - lo + threads - 1) // threads, threads](*(dev[a] for a in names))
+        for a in outputs:
+            args[a][lo:hi] = dev[a].copy_to_host()
 
 
 def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> Any:

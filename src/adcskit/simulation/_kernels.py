@@ -41,11 +41,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 from numba.extending import register_jitable
 
-from adcskit._targets import LazyKernels, PerSample, import_cuda
+from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -1047,25 +1046,7 @@ def run_cuda(*args, chunk=None):
         chunk = CUDA_CHUNK
     kernel = CUDA_KERNELS.get()  # binds the module global ``cuda``
     named = dict(zip(_ARG_NAMES, args))
-    n = named["P"].shape[0]
     record = named["REC"].shape[0] > 0
-    shared = {a: cuda.to_device(np.ascontiguousarray(named[a])) for a in _SHARED_ARGS}
-    for lo in range(0, n, chunk):
-        hi = min(n, lo + chunk)
-        m = hi - lo
-        dev = {}
-        for a in _ARG_NAMES:
-            if a in shared:
-                dev[a] = shared[a]
-            elif a == "REC" and not record:
-                dev[a] = cuda.to_device(named[a])
-            elif a == "OUT":
-                dev[a] = cuda.device_array((m, named[a].shape[1]))
-            else:
-                dev[a] = cuda.to_device(np.ascontiguousarray(named[a][lo:hi]))
-        blocks = (m + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        kernel[blocks, THREADS_PER_BLOCK](*(dev[a] for a in _ARG_NAMES))
-        named["OUT"][lo:hi] = dev["OUT"].copy_to_host()
-        named["TOT"][lo:hi] = dev["TOT"].copy_to_host()
-        if record:
-            named["REC"][lo:hi] = dev["REC"].copy_to_host()
+    launch_chunked(kernel, named, _ARG_NAMES, n=named["P"].shape[0], chunk=chunk, threads=THREADS_PER_BLOCK,
+                   shared=_SHARED_ARGS if record else _SHARED_ARGS | {"REC"},
+                   outputs=("OUT", "TOT", "REC") if record else ("OUT", "TOT"))

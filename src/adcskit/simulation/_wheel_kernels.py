@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
-from adcskit._targets import LazyKernels, PerSample, device, import_cuda
+from adcskit._targets import LazyKernels, PerSample, device, import_cuda, launch_chunked
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, rotate, unit_q4_pos
 from adcskit.estimation import _mekf_kernels as _mk
 from adcskit.estimation._mekf_kernels import (
@@ -1000,23 +1000,10 @@ def run_wheels_cuda(P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
         KP = np.zeros((n, 0, 0))
     if KW is None:
         KW = np.zeros((n, 0))
-    record = REC.shape[1] > 0
-
-    def put(a):  # zero-size arrays: an empty device array of the same shape
-        a = np.ascontiguousarray(a)
-        return cuda.to_device(a) if a.size else cuda.device_array(a.shape, a.dtype)
-
-    shared = [put(a) for a in (C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, THR)]
-    for lo in range(0, n, chunk):
-        hi = min(n, lo + chunk)
-        m = hi - lo
-        dev = [put(a[lo:hi]) for a in (P, AX, SEEDS, X, XT, KS, KD, TM, KP, KW)]
-        out_d = cuda.device_array((m, OUT.shape[1]))
-        rec_d = put(REC[lo:hi]) if record else cuda.device_array((m, 0, REC.shape[2]))
-        blocks = (m + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        kernel[blocks, THREADS_PER_BLOCK](dev[0], dev[1], shared[0], shared[1], shared[2], shared[3], shared[4],
-                                          shared[5], shared[6], shared[7], dev[2], dev[3], dev[4], dev[5], dev[6],
-                                          dev[7], out_d, rec_d, shared[8], dev[8], dev[9])
-        OUT[lo:hi] = out_d.copy_to_host()
-        if record:
-            REC[lo:hi] = rec_d.copy_to_host()
+    names = ("P", "AX", "C", "ENV", "AXN", "PINV", "NULLP", "HSTAR", "WPAR", "JW", "SEEDS", "X", "XT", "KS", "KD",
+             "TM", "OUT", "REC", "THR", "KP", "KW")
+    args = dict(zip(names, (P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, XT, KS, KD, TM, OUT, REC,
+                            THR, KP, KW)))
+    launch_chunked(kernel, args, names, n=n, chunk=chunk, threads=THREADS_PER_BLOCK,
+                   shared={"C", "ENV", "AXN", "PINV", "NULLP", "HSTAR", "WPAR", "JW", "THR"},
+                   outputs=("OUT", "REC") if REC.shape[1] > 0 else ("OUT",))
