@@ -17,7 +17,6 @@ to ``target_rotvec_deg`` at ``t_step`` and ``table`` follows a time table of qua
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, Literal
@@ -806,6 +805,3 @@ def load_scenario(source: Any = None, overrides: Any = None) -> Scenario:
     if isinstance(source, str) and not Path(source).exists():
         raise InputError(f"scenario file {source!r} does not exist")
     return load_config(Scenario, source, overrides)
-
-
-_DEG = math.pi / 180.0
