@@ -20,9 +20,10 @@ sequence, claims + report, figures + files, the rest: start-up and config):
   seed, samples, record flag: a re-simulation) and how many environment tables repeat one
   (same orbit, step, duration and sampling: a rebuilt table).
 
-Thread CPU comes from ``/proc/self/task/*/stat`` (clock ticks, 10 ms), so it is meaningful for
-phases of seconds, not for single calls; on a loaded machine wall time says little and CPU time
-is the figure to read. Run it twice: the first run in a fresh checkout compiles the kernels
+The calling thread's CPU is ``time.thread_time``, the other threads' the process CPU
+(``time.process_time``, which keeps the CPU of threads that ended, such as the wheel driver's
+thread pool) minus it; on a loaded machine wall time says little and CPU time is the figure to
+read. Run it twice: the first run in a fresh checkout compiles the kernels
 (cold numba cache), the second loads them (warm).
 
 ``--compare A B`` compares two closed-loop output directories (``result.json`` and every CSV)
@@ -48,7 +49,6 @@ from typing import Any
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
-_TICK = os.sysconf("SC_CLK_TCK")
 #: result.json keys that hold run times or machine facts (differ between any two runs)
 _RUNTIME_KEYS = ("runtime_s", "adcskit_version", "created", "executor", "host", "python", "platform")
 #: result.json / CSV keys whose value is a measured run time or rate
@@ -57,19 +57,6 @@ _SUMMARY_RATE = re.compile(r"Kernel median [-+0-9.e]+ sample-steps/s")
 #: phases in study order (``measure`` calls the Q functions in this order)
 _QUESTIONS = {"_q1_layouts": "Q1 layouts", "_q2_estimators": "Q2 estimators", "_q3_gains": "Q3 gains",
               "_q4_slews": "Q4 slews", "_q5_wheels": "Q5 wheels", "_q6_modes": "Q6 modes"}
-
-
-def _thread_cpu() -> dict[str, float]:
-    """CPU seconds (user + system) of every thread of this process, by thread id."""
-    out = {}
-    for tid in os.listdir("/proc/self/task"):
-        try:
-            with open(f"/proc/self/task/{tid}/stat") as fh:
-                f = fh.read().rsplit(")", 1)[1].split()
-        except OSError:  # the thread ended meanwhile
-            continue
-        out[tid] = (int(f[11]) + int(f[12])) / _TICK
-    return out
 
 
 def _seq_key(rng: Any) -> Any:
@@ -90,7 +77,6 @@ def profile(argv: list[str]) -> dict[str, Any]:
     from adcskit.studies.closed_loop import claims, figures, report
     from adcskit.studies.closed_loop import experiment as ex
 
-    main_tid = str(os.getpid())
     zero = {"calls": 0, "wall_s": 0.0, "cpu_s": 0.0}
     phases: dict[str, dict[str, float]] = collections.defaultdict(lambda: dict(zero))
     parts: dict[str, dict[str, dict[str, float]]] = collections.defaultdict(
@@ -143,9 +129,9 @@ def profile(argv: list[str]) -> dict[str, Any]:
     # ------------------------------------------------------------------ kernel calls
     def kernel(fn, n_steps_of):
         def wrapped(task, *a):
-            t0, c0, (k0, h0), th0 = time.perf_counter(), time.process_time(), compile_total, _thread_cpu()
+            t0, c0, (k0, h0), m0 = time.perf_counter(), time.process_time(), compile_total, time.thread_time()
             res = fn(task, *a)
-            th1 = _thread_cpu()
+            dm, dc = time.thread_time() - m0, time.process_time() - c0
             # thruster task: (shared, per_sample, seeds, record); wheel task: (P, AX, seeds, record)
             n = task[1]["P"].shape[0] if isinstance(task[0], dict) else task[0].shape[0]
             d = kern[stack[-1]]
@@ -155,12 +141,11 @@ def profile(argv: list[str]) -> dict[str, Any]:
             d["wall_s"] += time.perf_counter() - t0
             dk, dh = compile_total[0] - k0, compile_total[1] - h0
             d["compile_cpu_s"] += dk
-            d["cpu_s"] += time.process_time() - c0 - dk
-            for tid, v in th1.items():
-                key = "cpu_calling_thread_s" if tid == main_tid else "cpu_other_threads_s"
-                d[key] += v - th0.get(tid, 0.0)
-            d["cpu_calling_thread_s"] -= dh  # compilation: on the calling thread ...
-            d["cpu_other_threads_s"] -= dk - dh  # ... and whatever other threads did meanwhile
+            d["cpu_s"] += dc - dk
+            # the process's CPU includes threads that ended during the call (the wheel driver's
+            # thread pool); compilation runs on the calling thread (dh), other threads meanwhile dk - dh
+            d["cpu_calling_thread_s"] += dm - dh
+            d["cpu_other_threads_s"] += (dc - dm) - (dk - dh)
             return res
         return wrapped
 

@@ -21,6 +21,7 @@ S4 Fig. 1, Table 3.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -211,7 +212,10 @@ class SimulationResult:
 # ------------------------------------------------------------------------- preparation
 
 
+@functools.lru_cache(maxsize=64, typed=True)
 def _lag_coefficients(tau: float, dt: float) -> np.ndarray:
+    # cached (read-only result, copied into the coefficient vector): a 4x4 expm per simulate
+    # call, ~5 ms, for the few (tau, dt) pairs of a study (profile of closed-loop, issue 24)
     # states [x1, x2, v, u]: x1' = (u - x1)/tau, x2' = (x1 - x2)/tau, v' = x2, u' = 0 (held)
     m = np.zeros((4, 4))
     m[0, 0] = -1.0 / tau
@@ -220,7 +224,9 @@ def _lag_coefficients(tau: float, dt: float) -> np.ndarray:
     m[1, 1] = -1.0 / tau
     m[2, 1] = 1.0
     phi = scipy.linalg.expm(m * dt)
-    return np.array([phi[0, 0], phi[0, 3], phi[1, 0], phi[1, 1], phi[1, 3], phi[2, 0], phi[2, 1], phi[2, 3]])
+    out = np.array([phi[0, 0], phi[0, 3], phi[1, 0], phi[1, 1], phi[1, 3], phi[2, 0], phi[2, 1], phi[2, 3]])
+    out.setflags(write=False)
+    return out
 
 
 def _rotvec_quat(rv: np.ndarray) -> np.ndarray:
@@ -296,12 +302,35 @@ def reference_profile(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.nd
     return t, q, w
 
 
+#: Environment tables up to this many floats (16 MB) are kept for the next call (below).
+_ENV_CACHE_MAX_FLOATS = 2_000_000
+
+
 def _environment(scenario: Scenario, n_steps: int, h_env: int) -> tuple[np.ndarray, float, float]:
-    """ENV (K+1, 10) = [r_hat (3), sun (3), mag_hat (3), lit], n^2 (1/s^2), orbit rate."""
+    """ENV (K+1, 10) = [r_hat (3), sun (3), mag_hat (3), lit], n^2 (1/s^2), orbit rate.
+
+    A function of the orbit, the step, the duration and the sampling only: a study simulates
+    many configurations of one orbit (closed-loop Q1: 40 calls, one table), so tables of up to
+    :data:`_ENV_CACHE_MAX_FLOATS` are kept (the last 8) and each call gets a fresh, writable
+    copy of the same numbers.
+    """
+    key = (scenario.orbit, scenario.sim.dt, int(n_steps), int(h_env))
+    if (n_steps + 1) * 10 > _ENV_CACHE_MAX_FLOATS:
+        return _environment_table(*key)
+    env, n2, n_orb = _environment_cached(*key)
+    return env.copy(), n2, n_orb
+
+
+@functools.lru_cache(maxsize=8, typed=True)
+def _environment_cached(o: Any, dt: float, n_steps: int, h_env: int) -> tuple[np.ndarray, float, float]:
+    env, n2, n_orb = _environment_table(o, dt, n_steps, h_env)
+    env.setflags(write=False)
+    return env, n2, n_orb
+
+
+def _environment_table(o: Any, dt: float, n_steps: int, h_env: int) -> tuple[np.ndarray, float, float]:
     from adcskit.environment import circular_orbit, in_shadow, magnetic_field, sun_direction
 
-    o = scenario.orbit
-    dt = scenario.sim.dt
     t = np.arange(n_steps + 1) * dt
     alt = o.altitude_km * 1e3
     st = circular_orbit(alt, o.inclination_deg * _RAD_PER_DEG, o.raan_deg * _RAD_PER_DEG, o.arg_lat0_deg * _RAD_PER_DEG, t,
@@ -327,18 +356,36 @@ def _environment(scenario: Scenario, n_steps: int, h_env: int) -> tuple[np.ndarr
 
 
 def _allocation_table(scenario: Scenario, A: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """Forces (27, n) for the Schmitt demands ``T * (sx, sy, sz)``, row ``9(sx+1)+3(sy+1)+(sz+1)``."""
+    """Forces (27, n) for the Schmitt demands ``T * (sx, sy, sz)``, row ``9(sx+1)+3(sy+1)+(sz+1)``.
+
+    Kept for the next call with the same layout, mask, levels and method (27 LPs with
+    ``lp-min-fuel``, ~0.15 s; closed-loop Q1 repeats the reference layout's tables every seed);
+    each call gets a fresh copy of the same numbers.
+    """
+    c = scenario.controller
+    A = np.ascontiguousarray(A, dtype=float)
+    mask = np.ascontiguousarray(mask, dtype=float)
+    table = _allocation_table_cached(A.shape, A.tobytes(), mask.tobytes(), tuple(map(float, c.torque_level)),
+                                     c.allocation, float(scenario.thrusters.f_max))
+    return table.copy()
+
+
+@functools.lru_cache(maxsize=32)
+def _allocation_table_cached(shape: tuple[int, int], a_bytes: bytes, mask_bytes: bytes,
+                             torque_level: tuple[float, ...], allocation: str, f_max: float) -> np.ndarray:
     from adcskit.thrusters import allocate
 
-    c = scenario.controller
+    A = np.frombuffer(a_bytes, dtype=float).reshape(shape)
+    mask = np.frombuffer(mask_bytes, dtype=float)
     n = A.shape[1]
     levels = np.array([-1.0, 0.0, 1.0])
-    D = np.array([[sx, sy, sz] for sx in levels for sy in levels for sz in levels]) * np.asarray(c.torque_level)
+    D = np.array([[sx, sy, sz] for sx in levels for sy in levels for sz in levels]) * np.asarray(torque_level)
     table = np.zeros((27, n))
     cols = np.flatnonzero(mask > 0)
     if cols.size:
-        res = allocate(A[:, cols], D, method=c.allocation, f_max=scenario.thrusters.f_max)
+        res = allocate(A[:, cols], D, method=allocation, f_max=f_max)
         table[:, cols] = res.x
+    table.setflags(write=False)
     return table
 
 
