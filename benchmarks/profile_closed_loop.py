@@ -72,6 +72,8 @@ def profile(argv: list[str]) -> dict[str, Any]:
     import numba.core.dispatcher as nd
 
     from adcskit import cli
+    from adcskit.simulation import _kernels as _k
+    from adcskit.simulation import _wheel_kernels as _wk
     from adcskit.simulation import core, wheels
     from adcskit.studies import _runner
     from adcskit.studies.closed_loop import claims, figures, report
@@ -233,6 +235,8 @@ def profile(argv: list[str]) -> dict[str, Any]:
         "total": {"wall_s": wall, "cpu_s": cpu}, "phases": {**phases, "rest": rest}, "kernel": dict(kern),
         "compile": dict(comp), "parts": {k: dict(v) for k, v in parts.items()}, "simulations": dict(sims),
         "environment_tables": {"built": envs["tables"], "distinct": len(envs["distinct"])},
+        "signatures": {"_kernels.run_parallel": len(_k.run_parallel.signatures),
+                       "_wheel_kernels.run_block": len(_wk.run_block.signatures)},
         "load_average": os.getloadavg(), "cpus": os.cpu_count(),
         "numba_threads": __import__("numba").get_num_threads(),
     }
@@ -268,7 +272,8 @@ def _print(rep: dict[str, Any]) -> None:
     for name, ps in rep["parts"].items():
         print(f"  {name:<16} " + "; ".join(f"{k} {v['cpu_s']:.2f} ({v['calls']})" for k, v in ps.items()))
     e = rep["environment_tables"]
-    print(f"environment tables: {e['built']} built, {e['distinct']} distinct")
+    print(f"environment tables: {e['built']} built, {e['distinct']} distinct; kernel signatures {rep['signatures']} "
+          "(more than one: compiled again for other argument types)")
 
 
 def _strip(obj: Any) -> Any:
