@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from adcskit.determination._kernels import NOT_CONVERGED, OK, QMETHOD, TRIAD, _solve_one
+from adcskit.determination._kernels import NOT_CONVERGED, OK, QMETHOD, TRIAD, solve_one
 
 
 @njit(cache=True, error_model="numpy")
@@ -153,18 +153,19 @@ def minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, b, r, q, B, F, K, A, Bk,
     see :mod:`adcskit.determination.robust`).
 
     Writes the canonical quaternion (``q4 >= 0``) to ``WQ[i]``. ``qt``, ``lb``, ``ub``,
-    ``qb`` (4,) are scratch; the rest are :func:`_solve_one`'s arguments. Returns
+    ``qb`` (4,) are scratch; the rest are :func:`~adcskit.determination._kernels.solve_one`'s
+    arguments (called, not inlined: one compilation of the Wahba solver for both stages). Returns
     ``(status, box_active)``: status 0 on success, else a Wahba status code
     (:data:`adcskit.determination.wahba.STATUS_MESSAGES`) or ``NOT_CONVERGED`` when no point
     of the sphere inside the box was found.
     """
-    st = _solve_one(VB, VR, WW, i, i, TRIAD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    st = solve_one(VB, VR, WW, i, i, TRIAD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
     if st != OK:
         return st, False
     for a in range(4):
         qt[a] = WQ[i, a]
     # q-method of the same midpoints; leaves K = K^m (normalised weights) in K
-    st = _solve_one(VB, VR, WW, i, i, QMETHOD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    st = solve_one(VB, VR, WW, i, i, QMETHOD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
     if st != OK:
         return st, False
     dot = 0.0

@@ -783,6 +783,20 @@ def _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all
     return status
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all, b, r, q, B, F, K, A, Bk, qp):
+    """:func:`_solve_one` compiled once as its own function (not inlined into the caller).
+
+    For callers that solve one problem at a time at a low rate (the min-max step
+    :func:`adcskit.determination._box.minmax_one`, the closed-loop simulator's Wahba step):
+    numba inlines ``_solve_one`` (every method, with its inlined helpers) at the IR level, which
+    takes ≈ 45 CPU-s per call site to compile; calling this dispatcher instead compiles that
+    once and links it (same operations in the same order, so the same numbers).
+    """
+    return _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all, b, r, q, B, F, K,
+                      A, Bk, qp)
+
+
 def _scratch(n):
     return (np.empty((2 * n, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((4, 4)),
             np.empty((3, 3)), np.empty((3, 3)), np.empty(4))

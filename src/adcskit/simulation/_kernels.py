@@ -41,14 +41,14 @@ from __future__ import annotations
 
 import math
 
-from numba import njit, prange
+from numba import njit, prange, uint64
 from numba.extending import register_jitable
 
 from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
-from adcskit.determination._kernels import _solve_one
+from adcskit.determination._kernels import solve_one
 from adcskit.estimation import _mekf_kernels as _mk
 from adcskit.simulation._random import normal as _normal
 from adcskit.simulation._random import uniform as _uniform
@@ -68,8 +68,8 @@ _compose_rotvec = njit(cache=True, nogil=True)(compose_rotvec)
 @njit(cache=True, nogil=True, error_model="numpy")
 def wahba_one(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
     """Wahba solve of sample ``i``'s two observations (a non-inlined wrapper of the
-    determination kernel's per-problem solver); returns its status code."""
-    return _solve_one(VB, VR, WW, i, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    determination kernel's per-problem solver, itself compiled once); returns its status code."""
+    return solve_one(VB, VR, WW, i, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
 
 # ----------------------------------------------------------------- shared coefficients C
 (
@@ -971,7 +971,9 @@ def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, AT
                  SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
     """CPU driver: every sample in parallel (``prange``), each through :func:`sample_loop`."""
     for i in prange(P.shape[0]):
-        sample_loop_jit(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+        # prange's index is uint64 in the parallel loop but int64 when numba first types this
+        # function: the cast makes both the same signature, compiled once (the one that runs)
+        sample_loop_jit(uint64(i), P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                     FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
                     SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT)
 
