@@ -15,7 +15,7 @@ tested.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import int64, njit
 
 from adcskit.determination._kernels import NOT_CONVERGED, OK, QMETHOD, TRIAD, solve_one
 
@@ -159,13 +159,15 @@ def minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, b, r, q, B, F, K, A, Bk,
     (:data:`adcskit.determination.wahba.STATUS_MESSAGES`) or ``NOT_CONVERGED`` when no point
     of the sphere inside the box was found.
     """
-    st = solve_one(VB, VR, WW, i, i, TRIAD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    # int64(...): a plain integer method code, so that both calls (and the closed-loop Wahba
+    # step) share one compilation of solve_one; a literal argument would compile one per code
+    st = solve_one(VB, VR, WW, i, i, int64(TRIAD), WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
     if st != OK:
         return st, False
     for a in range(4):
         qt[a] = WQ[i, a]
     # q-method of the same midpoints; leaves K = K^m (normalised weights) in K
-    st = solve_one(VB, VR, WW, i, i, QMETHOD, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
+    st = solve_one(VB, VR, WW, i, i, int64(QMETHOD), WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
     if st != OK:
         return st, False
     dot = 0.0
