@@ -179,7 +179,15 @@ def rhs(X, D, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2):
         a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
         h = X[7 + j]
         om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
-        tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
+        if cc == 0.0:
+            # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
+            # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
+            # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
+            # gives the same NaN either way -- so the square root and the division are skipped
+            # and the sum keeps its operands (cv om + cc om), signed zeros included
+            tw = TM[j] - (cv * om + cc * om)
+        else:
+            tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
         D[7 + j] = tw
         ah0 += a0 * h
         ah1 += a1 * h
@@ -896,8 +904,11 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     OUT[i, M_NEES_N] = nees_n
 
 
-#: The per-sample function, one source for the CPU and the CUDA driver.
-SAMPLE = PerSample(wheel_sample, inline="never")
+#: The per-sample function, one source for the CPU and the CUDA driver. ``error_model="numpy"``:
+#: no zero-divisor test and exception branch at each division (as the thruster kernel); the loop
+#: never divides by zero (inertias > 0, normalised vectors, guarded quotients), so the numbers are
+#: the same, and a zero divisor would give inf / NaN instead of a ZeroDivisionError.
+SAMPLE = PerSample(wheel_sample, inline="never", error_model="numpy")
 wheel_sample_jit = SAMPLE.cpu
 
 
