@@ -165,67 +165,74 @@ def _mat3(M, o, x0, x1, x2):
 
 
 @device
-def rhs(X, D, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2):
-    """Gyrostat derivative of ``X = [q (4), omega (3), h (n_w)]`` into ``D`` (module docstring)."""
-    q0, q1, q2, q3 = X[0], X[1], X[2], X[3]
-    w0, w1, w2 = X[4], X[5], X[6]
-    ah0 = 0.0
-    ah1 = 0.0
-    ah2 = 0.0
-    at0 = 0.0
-    at1 = 0.0
-    at2 = 0.0
-    for j in range(nw):
-        a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
-        h = X[7 + j]
-        om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
-        if cc == 0.0:
-            # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
-            # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
-            # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
-            # gives the same NaN either way -- so the square root and the division are skipped
-            # and the sum keeps its operands (cv om + cc om), signed zeros included
-            tw = TM[j] - (cv * om + cc * om)
-        else:
-            tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
-        D[7 + j] = tw
-        ah0 += a0 * h
-        ah1 += a1 * h
-        ah2 += a2 * h
-        at0 += a0 * tw
-        at1 += a1 * tw
-        at2 += a2 * tw
-    j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
-    H0 = j0 + ah0
-    H1 = j1 + ah1
-    H2 = j2 + ah2
-    m0 = t0 - at0 - (w1 * H2 - w2 * H1)
-    m1 = t1 - at1 - (w2 * H0 - w0 * H2)
-    m2 = t2 - at2 - (w0 * H1 - w1 * H0)
-    d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
-    D[0], D[1], D[2], D[3] = qdot(q0, q1, q2, q3, w0, w1, w2)
-    D[4] = d0
-    D[5] = d1
-    D[6] = d2
-
-
-@device
 def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
-    """One classical RK4 step of the gyrostat in place (torques held); ``q`` renormalised."""
+    """One classical RK4 step of the gyrostat ``X = [q (4), omega (3), h (n_w)]`` in place
+    (torques held); ``q`` renormalised.
+
+    The four stages are one loop over the gyrostat derivative (module docstring) of ``XT`` into
+    ``KD`` (``XT`` holds ``X`` at the first stage), written out here rather than called: a
+    called derivative took its seven arrays as numba's flattened structs through the stack at
+    each of the four calls, and the caller's reference counts of them (18 atomic increments and
+    decrements per step); the operations and their order are those of the former ``rhs``.
+    """
     n = 7 + nw
-    rhs(X, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
     for m in range(n):
-        KS[m] = KD[m]
-        XT[m] = X[m] + 0.5 * dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
-    for m in range(n):
-        KS[m] += 2.0 * KD[m]
-        XT[m] = X[m] + 0.5 * dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
-    for m in range(n):
-        KS[m] += 2.0 * KD[m]
-        XT[m] = X[m] + dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+        XT[m] = X[m]
+    for stage in range(4):
+        # ---- derivative of XT into KD
+        q0, q1, q2, q3 = XT[0], XT[1], XT[2], XT[3]
+        w0, w1, w2 = XT[4], XT[5], XT[6]
+        ah0 = 0.0
+        ah1 = 0.0
+        ah2 = 0.0
+        at0 = 0.0
+        at1 = 0.0
+        at2 = 0.0
+        for j in range(nw):
+            a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+            h = XT[7 + j]
+            om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
+            if cc == 0.0:
+                # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
+                # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
+                # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
+                # gives the same NaN either way -- so the square root and the division are skipped
+                # and the sum keeps its operands (cv om + cc om), signed zeros included
+                tw = TM[j] - (cv * om + cc * om)
+            else:
+                tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
+            KD[7 + j] = tw
+            ah0 += a0 * h
+            ah1 += a1 * h
+            ah2 += a2 * h
+            at0 += a0 * tw
+            at1 += a1 * tw
+            at2 += a2 * tw
+        j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
+        H0 = j0 + ah0
+        H1 = j1 + ah1
+        H2 = j2 + ah2
+        m0 = t0 - at0 - (w1 * H2 - w2 * H1)
+        m1 = t1 - at1 - (w2 * H0 - w0 * H2)
+        m2 = t2 - at2 - (w0 * H1 - w1 * H0)
+        d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
+        KD[0], KD[1], KD[2], KD[3] = qdot(q0, q1, q2, q3, w0, w1, w2)
+        KD[4] = d0
+        KD[5] = d1
+        KD[6] = d2
+        # ---- stage update
+        if stage == 0:
+            for m in range(n):
+                KS[m] = KD[m]
+                XT[m] = X[m] + 0.5 * dt * KD[m]
+        elif stage == 1:
+            for m in range(n):
+                KS[m] += 2.0 * KD[m]
+                XT[m] = X[m] + 0.5 * dt * KD[m]
+        elif stage == 2:
+            for m in range(n):
+                KS[m] += 2.0 * KD[m]
+                XT[m] = X[m] + dt * KD[m]
     s = dt / 6.0
     for m in range(n):
         X[m] = X[m] + s * (KS[m] + KD[m])
