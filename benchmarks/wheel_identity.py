@@ -8,7 +8,8 @@ pointing; the ``pd``, ``wie`` and ``open-loop`` laws; viscous and Coulomb fricti
 quantisation and noise, a failed wheel; null motion on five wheels; raw knowledge without a star
 tracker; thruster unloading (a known and an unknown failed thruster, MEKF on); magnetic unloading;
 magnetometer blanking and corruption; a sinusoidal disturbance; a sun-pointing hold through
-eclipse; a settling band so tight that the pointing error crosses it near the end. Few samples
+eclipse; a settling band so tight that the pointing error crosses it near the end; star-tracker
+resets that do not coincide with the control periods (0.5 Hz against 1 / 0.6 s). Few samples
 (4-6) and campaign chunks of 2-3 samples. Every output array of each result (metrics, trace,
 ``t``, parameters, seeds) is saved before a change and compared after, ``np.array_equal``
 (NaN-aware) and bytewise (``tobytes``: the sign of a zero, a NaN's bits)::
@@ -108,6 +109,13 @@ S = {
                       thruster_unloading=ThrusterUnloadSpec(thrusters=JETS.replace(failed=(0,), failure_known=False),
                                                             start_nms=0.01, stop_nms=0.004, torque_nm=1e-3),
                       spacecraft=SpacecraftSpec(inertia=(0.30, 0.27, 0.17))), 4, None, (False, True)),
+    "star_tracker_slower_than_control": (
+        REF.replace(sensors=NO_ST.replace(star_tracker_rate_hz=0.5, star_tracker_noise_arcsec=20.0),
+                    control=WheelControlSpec(period_s=0.6), modes=POINT_NADIR, dispersions=SMALL,
+                    sim=SHORT.replace(record_every=4)), 4, None, (False, True)),
+    "sequence_star_tracker_every_2s": (
+        REF.replace(sensors=NO_ST.replace(star_tracker_rate_hz=0.5, star_tracker_noise_arcsec=20.0),
+                    sim=SimSpec(dt=0.2, t_final=8000.0, metrics_from_s=6000.0, record_every=9)), 4, None, (False, True)),
 }
 
 

@@ -245,6 +245,26 @@ def _angle(d0, d1, d2, d3):
 
 
 @device
+def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
+    """Whether the pointing error of ``q`` to ``r`` exceeds ``band`` (rad): exactly
+    ``_angle(*qdiff(q, r)) > band``, with the ``atan2`` and the square root only within a
+    relative 1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
+    ``tb_lo`` / ``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)`` (rounding of the squares: ~1e-16
+    relative); a non-positive ``tb_hi`` (band >= 3 rad, or ``tan^2`` underflowing) always takes
+    the exact path, as do NaNs (both comparisons false). The thruster kernel's settling test
+    (:func:`adcskit.simulation._kernels._outside`) with this kernel's angle."""
+    d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
+    e2 = d0 * d0 + d1 * d1 + d2 * d2
+    c2 = d3 * d3
+    if tb_hi > 0.0:
+        if e2 > tb_hi * c2:
+            return True
+        if e2 < tb_lo * c2:
+            return False
+    return _angle(d0, d1, d2, d3) > band
+
+
+@device
 def _wheel_momentum(X, AX, nw):
     h0 = 0.0
     h1 = 0.0
@@ -540,25 +560,48 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     H2 = 0.0
     r = 0
     has_sine = P[i, P_DAMP] != 0.0 or P[i, P_DAMP + 1] != 0.0 or P[i, P_DAMP + 2] != 0.0
+    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
+    band = C[SETTLE_BAND]
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_hi = tb2 * (1.0 + 1e-6)
+    tb_lo = tb2 * (1.0 - 1e-6)
+    # step counters instead of integer modulo: k % rec_every, k % hc, k % hg, k % hst, k % hs, k % hm
+    krec = 0
+    kc = 0
+    kg = 0
+    kst = 0
+    ks = 0
+    km = 0
     for k in range(n_steps + 1):
         t = k * dt
         q0, q1, q2, q3 = Xi[0], Xi[1], Xi[2], Xi[3]
         w0, w1, w2 = Xi[4], Xi[5], Xi[6]
         # ---- truth quantities of this step (each only where a metric or the trace needs it)
-        grid = k % rec_every == 0 or k == n_steps
+        rrow = rec_on and krec == 0  # a trace row
+        grid = krec == 0 or k == n_steps
+        ctrl = kc == 0
         point = mode == MODE_POINT
         in_win = k >= k_win
-        rate = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        rate = math.nan
+        if in_win or rrow:
+            rate = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
         qr0, qr1, qr2, qr3 = ENV[k, E_QREF], ENV[k, E_QREF + 1], ENV[k, E_QREF + 2], ENV[k, E_QREF + 3]
         perr = math.nan
         kerr = math.nan
-        if point or grid:
-            d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, qr0, qr1, qr2, qr3)
-            perr = _angle(d0, d1, d2, d3)
-        if (point and in_win) or grid:
+        if point:
+            # the error's value only for the window's metrics and the trace; elsewhere only
+            # whether it exceeds the settling band
+            if in_win or rrow:
+                d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, qr0, qr1, qr2, qr3)
+                perr = _angle(d0, d1, d2, d3)
+                if perr > band:
+                    last_out = t
+            elif _outside(q0, q1, q2, q3, qr0, qr1, qr2, qr3, band, tb_lo, tb_hi):
+                last_out = t
+        if (point and in_win) or rrow:
             d0, d1, d2, d3 = qdiff(qe0, qe1, qe2, qe3, q0, q1, q2, q3)
             kerr = _angle(d0, d1, d2, d3)
-        if grid or k % hc == 0:
+        if grid or ctrl:
             hb0, hb1, hb2 = _wheel_momentum(Xi, AXi, nw)
             hw = math.sqrt(hb0 * hb0 + hb1 * hb1 + hb2 * hb2)
             if hw > max_hw:
@@ -592,9 +635,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                 sum_k2 += kerr * kerr
                 if perr > max_e:
                     max_e = perr
-        if point and perr > C[SETTLE_BAND]:
-            last_out = t
-        if rec_on and k % rec_every == 0:
+        if rrow:
             if point:
                 REC[i, r, R_ERR] = perr
             elif mode == MODE_SUN:
@@ -634,10 +675,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
         if k == n_steps:
             break
         # ---- sensors
-        Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
-        # the rods were on during the previous step (the sample is taken before this step's command)
-        firing = k > 0 and ((k - 1) % hc) < on_steps and (m0 != 0.0 or m1 != 0.0 or m2 != 0.0)
-        if k % hg == 0:
+        if kg == 0:
             s, z0, z1 = _normal2(s)
             s, z2, z3 = _normal2(s)
             s, z4, z5 = _normal2(s)
@@ -652,7 +690,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             b0 += sig_b * z0
             b1 += sig_b * z1
             b2 += sig_b * z2
-        if hst > 0 and k % hst == 0:
+        if hst > 0 and kst == 0:
             s, z0, z1, z2 = _normal3(s)
             sg = C[SIG_ST] * ns
             XTi[0], XTi[1], XTi[2], XTi[3] = q0, q1, q2, q3
@@ -662,7 +700,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                 mekf_update_quaternion(kq, kb, KPi, XTi[0:4], C[SIG_ST], kwk)
         elif hst == 0 and not filt:
             qe0, qe1, qe2, qe3 = q0, q1, q2, q3
-        if hs > 0 and k % hs == 0:
+        if hs > 0 and ks == 0:
             if ENV[k, E_LIT] > 0.5:
                 st0, st1, st2 = rotate(q0, q1, q2, q3, ENV[k, E_SUN], ENV[k, E_SUN + 1], ENV[k, E_SUN + 2])
                 sg = C[SIG_SUN] * ns
@@ -679,7 +717,12 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                     mekf_update_vector(kq, kb, KPi, kvb, kvr, C[SIG_SUN], uw, kwk)
             else:
                 sv = 0
-        if hm > 0 and k % hm == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
+        # the rods were on during the previous step (the sample is taken before this step's command)
+        firing = False
+        if hm > 0 and km == 0:
+            firing = k > 0 and (kc - 1 if kc > 0 else hc - 1) < on_steps and (m0 != 0.0 or m1 != 0.0 or m2 != 0.0)
+        if hm > 0 and km == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
+            Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
             bn = math.sqrt(Bb0 * Bb0 + Bb1 * Bb1 + Bb2 * Bb2)
             sg = C[SIG_MAG] * ns * bn
             s, z0, z1, z2 = _normal3(s)
@@ -703,7 +746,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             wc0 = wm0 - kb[0]
             wc1 = wm1 - kb[1]
             wc2 = wm2 - kb[2]
-            if k % hc == 0 and in_win:
+            if ctrl and in_win:
                 for m in range(4):
                     kqt[m] = Xi[m]
                 kbt[0], kbt[1], kbt[2] = b0, b1, b2
@@ -714,7 +757,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
         else:
             wc0, wc1, wc2 = wm0, wm1, wm2
         # ---- control and modes, every control period
-        if k % hc == 0:
+        if ctrl:
             rm = math.sqrt(wc0 * wc0 + wc1 * wc1 + wc2 * wc2)
             if seq and mode == MODE_DETUMBLE:
                 if rm < C[RATE_THR]:
@@ -829,12 +872,13 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             t0 += P[i, P_DAMP] * math.sin(ph + P[i, P_DPH])
             t1 += P[i, P_DAMP + 1] * math.sin(ph + P[i, P_DPH + 1])
             t2 += P[i, P_DAMP + 2] * math.sin(ph + P[i, P_DPH + 2])
-        if (k % hc) < on_steps:
+        if kc < on_steps:
+            Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
             t0 += m1 * Bb2 - m2 * Bb1
             t1 += m2 * Bb0 - m0 * Bb2
             t2 += m0 * Bb1 - m1 * Bb0
         if tfire == 1:
-            tt0, tt1, tt2, di, dp, do = thrust_step(THR, TF, nt, (k % hc) * dt, hc * dt, dt)
+            tt0, tt1, tt2, di, dp, do = thrust_step(THR, TF, nt, kc * dt, hc * dt, dt)
             t0 += tt0
             t1 += tt1
             t2 += tt2
@@ -866,10 +910,36 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             kwm[2] = f * d2 + eg2
             mekf_propagate(kq, kb, KPi, kwm, dt, C[SIG_V], C[SIG_U], kwk)
             qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
-        elif hst > 0:
+        elif hst > 0 and (k + hst - kst >= k_win or k + hc - kc < k + hst - kst
+                          or (rec_on and k + rec_every - krec <= k + hst - kst)):
+            # propagated only when the knowledge is read before the next star-tracker reset K
+            # (step k + hst - kst, which overwrites it without reading it): by the error in the
+            # window (K >= k_win: K itself reads it before its reset), the control at a period
+            # start before K, or a trace row up to K. A step that skips it is followed only by
+            # skipping steps until K (the same K, fewer steps to it), so a propagated value
+            # always continues an unbroken chain from the last reset.
             XTi[0], XTi[1], XTi[2], XTi[3] = qe0, qe1, qe2, qe3
             compose_rotvec(XTi, wm0 * dt, wm1 * dt, wm2 * dt)
             qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
+        # ---- step counters
+        krec += 1
+        if krec == rec_every:
+            krec = 0
+        kc += 1
+        if kc == hc:
+            kc = 0
+        kg += 1
+        if kg == hg:
+            kg = 0
+        kst += 1
+        if kst == hst:
+            kst = 0
+        ks += 1
+        if ks == hs:
+            ks = 0
+        km += 1
+        if km == hm:
+            km = 0
     # ---- metrics
     OUT[i, M_T_DETUMBLED] = t_det
     OUT[i, M_T_ACQUIRED] = t_acq
