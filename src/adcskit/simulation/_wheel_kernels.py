@@ -188,26 +188,39 @@ def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
         at0 = 0.0
         at1 = 0.0
         at2 = 0.0
-        for j in range(nw):
-            a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
-            h = XT[7 + j]
-            om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
-            if cc == 0.0:
-                # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
-                # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
-                # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
-                # gives the same NaN either way -- so the square root and the division are skipped
-                # and the sum keeps its operands (cv om + cc om), signed zeros included
+        if cc == 0.0:
+            # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
+            # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
+            # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
+            # gives the same NaN either way -- so the square root and the division are skipped
+            # and the sum keeps its operands (cv om + cc om), signed zeros included. Two copies
+            # of the wheel loop: with the test inside one loop LLVM computed both terms and
+            # selected one, keeping the square root and the division.
+            for j in range(nw):
+                a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+                h = XT[7 + j]
+                om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
                 tw = TM[j] - (cv * om + cc * om)
-            else:
+                KD[7 + j] = tw
+                ah0 += a0 * h
+                ah1 += a1 * h
+                ah2 += a2 * h
+                at0 += a0 * tw
+                at1 += a1 * tw
+                at2 += a2 * tw
+        else:
+            for j in range(nw):
+                a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+                h = XT[7 + j]
+                om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
                 tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
-            KD[7 + j] = tw
-            ah0 += a0 * h
-            ah1 += a1 * h
-            ah2 += a2 * h
-            at0 += a0 * tw
-            at1 += a1 * tw
-            at2 += a2 * tw
+                KD[7 + j] = tw
+                ah0 += a0 * h
+                ah1 += a1 * h
+                ah2 += a2 * h
+                at0 += a0 * tw
+                at1 += a1 * tw
+                at2 += a2 * tw
         j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
         H0 = j0 + ah0
         H1 = j1 + ah1
