@@ -169,19 +169,24 @@ def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
     """One classical RK4 step of the gyrostat ``X = [q (4), omega (3), h (n_w)]`` in place
     (torques held); ``q`` renormalised.
 
-    The four stages are one loop over the gyrostat derivative (module docstring) of ``XT`` into
-    ``KD`` (``XT`` holds ``X`` at the first stage), written out here rather than called: a
-    called derivative took its seven arrays as numba's flattened structs through the stack at
-    each of the four calls, and the caller's reference counts of them (18 atomic increments and
-    decrements per step); the operations and their order are those of the former ``rhs``.
+    The four stages are one loop over the gyrostat derivative (module docstring), written out
+    here rather than called: a called derivative took its seven arrays as numba's flattened
+    structs through the stack at each of the four calls, and the caller's reference counts of
+    them (18 atomic increments and decrements per step). The attitude and rate (``y``, their
+    derivative ``k``, the stage sum ``g``) stay in scalars; the wheel momenta use the rows
+    ``XT``, ``KD``, ``KS`` from index 7. The operations and their order are those of the former
+    ``rhs`` and element-wise stage updates (``XT = X + 0.5 dt KD``, ``KS += 2 KD``, ...).
     """
     n = 7 + nw
-    for m in range(n):
+    x0, x1, x2, x3, x4, x5, x6 = X[0], X[1], X[2], X[3], X[4], X[5], X[6]
+    y0, y1, y2, y3, y4, y5, y6 = x0, x1, x2, x3, x4, x5, x6
+    g0 = g1 = g2 = g3 = g4 = g5 = g6 = 0.0
+    k0 = k1 = k2 = k3 = k4 = k5 = k6 = 0.0
+    for m in range(7, n):
         XT[m] = X[m]
     for stage in range(4):
-        # ---- derivative of XT into KD
-        q0, q1, q2, q3 = XT[0], XT[1], XT[2], XT[3]
-        w0, w1, w2 = XT[4], XT[5], XT[6]
+        # ---- derivative of (y, XT[7:]) into (k, KD[7:])
+        w0, w1, w2 = y4, y5, y6
         ah0 = 0.0
         ah1 = 0.0
         ah2 = 0.0
@@ -228,28 +233,34 @@ def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
         m0 = t0 - at0 - (w1 * H2 - w2 * H1)
         m1 = t1 - at1 - (w2 * H0 - w0 * H2)
         m2 = t2 - at2 - (w0 * H1 - w1 * H0)
-        d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
-        KD[0], KD[1], KD[2], KD[3] = qdot(q0, q1, q2, q3, w0, w1, w2)
-        KD[4] = d0
-        KD[5] = d1
-        KD[6] = d2
+        k4, k5, k6 = _mat3(JI, 0, m0, m1, m2)
+        k0, k1, k2, k3 = qdot(y0, y1, y2, y3, w0, w1, w2)
         # ---- stage update
         if stage == 0:
-            for m in range(n):
+            g0, g1, g2, g3, g4, g5, g6 = k0, k1, k2, k3, k4, k5, k6
+            hh = 0.5 * dt
+            y0, y1, y2, y3 = x0 + hh * k0, x1 + hh * k1, x2 + hh * k2, x3 + hh * k3
+            y4, y5, y6 = x4 + hh * k4, x5 + hh * k5, x6 + hh * k6
+            for m in range(7, n):
                 KS[m] = KD[m]
                 XT[m] = X[m] + 0.5 * dt * KD[m]
-        elif stage == 1:
-            for m in range(n):
+        elif stage < 3:
+            g0, g1, g2, g3 = g0 + 2.0 * k0, g1 + 2.0 * k1, g2 + 2.0 * k2, g3 + 2.0 * k3
+            g4, g5, g6 = g4 + 2.0 * k4, g5 + 2.0 * k5, g6 + 2.0 * k6
+            hh = 0.5 * dt if stage == 1 else dt
+            y0, y1, y2, y3 = x0 + hh * k0, x1 + hh * k1, x2 + hh * k2, x3 + hh * k3
+            y4, y5, y6 = x4 + hh * k4, x5 + hh * k5, x6 + hh * k6
+            for m in range(7, n):
                 KS[m] += 2.0 * KD[m]
-                XT[m] = X[m] + 0.5 * dt * KD[m]
-        elif stage == 2:
-            for m in range(n):
-                KS[m] += 2.0 * KD[m]
-                XT[m] = X[m] + dt * KD[m]
+                XT[m] = X[m] + hh * KD[m]
     s = dt / 6.0
-    for m in range(n):
+    for m in range(7, n):
         X[m] = X[m] + s * (KS[m] + KD[m])
-    X[0], X[1], X[2], X[3] = unit_q4_pos(X[0], X[1], X[2], X[3])
+    X[4] = x4 + s * (g4 + k4)
+    X[5] = x5 + s * (g5 + k5)
+    X[6] = x6 + s * (g6 + k6)
+    X[0], X[1], X[2], X[3] = unit_q4_pos(x0 + s * (g0 + k0), x1 + s * (g1 + k1), x2 + s * (g2 + k2),
+                                         x3 + s * (g3 + k3))
 
 
 @device
