@@ -9,7 +9,8 @@ quantisation and noise, a failed wheel; null motion on five wheels; raw knowledg
 tracker; thruster unloading (a known and an unknown failed thruster, MEKF on); magnetic unloading;
 magnetometer blanking and corruption; a sinusoidal disturbance; a sun-pointing hold through
 eclipse; a settling band so tight that the pointing error crosses it near the end; star-tracker
-resets that do not coincide with the control periods (0.5 Hz against 1 / 0.6 s). Few samples
+resets that do not coincide with the control periods (0.5 Hz against 1 / 0.6 s); a magnetometer
+at every step, blanked and corrupted while the rods are on. Few samples
 (4-6) and campaign chunks of 2-3 samples. Every output array of each result (metrics, trace,
 ``t``, parameters, seeds) is saved before a change and compared after, ``np.array_equal``
 (NaN-aware) and bytewise (``tobytes``: the sign of a zero, a NaN's bits)::
@@ -116,6 +117,14 @@ S = {
     "sequence_star_tracker_every_2s": (
         REF.replace(sensors=NO_ST.replace(star_tracker_rate_hz=0.5, star_tracker_noise_arcsec=20.0),
                     sim=SimSpec(dt=0.2, t_final=8000.0, metrics_from_s=6000.0, record_every=9)), 4, None, (False, True)),
+    "magnetometer_every_step_blank_and_corrupt": (
+        REF.replace(sensors=NO_ST.replace(mag_rate_hz=5.0, star_tracker_rate_hz=1.0), dispersions=DISP,
+                    sim=SimSpec(dt=0.2, t_final=3000.0, metrics_from_s=1500.0, record_every=6)), 4, None, (False, True)),
+    "magnetometer_every_step_corrupt": (
+        REF.replace(sensors=NO_ST.replace(mag_rate_hz=5.0),
+                    magnetorquers=MagnetorquerSpec(magnetometer="corrupt", coupling_t_per_am2=2e-6, duty=0.6),
+                    dispersions=DISP, sim=SimSpec(dt=0.2, t_final=3000.0, metrics_from_s=1500.0, record_every=6)),
+        4, None, (False, True)),
 }
 
 
