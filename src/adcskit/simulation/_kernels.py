@@ -450,11 +450,16 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     ts = TS[i]
     x2o = n
     so = 9 * n
-    F = ts[4 * n:5 * n]
-    free = ts[5 * n:6 * n]
-    scr = (ts[so:so + 9], ts[so + 9:so + 12], ts[so + 12:so + 15], ts[so + 15:so + 18])
+    scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
+           ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
     qe = QE[i]
-    _init(i, P, DIRS, POS, buf, ts, qe, BE[i], PE[i], GY[i], BIAS[i], TOT, n)
+    # this lane's views, made once per sample and passed grouped: estimator state and gyro
+    # scratch; vector observations and the determination solvers' scratch; allocation scratch
+    est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
+    det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
+           RS[i])
+    thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
+    _init(i, P, DIRS, POS, buf, ts, est, TOT, n)
     dist = (P[i, P_D0], P[i, P_D0 + 1], P[i, P_D0 + 2], P[i, P_DAMP], P[i, P_DAMP + 1],
             P[i, P_DAMP + 2], P[i, P_DPH], P[i, P_DPH + 1], P[i, P_DPH + 2])
     # settling: |error| > band decided without atan2 away from the band's edge (exact there)
@@ -498,9 +503,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             we = w
         elif k == k_gyro:
             k_gyro += h_gyro
-            s, we, ec = _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, qe, BE[i], PE[i], WK[i],
-                                        GY[i], BIAS[i], VB, VR, WW, WQ, WO, WC, SB, SR, SQ, SBB,
-                                        SFF, SKK, SAA, SBK, SQP, RS)
+            s, we, ec = _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det)
             ws = (0.0, 0.0, 0.0)
         if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
             kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
@@ -511,8 +514,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         if k == k_ctrl:
             k_ctrl += h_ctrl
             kc = k
-            ctl, fire = _control(i, k, C, qe, we, ctl, fire, QREF, WREF, ATAB, ANOM, FNOM, AMASK,
-                                 F, free, scr, ts, TOT, n)
+            ctl, fire = _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n)
         t0, t1, t2, prop = _actuate(i, k, k - kc, nd, dfrac, ts, buf, bmask, FAILED, FLEV, MDOT,
                                     lag, dt, prop, n)
         # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
@@ -552,8 +554,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
 
 
 @register_jitable
-def _init(i, P, DIRS, POS, buf, ts, qe, be, Pe, gy, bias, TOT, n):
+def _init(i, P, DIRS, POS, buf, ts, est, TOT, n):
     """Clear sample ``i``'s scratch, set its torque arms and its estimator's initial state."""
+    qe, be, Pe, _, gy, bias, _ = est
     armo = 6 * n
     for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
@@ -591,11 +594,13 @@ def _init(i, P, DIRS, POS, buf, ts, qe, be, Pe, gy, bias, TOT, n):
 
 
 @register_jitable
-def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, qe, be, Pe, wk, gy, bias, VB, VR, WW, WQ, WO,
-                    WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS):
+def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det):
     """Sensors and estimation at gyro epoch ``k``: the gyro, the attitude propagation, the
     vector sensors and star tracker, the estimator's update; returns the noise state, the
-    estimated rate and ``ec`` (last NEES, NEES sum and count, determinations, box active)."""
+    estimated rate and ``ec`` (last NEES, NEES sum and count, determinations, box active).
+    ``est`` and ``det``: the lane's views made once per sample by :func:`sample_loop`."""
+    qe, be, Pe, wk, gy, bias, sq = est
+    VB, VR, WW, WQ, WO, WC, sb, sr, sqp, sbb, sff, skk, saa, sbk, rs = det
     q0, q1, q2, q3 = q
     nees_last, nees_sum, nees_n, n_det, n_box = ec
     est_mode = int(C[EST_MODE])
@@ -655,25 +660,25 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, qe, be, Pe, wk, gy, bias, VB,
         s, n0 = _normal(s)
         s, n1 = _normal(s)
         s, n2 = _normal(s)
-        SQ[i, 0] = q0
-        SQ[i, 1] = q1
-        SQ[i, 2] = q2
-        SQ[i, 3] = q3
+        sq[0] = q0
+        sq[1] = q1
+        sq[2] = q2
+        sq[3] = q3
         sig_st = C[SIG_ST]
-        _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
+        _compose_rotvec(sq, sig_st * n0, sig_st * n1, sig_st * n2)
         if est_mode == EST_MEKF:
-            mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
+            mekf_update_quaternion(qe, be, Pe, sq, sig_st, wk)
         else:
             for a in range(4):
-                qe[a] = SQ[i, a]
+                qe[a] = sq[a]
     st = -1
     if est_mode == EST_WAHBA and nobs == 2:
-        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, SB[i], SR[i],
-                       SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
+        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, sb, sr, sqp[0:4], sbb,
+                       sff, skk, saa, sbk, sqp[4:8])
     elif est_mode == EST_MINMAX and nobs == 2:
-        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, SB[i], SR[i],
-                                SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
-                                SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12], RS[i, 12:16])
+        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, sb, sr, sqp[0:4],
+                                sbb, sff, skk, saa, sbk, sqp[4:8], rs[0:4], rs[4:8], rs[8:12],
+                                rs[12:16])
         n_det += 1
         if active:
             n_box += 1
@@ -683,7 +688,7 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, qe, be, Pe, wk, gy, bias, VB,
     if est_mode == EST_MEKF:
         we = (gy[0] - be[0], gy[1] - be[1], gy[2] - be[2])
         if k >= int(C[K_NEES]):
-            nees_last = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
+            nees_last = mekf_nees(qe, be, Pe, _tmp4(sq, q0, q1, q2, q3), bias, wk)
             if nees_last == nees_last:
                 nees_sum += nees_last
                 nees_n += 1
@@ -693,10 +698,12 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, qe, be, Pe, wk, gy, bias, VB,
 
 
 @register_jitable
-def _control(i, k, C, qe, we, ctl, fire, QREF, WREF, ATAB, ANOM, FNOM, AMASK, F, free, scr, ts,
-             TOT, n):
+def _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n):
     """PID law, Schmitt trigger or allocation, and pulse widths at command instant ``k``;
-    returns the Schmitt outputs and PID integrals ``ctl`` and (firings, on-time) ``fire``."""
+    returns the Schmitt outputs and PID integrals ``ctl`` and (firings, on-time) ``fire``.
+    ``thr``: the reference and thruster tables, ``scr``: the allocation's scratch views."""
+    QREF, WREF, ATAB, ANOM, FNOM, AMASK = thr
+    F, free, Ssc, rsc, ysc, isc = scr
     sx, sy, sz, ix, iy, iz = ctl
     firings, ontime = fire
     h_ctrl = int(C[H_CTRL])
@@ -732,10 +739,10 @@ def _control(i, k, C, qe, we, ctl, fire, QREF, WREF, ATAB, ANOM, FNOM, AMASK, F,
             F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
     elif int(C[ALLOC_MODE]) == ALLOC_BVLS:
         bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                      scr[0], scr[1], scr[2], scr[3], C[RPI_EPS])
+                      Ssc, rsc, ysc, isc, C[RPI_EPS])
     else:
         rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                     scr[0], scr[1], scr[2], C[RPI_EPS])
+                     Ssc, rsc, ysc, C[RPI_EPS])
     pround = C[PULSE_ROUND] > 0.0
     dt = C[DT]
     for j in range(n):
