@@ -454,8 +454,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
            ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
     qe = QE[i]
     # this lane's views, made once per sample and passed grouped: estimator state and gyro
-    # scratch; vector observations and the determination solvers' scratch; allocation scratch
+    # scratch, vector observations; the determination solvers' arrays (Wahba / min-max only)
     est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
+    obs = (VB[i], VR[i], WW[i])
     det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
            RS[i])
     thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
@@ -503,7 +504,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             we = w
         elif k == k_gyro:
             k_gyro += h_gyro
-            s, we, ec = _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det)
+            s, we, ec, nobs = _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs)
+            if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
+                ec = _determine(i, C, qe, ec, det)
             ws = (0.0, 0.0, 0.0)
         if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
             kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
@@ -594,13 +597,14 @@ def _init(i, P, DIRS, POS, buf, ts, est, TOT, n):
 
 
 @register_jitable
-def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det):
+def _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs):
     """Sensors and estimation at gyro epoch ``k``: the gyro, the attitude propagation, the
     vector sensors and star tracker, the estimator's update; returns the noise state, the
-    estimated rate and ``ec`` (last NEES, NEES sum and count, determinations, box active).
-    ``est`` and ``det``: the lane's views made once per sample by :func:`sample_loop`."""
+    estimated rate, ``ec`` (last NEES, NEES sum and count, determinations, box active) and the
+    number of vector observations made (:func:`_determine` then solves Wahba's problem).
+    ``est`` and ``obs``: the lane's views made once per sample by :func:`sample_loop`."""
     qe, be, Pe, wk, gy, bias, sq = est
-    VB, VR, WW, WQ, WO, WC, sb, sr, sqp, sbb, sff, skk, saa, sbk, rs = det
+    vb, vr, ww = obs
     q0, q1, q2, q3 = q
     nees_last, nees_sum, nees_n, n_det, n_box = ec
     est_mode = int(C[EST_MODE])
@@ -646,15 +650,15 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det):
             s, n0 = _noise(s, uni)
             s, n1 = _noise(s, uni)
             s, n2 = _noise(s, uni)
-            VB[i, nobs, 0] = b0 + sig * n0
-            VB[i, nobs, 1] = b1 + sig * n1
-            VB[i, nobs, 2] = b2 + sig * n2
-            VR[i, nobs, 0] = ENV[k, o]
-            VR[i, nobs, 1] = ENV[k, o + 1]
-            VR[i, nobs, 2] = ENV[k, o + 2]
-            WW[i, nobs] = C[W_SUN] if kind == 0 else C[W_MAG]
+            vb[nobs, 0] = b0 + sig * n0
+            vb[nobs, 1] = b1 + sig * n1
+            vb[nobs, 2] = b2 + sig * n2
+            vr[nobs, 0] = ENV[k, o]
+            vr[nobs, 1] = ENV[k, o + 1]
+            vr[nobs, 2] = ENV[k, o + 2]
+            ww[nobs] = C[W_SUN] if kind == 0 else C[W_MAG]
             if est_mode == EST_MEKF:
-                mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig * fil, uw, wk)
+                mekf_update_vector(qe, be, Pe, vb[nobs], vr[nobs], sig * fil, uw, wk)
             nobs += 1
     if h_st > 0 and k % h_st == 0:
         s, n0 = _normal(s)
@@ -671,20 +675,6 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det):
         else:
             for a in range(4):
                 qe[a] = sq[a]
-    st = -1
-    if est_mode == EST_WAHBA and nobs == 2:
-        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, sb, sr, sqp[0:4], sbb,
-                       sff, skk, saa, sbk, sqp[4:8])
-    elif est_mode == EST_MINMAX and nobs == 2:
-        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, sb, sr, sqp[0:4],
-                                sbb, sff, skk, saa, sbk, sqp[4:8], rs[0:4], rs[4:8], rs[8:12],
-                                rs[12:16])
-        n_det += 1
-        if active:
-            n_box += 1
-    if st == 0:
-        for a in range(4):
-            qe[a] = WQ[i, a]
     if est_mode == EST_MEKF:
         we = (gy[0] - be[0], gy[1] - be[1], gy[2] - be[2])
         if k >= int(C[K_NEES]):
@@ -694,7 +684,30 @@ def _sense_estimate(i, k, C, ENV, q, w, s, ws, ec, est, det):
                 nees_n += 1
     else:
         we = (gy[0], gy[1], gy[2])
-    return s, we, (nees_last, nees_sum, nees_n, n_det, n_box)
+    return s, we, (nees_last, nees_sum, nees_n, n_det, n_box), nobs
+
+
+@register_jitable
+def _determine(i, C, qe, ec, det):
+    """Wahba (or min-max) solve of the epoch's two vector observations of sample ``i`` into the
+    attitude estimate ``qe`` (on success); returns ``ec`` with the determination counters."""
+    VB, VR, WW, WQ, WO, WC, sb, sr, sqp, sbb, sff, skk, saa, sbk, rs = det
+    nees_last, nees_sum, nees_n, n_det, n_box = ec
+    st = -1
+    if int(C[EST_MODE]) == EST_WAHBA:
+        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, sb, sr, sqp[0:4], sbb,
+                       sff, skk, saa, sbk, sqp[4:8])
+    else:
+        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, sb, sr, sqp[0:4],
+                                sbb, sff, skk, saa, sbk, sqp[4:8], rs[0:4], rs[4:8], rs[8:12],
+                                rs[12:16])
+        n_det += 1
+        if active:
+            n_box += 1
+    if st == 0:
+        for a in range(4):
+            qe[a] = WQ[i, a]
+    return (nees_last, nees_sum, nees_n, n_det, n_box)
 
 
 @register_jitable
@@ -921,12 +934,14 @@ CUDA_EST_MODES = (EST_TRUTH, EST_MEKF)
 #: compilation rebinds the CPU-only dispatchers to the device sources they were built from.
 SAMPLE = PerSample(
     sample_loop, inline="never", error_model="numpy", nrt=False,
-    device_names={"_sense_estimate": register_jitable(rebound(_sense_estimate, {
-        "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
-        "mekf_update_quaternion": _mk.mekf_update_quaternion, "mekf_nees": _mk.mekf_nees,
-        "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec,
-        "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable,
-    }))},
+    device_names={
+        "_sense_estimate": register_jitable(rebound(_sense_estimate, {
+            "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
+            "mekf_update_quaternion": _mk.mekf_update_quaternion, "mekf_nees": _mk.mekf_nees,
+            "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec})),
+        "_determine": register_jitable(rebound(_determine, {
+            "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable})),
+    },
 )
 sample_loop_jit = SAMPLE.cpu
 
