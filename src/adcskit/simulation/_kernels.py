@@ -427,10 +427,12 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
 
     See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
     this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
-    :func:`_sense_estimate` (at gyro epochs), :func:`_control` (at command instants),
-    :func:`_actuate`, then the environment torques, the RK4 step and the metrics in the
-    loop's own body (as calls, they cost 14-20 % CPU: docs/design-notes.md, "Kernels"); the
-    scalar state travels as tuples.
+    :func:`_sense_estimate` (at gyro epochs; :func:`_determine` after it for the Wahba and
+    min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
+    environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
+    cost 14-20 % CPU: docs/design-notes.md, "Kernels"); the scalar state travels as tuples,
+    the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` is inlined
+    by numba (``inline="always"``; a call per gyro epoch cost 6-8 % CPU on the full chain).
     """
     n = POS.shape[0]
     dt = C[DT]
@@ -596,7 +598,7 @@ def _init(i, P, DIRS, POS, buf, ts, est, TOT, n):
         TOT[i, j] = 0.0
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs):
     """Sensors and estimation at gyro epoch ``k``: the gyro, the attitude propagation, the
     vector sensors and star tracker, the estimator's update; returns the noise state, the
