@@ -431,8 +431,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
     environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
     cost 14-20 % CPU: docs/design-notes.md, "Kernels"); the scalar state travels as tuples,
-    the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` is inlined
-    by numba (``inline="always"``; a call per gyro epoch cost 6-8 % CPU on the full chain).
+    the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` and
+    ``_control`` are inlined by numba (``inline="always"``: as calls they cost 6-8 % CPU on the
+    full chain, 3-5 % on the truth path), the others are calls (LLVM inlines ``_actuate``).
     """
     n = POS.shape[0]
     dt = C[DT]
@@ -712,7 +713,7 @@ def _determine(i, C, qe, ec, det):
     return (nees_last, nees_sum, nees_n, n_det, n_box)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n):
     """PID law, Schmitt trigger or allocation, and pulse widths at command instant ``k``;
     returns the Schmitt outputs and PID integrals ``ctl`` and (firings, on-time) ``fire``.
