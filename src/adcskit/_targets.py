@@ -82,7 +82,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from adcskit.errors import InputError, SolverError
+from adcskit.errors import InputError, InputTypeError, SolverError
 
 __all__ = [
     "TARGET_BACKENDS",
@@ -289,9 +289,11 @@ class PerSample:
             raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
         if error_model not in ("python", "numpy"):
             raise InputError(f"error_model must be 'python' or 'numpy'; got {error_model!r}")
+        if not isinstance(nrt, bool):
+            raise InputTypeError(f"nrt must be True or False; got {nrt!r}")
         self.py = fn
         self.cpu = numba.njit(cache=cache, nogil=True, inline=inline, error_model=error_model,
-                              _nrt=bool(nrt))(fn)
+                              _nrt=nrt)(fn)
         self.device_names = dict(device_names or {})
         unknown = sorted(set(self.device_names) - set(fn.__code__.co_names))
         if unknown:
