@@ -936,7 +936,7 @@ CUDA_EST_MODES = (EST_TRUTH, EST_MEKF)
 #: :func:`run_parallel` (as before the declaration: same code, same numbers). The CUDA
 #: compilation rebinds the CPU-only dispatchers to the device sources they were built from.
 SAMPLE = PerSample(
-    sample_loop, inline="never", error_model="numpy",
+    sample_loop, inline="never", error_model="numpy", nrt=False,
     device_names={
         "_sense_estimate": register_jitable(rebound(_sense_estimate, {
             "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
