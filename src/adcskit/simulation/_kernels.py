@@ -944,6 +944,9 @@ SAMPLE = PerSample(
             "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec})),
         "_determine": register_jitable(rebound(_determine, {
             "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable})),
+        # a call, not numba IR inlining, on the device: numba-cuda does not type the inlined
+        # copy ("mul(omitted, omitted)"); NVVM inlines it itself
+        "_control": register_jitable(rebound(_control, {})),
     },
 )
 sample_loop_jit = SAMPLE.cpu
