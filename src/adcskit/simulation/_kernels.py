@@ -933,8 +933,11 @@ CUDA_EST_MODES = (EST_TRUTH, EST_MEKF)
 
 #: The per-sample function, declared through :mod:`adcskit._targets` (one source for the CPU
 #: and the GPU driver). ``inline="never"``: the loop stays one compiled function called by
-#: :func:`run_parallel` (as before the declaration: same code, same numbers). The CUDA
-#: compilation rebinds the CPU-only dispatchers to the device sources they were built from.
+#: :func:`run_parallel` (as before the declaration: same code, same numbers). ``nrt=False``:
+#: no reference counting in the loop and its step functions (nothing there allocates; numba
+#: otherwise increments and decrements the count of every array a step function receives, at
+#: each call). The CUDA compilation rebinds the CPU-only dispatchers to the device sources they
+#: were built from.
 SAMPLE = PerSample(
     sample_loop, inline="never", error_model="numpy", nrt=False,
     device_names={
