@@ -82,7 +82,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from adcskit.errors import InputError, SolverError
+from adcskit.errors import InputError, InputTypeError, SolverError
 
 __all__ = [
     "TARGET_BACKENDS",
@@ -90,6 +90,7 @@ __all__ = [
     "PerSample",
     "LazyKernels",
     "device",
+    "rebound",
     "import_cuda",
     "cuda_status",
     "cuda_usable",
@@ -247,6 +248,12 @@ class PerSample:
         numba's ``error_model`` of the CPU compilation: ``"numpy"`` drops the zero-divisor
         check (and its exception branch) of every division; a kernel that never divides by
         zero computes the same numbers either way (the CUDA target never checks).
+    nrt : bool
+        numba's reference-counting runtime in the CPU compilation (numba's ``_nrt`` option,
+        inherited by the ``register_jitable`` / :func:`device` helpers that it compiles).
+        ``False`` drops the reference-count updates (an atomic add, a call each) at every
+        array view and at the entry and exit of every helper that receives arrays; only for
+        a function that allocates nothing (numba then refuses to compile an allocation).
     device_names : dict of str to callable, optional
         Module globals of ``fn`` rebound for the CUDA compilation only: a name that the CPU
         compilation resolves to a CPU-only ``numba.njit`` dispatcher (compiled once and
@@ -276,13 +283,17 @@ class PerSample:
     """
 
     def __init__(self, fn: Callable[..., Any], *, cache: bool = True, inline: str = "always",
-                 error_model: str = "python", device_names: dict[str, Any] | None = None) -> None:
+                 error_model: str = "python", nrt: bool = True,
+                 device_names: dict[str, Any] | None = None) -> None:
         if inline not in ("always", "never"):
             raise InputError(f"inline must be 'always' or 'never'; got {inline!r}")
         if error_model not in ("python", "numpy"):
             raise InputError(f"error_model must be 'python' or 'numpy'; got {error_model!r}")
+        if not isinstance(nrt, bool):
+            raise InputTypeError(f"nrt must be True or False; got {nrt!r}")
         self.py = fn
-        self.cpu = numba.njit(cache=cache, nogil=True, inline=inline, error_model=error_model)(fn)
+        self.cpu = numba.njit(cache=cache, nogil=True, inline=inline, error_model=error_model,
+                              _nrt=nrt)(fn)
         self.device_names = dict(device_names or {})
         unknown = sorted(set(self.device_names) - set(fn.__code__.co_names))
         if unknown:
@@ -293,15 +304,9 @@ class PerSample:
     def device_source(self) -> Callable[..., Any]:
         """The plain function that the CUDA target compiles: ``fn`` itself, or ``fn``'s code
         with :attr:`device_names` rebound in a copy of its module globals."""
-        fn = self.py
         if not self.device_names:
-            return fn
-        g = dict(fn.__globals__)
-        g.update(self.device_names)
-        dev = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
-        dev.__qualname__ = fn.__qualname__
-        dev.__doc__ = fn.__doc__
-        return dev
+            return self.py
+        return rebound(self.py, self.device_names)
 
     def cuda(self) -> Any:
         """The ``numba.cuda.jit(device=True)`` compilation (imports numba.cuda)."""
@@ -336,6 +341,42 @@ def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *,
         kernel[(hi - lo + threads - 1) // threads, threads](*(dev[a] for a in names))
         for a in outputs:
             args[a][lo:hi] = dev[a].copy_to_host()
+
+
+def rebound(fn: Callable[..., Any], names: dict[str, Any]) -> Callable[..., Any]:
+    """A copy of ``fn`` whose module globals ``names`` are rebound (``fn`` is unchanged).
+
+    How a per-sample function or a step function it calls gets its CUDA build
+    (:attr:`PerSample.device_names`): the same code object, with the names that the CPU
+    build resolves to CPU-only dispatchers bound to device-compilable functions.
+
+    Parameters
+    ----------
+    fn : callable
+        A plain Python function.
+    names : dict of str to object
+        Global names of ``fn`` and what they are bound to in the copy.
+
+    Returns
+    -------
+    callable
+        The copy (same code, name, qualified name and docstring).
+
+    Examples
+    --------
+    >>> def twice(x):
+    ...     return scale * x
+    >>> scale = 2.0
+    >>> thrice = rebound(twice, {"scale": 3.0})
+    >>> twice(1.0), thrice(1.0)
+    (2.0, 3.0)
+    """
+    g = dict(fn.__globals__)
+    g.update(names)
+    dev = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
+    dev.__qualname__ = fn.__qualname__
+    dev.__doc__ = fn.__doc__
+    return dev
 
 
 def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> Any:

@@ -235,7 +235,7 @@ def test_qerr_and_compose_rotvec_keep_their_bits():
 
 def _former_kernel_pieces(q0, q1, q2, q3, w0, w1, w2, r0, r1, r2, r3):
     # the kernels' own copies before they called the shared helpers (main bc6d017, verbatim):
-    # simulation._kernels._rhs's kinematics (= _wheel_kernels.rhs's), rk4_step's
+    # simulation._kernels._rhs's kinematics (= _wheel_kernels.rhs's, now written out in rk4), rk4_step's
     # renormalisation (= _wheel_kernels.rk4's), _wheel_kernels.qdiff, _kernels._outside's
     # squared vector part and squared scalar part of q (x) r^-1
     dq = (0.5 * (q3 * w0 - (w1 * q2 - w2 * q1)),

@@ -6,6 +6,7 @@ once per process (numba disk cache).
 
 from __future__ import annotations
 
+import inspect
 import math
 
 import numpy as np
@@ -175,6 +176,32 @@ def test_per_sample_error_model_option():
     assert out[0] == 1.5
     with pytest.raises(InputError, match="error_model"):
         PerSample(half, cache=False, error_model="fast")
+
+
+def test_per_sample_nrt_option():
+    import numba
+
+    # nrt=False: compiled without reference counting, same numbers; an allocation is refused
+    def half(i, x, out):
+        v = x[i:]  # a view: reference-counted with nrt=True
+        out[i] = v[0] / 2.0
+
+    def allocates(i, x, out):
+        out[i] = np.zeros(2)[0] + x[i]
+
+    out = np.zeros(1)
+    PerSample(half, cache=False, nrt=False).cpu(0, np.array([3.0]), out)
+    assert out[0] == 1.5
+    with pytest.raises(numba.core.errors.TypingError):  # np.zeros has no implementation
+        PerSample(allocates, cache=False, nrt=False).cpu(0, np.array([3.0]), out)
+    with pytest.raises(InputTypeError, match="nrt"):
+        PerSample(half, cache=False, nrt="no")
+
+
+def test_sample_loop_is_split_into_step_functions():
+    # issue 20 "done when": the closed-loop per-sample function is no longer than 150 lines
+    lines, _ = inspect.getsourcelines(_k.sample_loop)
+    assert len(lines) <= 150
 
 
 # ------------------------------------------------------------------------- simulate

@@ -140,7 +140,9 @@ def box_sphere_max(K, lb, ub, qbest):
     return best
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+# ``_nrt=True`` explicitly: the closed-loop kernel that calls this is compiled without numba's
+# reference counting, which a callee inherits unless it sets its own (this one allocates)
+@njit(cache=True, nogil=True, error_model="numpy", _nrt=True)
 def minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp, qt, lb, ub, qb):
     """S0's min-max interval solution of problem ``i`` (compiled; no Python objects).
 

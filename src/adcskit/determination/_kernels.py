@@ -783,7 +783,9 @@ def _solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all
     return status
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+# ``_nrt=True`` explicitly: its callers in the closed-loop kernel (compiled without reference
+# counting) pass it on unless a callee sets its own, and the solvers allocate
+@njit(cache=True, nogil=True, error_model="numpy", _nrt=True)
 def solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all, b, r, q, B, F, K, A, Bk, qp):
     """:func:`_solve_one` compiled once as its own function (not inlined into the caller).
 

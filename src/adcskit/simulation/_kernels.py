@@ -44,7 +44,7 @@ import math
 from numba import njit, prange, uint64
 from numba.extending import register_jitable
 
-from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked
+from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked, rebound
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -65,10 +65,12 @@ gyro_step = _mk.gyro_step_jit
 _compose_rotvec = njit(cache=True, nogil=True)(compose_rotvec)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", _nrt=True)
 def wahba_one(VB, VR, WW, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp):
     """Wahba solve of sample ``i``'s two observations (a non-inlined wrapper of the
-    determination kernel's per-problem solver, itself compiled once); returns its status code."""
+    determination kernel's per-problem solver, itself compiled once); returns its status
+    code. Compiled with numba's reference counting (``_nrt=True``, which the solvers'
+    allocations need) although the loop that calls it is compiled without (``SAMPLE``)."""
     return solve_one(VB, VR, WW, i, i, method, WQ, WO, WC, b, r, q, B, F, K, A, Bk, qp)
 
 # ----------------------------------------------------------------- shared coefficients C
@@ -424,71 +426,144 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
 
     See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
-    this lane's own memory.
+    this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
+    :func:`_sense_estimate` (at gyro epochs; :func:`_determine` after it for the Wahba and
+    min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
+    environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
+    cost 14-20 % CPU: docs/design-notes.md, "Kernels"); the scalar state travels as tuples,
+    the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` and
+    ``_control`` are inlined by numba (``inline="always"``: as calls they cost 6-8 % CPU on the
+    full chain, 3-5 % on the truth path), the others are calls (LLVM inlines ``_actuate``).
     """
     n = POS.shape[0]
     dt = C[DT]
     n_steps = int(C[N_STEPS])
     h_ctrl = int(C[H_CTRL])
     h_gyro = int(C[H_GYRO])
-    h_sun = int(C[H_SUN])
-    h_mag = int(C[H_MAG])
-    h_st = int(C[H_ST])
-    a11 = C[A11]
-    b1 = C[B1]
-    a21 = C[A21]
-    a22 = C[A22]
-    b2 = C[B2]
-    v1 = C[V1]
-    v2 = C[V2]
-    vu = C[VU]
-    n2orb = C[N2ORB]
-    d_omega = C[D_OMEGA]
-    sig_sun = C[SIG_SUN]
-    sig_mag = C[SIG_MAG]
-    sig_st = C[SIG_ST]
-    uni = C[NOISE_UNIFORM] > 0.0
-    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
-    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
-    sig_v = C[SIG_V]
-    sig_u = C[SIG_U]
-    uw = C[UNDERWEIGHT]
     est_mode = int(C[EST_MODE])
-    wmethod = int(C[WAHBA_METHOD])
-    ctrl_mode = int(C[CTRL_MODE])
-    u_on = C[U_ON]
-    u_off = C[U_OFF]
-    t_s = C[T_S]
-    t_min = C[T_MIN]
-    pround = C[PULSE_ROUND] > 0.0
     k_win = int(C[K_WIN])
     band = C[SETTLE_BAND]
     rec_every = int(C[REC_EVERY])
-    k_nees = int(C[K_NEES])
     bmask = int(C[BUF_MASK])
-    eps = C[RPI_EPS]
-    alloc_mode = int(C[ALLOC_MODE])
-    search_range = C[SEARCH_RANGE]
-    dt_g = h_gyro * dt
     record = REC.shape[0] > 0
+    lag = (C[A11], C[B1], C[A21], C[A22], C[B2], C[V1], C[V2], C[VU])
     J = P[i, P_J:P_J + 9]
     Ji = P[i, P_JI:P_JI + 9]
     buf = BUF[i]
     ts = TS[i]
-    x1o = 0
     x2o = n
-    tpo = 2 * n
-    tppo = 3 * n
-    fo = 4 * n
-    freeo = 5 * n
-    armo = 6 * n
     so = 9 * n
-    F = ts[fo:fo + n]
-    free = ts[freeo:freeo + n]
-    Ssc = ts[so:so + 9]
-    rsc = ts[so + 9:so + 12]
-    ysc = ts[so + 12:so + 15]
-    isc = ts[so + 15:so + 18]
+    scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
+           ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
+    qe = QE[i]
+    # this lane's views, made once per sample and passed grouped: estimator state and gyro
+    # scratch, vector observations; the determination solvers' arrays (Wahba / min-max only)
+    est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
+    obs = (VB[i], VR[i], WW[i])
+    det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
+           RS[i])
+    thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
+    _init(i, P, DIRS, POS, buf, ts, est, TOT, n)
+    dist = (P[i, P_D0], P[i, P_D0 + 1], P[i, P_D0 + 2], P[i, P_DAMP], P[i, P_DAMP + 1],
+            P[i, P_DAMP + 2], P[i, P_DPH], P[i, P_DPH + 1], P[i, P_DPH + 2])
+    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_lo = tb2 * (1.0 - 1e-6)
+    tb_hi = tb2 * (1.0 + 1e-6)
+    n2orb = C[N2ORB]
+    d_omega = C[D_OMEGA]
+    q = (P[i, P_Q0], P[i, P_Q0 + 1], P[i, P_Q0 + 2], P[i, P_Q0 + 3])
+    w = (P[i, P_W0], P[i, P_W0 + 1], P[i, P_W0 + 2])
+    delay_steps = P[i, P_DELAY] / dt
+    nd = int(math.floor(delay_steps))
+    dfrac = delay_steps - nd
+    s = SEEDS[i]
+    we = (0.0, 0.0, 0.0)  # estimated rate
+    ws = (0.0, 0.0, 0.0)  # integrated true rate since the last gyro epoch
+    ctl = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # Schmitt outputs, PID integrals
+    fire = (0.0, 0.0)  # firings, on-time
+    kc = 0
+    prop = 0.0
+    kacc2 = 0.0
+    nkw = 0
+    ec = (math.nan, 0.0, 0, 0, 0)  # last NEES, NEES sum and count, determinations, box active
+    qf = (QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2], QREF[n_steps, 3])
+    e = qerr(q[0], q[1], q[2], q[3], QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+    errf = qerr(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3])[3]
+    mt = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0)  # acc, acc2, ax2, ay2, az2, emax, nwin
+    last_out = 0 if errf > band else -1
+    wmax2 = 0.0
+    if record:
+        _record(REC, i, 0, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3], w[0], w[1], w[2],
+                math.nan, 0.0, ts, x2o, n)
+    k_gyro = 0  # next gyro epoch
+    k_ctrl = 0  # next command instant
+    for k in range(n_steps + 1):
+        if est_mode == EST_TRUTH:
+            qe[0] = q[0]
+            qe[1] = q[1]
+            qe[2] = q[2]
+            qe[3] = q[3]
+            we = w
+        elif k == k_gyro:
+            k_gyro += h_gyro
+            s, we, ec, nobs = _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs)
+            if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
+                ec = _determine(i, C, qe, ec, det)
+            ws = (0.0, 0.0, 0.0)
+        if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
+            kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
+            kacc2 += kerr * kerr
+            nkw += 1
+        if k == n_steps:
+            break
+        if k == k_ctrl:
+            k_ctrl += h_ctrl
+            kc = k
+            ctl, fire = _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n)
+        t0, t1, t2, prop = _actuate(i, k, k - kc, nd, dfrac, ts, buf, bmask, FAILED, FLEV, MDOT,
+                                    lag, dt, prop, n)
+        # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
+        tk = k * dt
+        t0 += dist[0] + dist[3] * math.sin(d_omega * tk + dist[6]) if dist[3] != 0.0 else dist[0]
+        t1 += dist[1] + dist[4] * math.sin(d_omega * tk + dist[7]) if dist[4] != 0.0 else dist[1]
+        t2 += dist[2] + dist[5] * math.sin(d_omega * tk + dist[8]) if dist[5] != 0.0 else dist[2]
+        if n2orb > 0.0:
+            c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
+            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
+            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
+            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+            t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+            t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+            t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q[0], q[1], q[2], q[3], w[0], w[1], w[2], J, Ji,
+                                                 t0, t1, t2, dt)
+        q = (q0, q1, q2, q3)
+        # mean rate over the step (trapezoid) for the rate-integrating gyro
+        ws = (ws[0] + 0.5 * (w[0] + w0n), ws[1] + 0.5 * (w[1] + w1n), ws[2] + 0.5 * (w[2] + w2n))
+        w = (w0n, w1n, w2n)
+        kk = k + 1
+        rec_now = record and kk % rec_every == 0
+        if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
+            e = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
+        if _outside(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3], band, tb_lo, tb_hi):
+            last_out = kk
+        wn2 = w0n * w0n + w1n * w1n + w2n * w2n  # max |w| = sqrt(max |w|^2): one sqrt
+        if wn2 > wmax2:
+            wmax2 = wn2
+        if kk >= k_win:
+            mt = _window(mt, e)
+        if rec_now:
+            _record(REC, i, kk // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3],
+                    w[0], w[1], w[2], ec[0], prop, ts, x2o, n)
+    _finish(OUT, i, mt, last_out, wmax2, e[3], kacc2, nkw, prop, fire, ec, n_steps, dt)
+
+
+@register_jitable
+def _init(i, P, DIRS, POS, buf, ts, est, TOT, n):
+    """Clear sample ``i``'s scratch, set its torque arms and its estimator's initial state."""
+    qe, be, Pe, _, gy, bias, _ = est
+    armo = 6 * n
     for j in range(N_TS_PER_THR * n + N_TS_EXTRA):
         ts[j] = 0.0
     for j in range(n):  # torque arm r x d of each (dispersed) thruster, N m per N
@@ -501,41 +576,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         ts[armo + 3 * j] = r1 * d2 - r2 * d1
         ts[armo + 3 * j + 1] = r2 * d0 - r0 * d2
         ts[armo + 3 * j + 2] = r0 * d1 - r1 * d0
-    dc0 = P[i, P_D0]
-    dc1 = P[i, P_D0 + 1]
-    dc2 = P[i, P_D0 + 2]
-    da0 = P[i, P_DAMP]
-    da1 = P[i, P_DAMP + 1]
-    da2 = P[i, P_DAMP + 2]
-    dp0 = P[i, P_DPH]
-    dp1 = P[i, P_DPH + 1]
-    dp2 = P[i, P_DPH + 2]
-    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_hi = tb2 * (1.0 + 1e-6)
-    tb_lo = tb2 * (1.0 - 1e-6)
     for a in range(buf.shape[0]):
         for j in range(n):
             buf[a, j] = 0.0
-    # plant state
-    q0 = P[i, P_Q0]
-    q1 = P[i, P_Q0 + 1]
-    q2 = P[i, P_Q0 + 2]
-    q3 = P[i, P_Q0 + 3]
-    w0 = P[i, P_W0]
-    w1 = P[i, P_W0 + 1]
-    w2 = P[i, P_W0 + 2]
-    delay_steps = P[i, P_DELAY] / dt
-    nd = int(math.floor(delay_steps))
-    dfrac = delay_steps - nd
-    s = SEEDS[i]
-    # estimator state
-    qe = QE[i]
-    be = BE[i]
-    Pe = PE[i]
-    wk = WK[i]
-    gy = GY[i]
-    bias = BIAS[i]
     for a in range(4):
         qe[a] = P[i, P_QE0 + a]
     for a in range(3):
@@ -552,315 +595,254 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     for a in range(3):
         Pe[a, a] = sa2
         Pe[3 + a, 3 + a] = sb2
-    we0 = 0.0
-    we1 = 0.0
-    we2 = 0.0
-    ws0 = 0.0
-    ws1 = 0.0
-    ws2 = 0.0
-    # controller state
-    sx = 0.0
-    sy = 0.0
-    sz = 0.0
-    ix = 0.0
-    iy = 0.0
-    iz = 0.0
-    kc = 0
-    # metrics
-    acc = 0.0
-    acc2 = 0.0
-    ax2 = 0.0
-    ay2 = 0.0
-    az2 = 0.0
-    emax = 0.0
-    kacc2 = 0.0
-    nkw = 0
-    nwin = 0
-    last_out = -1
-    prop = 0.0
-    firings = 0.0
-    ontime = 0.0
-    nees_sum = 0.0
-    nees_n = 0
-    nees_last = math.nan
-    wmax2 = 0.0
-    n_det = 0
-    n_box = 0
-    qf0 = QREF[n_steps, 0]
-    qf1 = QREF[n_steps, 1]
-    qf2 = QREF[n_steps, 2]
-    qf3 = QREF[n_steps, 3]
-    ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
-    _, _, _, errf = qerr(q0, q1, q2, q3, qf0, qf1, qf2, qf3)
-    if errf > band:
-        last_out = 0
     for j in range(n):
         TOT[i, j] = 0.0
-    if record:
-        _record(REC, i, 0, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2, math.nan, 0.0, ts,
-                x2o, n)
-    k_gyro = 0  # next gyro epoch
-    k_ctrl = 0  # next command instant
-    for k in range(n_steps + 1):
-        lit = ENV[k, 9] > 0.5
-        # ---------------------------------------------------------------- sensors + estimation
-        if est_mode == EST_TRUTH:
-            qe[0] = q0
-            qe[1] = q1
-            qe[2] = q2
-            qe[3] = q3
-            we0 = w0
-            we1 = w1
-            we2 = w2
-        elif k == k_gyro:
-            k_gyro += h_gyro
-            # gyro reading at t_k: Farrenkopf model on the mean true rate over the last
-            # interval (a rate-integrating gyro's delta-angle / dt); the attitude is then
-            # propagated over that interval with it
-            if k > 0:
-                gy[3] = ws0 / h_gyro
-                gy[4] = ws1 / h_gyro
-                gy[5] = ws2 / h_gyro
-            else:
-                gy[3] = w0
-                gy[4] = w1
-                gy[5] = w2
-            ws0 = 0.0
-            ws1 = 0.0
-            ws2 = 0.0
-            s, z0 = _normal(s)
-            s, z1 = _normal(s)
-            s, z2 = _normal(s)
-            gy[6] = z0
-            gy[7] = z1
-            gy[8] = z2
-            s, z0 = _normal(s)
-            s, z1 = _normal(s)
-            s, z2 = _normal(s)
-            gy[9] = z0
-            gy[10] = z1
-            gy[11] = z2
-            gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
-            if k > 0:
-                if est_mode == EST_MEKF:
-                    mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
-                else:
-                    _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
-            # vector sensors at this epoch
-            nobs = 0
-            if h_sun > 0 and k % h_sun == 0 and lit:
-                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 3], ENV[k, 4], ENV[k, 5])
-                s, n0 = _noise(s, uni)
-                s, n1 = _noise(s, uni)
-                s, n2 = _noise(s, uni)
-                VB[i, nobs, 0] = b0 + sig_sun * n0
-                VB[i, nobs, 1] = b1_ + sig_sun * n1
-                VB[i, nobs, 2] = b2_ + sig_sun * n2
-                VR[i, nobs, 0] = ENV[k, 3]
-                VR[i, nobs, 1] = ENV[k, 4]
-                VR[i, nobs, 2] = ENV[k, 5]
-                WW[i, nobs] = C[W_SUN]
-                nobs += 1
-                if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, 0], VR[i, 0], sig_sun * fil, uw, wk)
-            if h_mag > 0 and k % h_mag == 0:
-                b0, b1_, b2_ = rotate(q0, q1, q2, q3, ENV[k, 6], ENV[k, 7], ENV[k, 8])
-                s, n0 = _noise(s, uni)
-                s, n1 = _noise(s, uni)
-                s, n2 = _noise(s, uni)
-                VB[i, nobs, 0] = b0 + sig_mag * n0
-                VB[i, nobs, 1] = b1_ + sig_mag * n1
-                VB[i, nobs, 2] = b2_ + sig_mag * n2
-                VR[i, nobs, 0] = ENV[k, 6]
-                VR[i, nobs, 1] = ENV[k, 7]
-                VR[i, nobs, 2] = ENV[k, 8]
-                WW[i, nobs] = C[W_MAG]
-                if est_mode == EST_MEKF:
-                    mekf_update_vector(qe, be, Pe, VB[i, nobs], VR[i, nobs], sig_mag * fil, uw, wk)
-                nobs += 1
-            if h_st > 0 and k % h_st == 0:
-                s, n0 = _normal(s)
-                s, n1 = _normal(s)
-                s, n2 = _normal(s)
-                for a in range(4):
-                    SQ[i, a] = 0.0
-                SQ[i, 0] = q0
-                SQ[i, 1] = q1
-                SQ[i, 2] = q2
-                SQ[i, 3] = q3
-                _compose_rotvec(SQ[i], sig_st * n0, sig_st * n1, sig_st * n2)
-                if est_mode == EST_MEKF:
-                    mekf_update_quaternion(qe, be, Pe, SQ[i], sig_st, wk)
-                else:
-                    for a in range(4):
-                        qe[a] = SQ[i, a]
-            if est_mode == EST_WAHBA and nobs == 2:
-                st = wahba_one(VB, VR, WW, i, wmethod, WQ, WO, WC, SB[i], SR[i], SQP[i, 0:4],
-                               SBB[i], SFF[i], SKK[i], SAA[i], SBK[i], SQP[i, 4:8])
-                if st == 0:
-                    for a in range(4):
-                        qe[a] = WQ[i, a]
-            elif est_mode == EST_MINMAX and nobs == 2:
-                st, active = minmax_one(VB, VR, WW, i, search_range, WQ, WO, WC, SB[i], SR[i],
-                                        SQP[i, 0:4], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
-                                        SQP[i, 4:8], RS[i, 0:4], RS[i, 4:8], RS[i, 8:12],
-                                        RS[i, 12:16])
-                n_det += 1
-                if active:
-                    n_box += 1
-                if st == 0:
-                    for a in range(4):
-                        qe[a] = WQ[i, a]
+
+
+@register_jitable(inline="always")
+def _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs):
+    """Sensors and estimation at gyro epoch ``k``: the gyro, the attitude propagation, the
+    vector sensors and star tracker, the estimator's update; returns the noise state, the
+    estimated rate, ``ec`` (last NEES, NEES sum and count, determinations, box active) and the
+    number of vector observations made (:func:`_determine` then solves Wahba's problem).
+    ``est`` and ``obs``: the lane's views made once per sample by :func:`sample_loop`."""
+    qe, be, Pe, wk, gy, bias, sq = est
+    vb, vr, ww = obs
+    q0, q1, q2, q3 = q
+    nees_last, nees_sum, nees_n, n_det, n_box = ec
+    est_mode = int(C[EST_MODE])
+    h_gyro = int(C[H_GYRO])
+    h_sun = int(C[H_SUN])
+    h_mag = int(C[H_MAG])
+    h_st = int(C[H_ST])
+    uni = C[NOISE_UNIFORM] > 0.0
+    # the filter's noise sigma: the std of a uniform [-a, a] error is a / sqrt(3)
+    fil = 1.0 / math.sqrt(3.0) if uni else 1.0
+    sig_v = C[SIG_V]
+    sig_u = C[SIG_U]
+    uw = C[UNDERWEIGHT]
+    dt_g = h_gyro * C[DT]
+    # gyro reading at t_k: Farrenkopf model on the mean true rate over the last interval (a
+    # rate-integrating gyro's delta-angle / dt); the attitude is then propagated over that
+    # interval with it
+    if k > 0:
+        gy[3] = ws[0] / h_gyro
+        gy[4] = ws[1] / h_gyro
+        gy[5] = ws[2] / h_gyro
+    else:
+        gy[3] = w[0]
+        gy[4] = w[1]
+        gy[5] = w[2]
+    for a in range(6):
+        s, z = _normal(s)
+        gy[6 + a] = z
+    gyro_step(gy[3:6], bias, sig_v, sig_u, dt_g, gy[6:9], gy[9:12], gy[0:3])
+    if k > 0:
+        if est_mode == EST_MEKF:
+            mekf_propagate(qe, be, Pe, gy[0:3], dt_g, sig_v, sig_u, wk)
+        else:
+            _compose_rotvec(qe, gy[0] * dt_g, gy[1] * dt_g, gy[2] * dt_g)
+    # vector sensors at this epoch
+    nobs = 0
+    for kind in range(2):
+        h = h_sun if kind == 0 else h_mag
+        if h > 0 and k % h == 0 and (kind == 1 or ENV[k, 9] > 0.5):
+            o = 3 + 3 * kind
+            sig = C[SIG_SUN] if kind == 0 else C[SIG_MAG]
+            b0, b1, b2 = rotate(q0, q1, q2, q3, ENV[k, o], ENV[k, o + 1], ENV[k, o + 2])
+            s, n0 = _noise(s, uni)
+            s, n1 = _noise(s, uni)
+            s, n2 = _noise(s, uni)
+            vb[nobs, 0] = b0 + sig * n0
+            vb[nobs, 1] = b1 + sig * n1
+            vb[nobs, 2] = b2 + sig * n2
+            vr[nobs, 0] = ENV[k, o]
+            vr[nobs, 1] = ENV[k, o + 1]
+            vr[nobs, 2] = ENV[k, o + 2]
+            ww[nobs] = C[W_SUN] if kind == 0 else C[W_MAG]
             if est_mode == EST_MEKF:
-                we0 = gy[0] - be[0]
-                we1 = gy[1] - be[1]
-                we2 = gy[2] - be[2]
-                if k >= k_nees:
-                    nees_last = mekf_nees(qe, be, Pe, _tmp4(SQ[i], q0, q1, q2, q3), bias, wk)
-                    if nees_last == nees_last:
-                        nees_sum += nees_last
-                        nees_n += 1
-            else:
-                we0 = gy[0]
-                we1 = gy[1]
-                we2 = gy[2]
-        if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
-            _, _, _, kerr = qerr(qe[0], qe[1], qe[2], qe[3], q0, q1, q2, q3)
-            kacc2 += kerr * kerr
-            nkw += 1
-        if k == n_steps:
-            break
-        # ---------------------------------------------------------------- control
-        if k == k_ctrl:
-            k_ctrl += h_ctrl
-            kc = k
-            cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
-                                  QREF[k, 3])
-            exk = -cx
-            eyk = -cy
-            ezk = -cz
-            dx = WREF[k, 0] - we0
-            dy = WREF[k, 1] - we1
-            dz = WREF[k, 2] - we2
-            ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
-            uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
-            uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
-            ix += exk * t_s
-            iy += eyk * t_s
-            iz += ezk * t_s
-            if ctrl_mode == CTRL_SCHMITT:
-                sx = schmitt(sx, ux, u_on, u_off)
-                sy = schmitt(sy, uy, u_on, u_off)
-                sz = schmitt(sz, uz, u_on, u_off)
-                row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
-                for j in range(n):
-                    F[j] = ATAB[row, j]
-            elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
-                row = k // h_ctrl
-                for j in range(n):
-                    F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
-            elif alloc_mode == ALLOC_BVLS:
-                bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                              Ssc, rsc, ysc, isc, eps)
-            else:
-                rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
-                             Ssc, rsc, ysc, eps)
-            for j in range(n):
-                tp = F[j] / FNOM[j] * t_s
-                if tp > t_s:
-                    tp = t_s
-                if tp < t_min:
-                    if pround and tp >= 0.5 * t_min:
-                        tp = t_min
-                    else:
-                        tp = 0.0
-                if AMASK[j] <= 0.0:
-                    tp = 0.0
-                # a new pulse unless the previous one ran to the end of its period
-                if tp > 0.0 and ts[tppo + j] < t_s:
-                    firings += 1.0
-                ts[tppo + j] = tp
-                ts[tpo + j] = tp / dt  # the pulse in steps (read at every step below)
-                TOT[i, j] += tp
-                ontime += tp
-        # ---------------------------------------------------------------- thrusters
-        m = k - kc
-        t0 = 0.0
-        t1 = 0.0
-        t2 = 0.0
+                mekf_update_vector(qe, be, Pe, vb[nobs], vr[nobs], sig * fil, uw, wk)
+            nobs += 1
+    if h_st > 0 and k % h_st == 0:
+        s, n0 = _normal(s)
+        s, n1 = _normal(s)
+        s, n2 = _normal(s)
+        sq[0] = q0
+        sq[1] = q1
+        sq[2] = q2
+        sq[3] = q3
+        sig_st = C[SIG_ST]
+        _compose_rotvec(sq, sig_st * n0, sig_st * n1, sig_st * n2)
+        if est_mode == EST_MEKF:
+            mekf_update_quaternion(qe, be, Pe, sq, sig_st, wk)
+        else:
+            for a in range(4):
+                qe[a] = sq[a]
+    if est_mode == EST_MEKF:
+        we = (gy[0] - be[0], gy[1] - be[1], gy[2] - be[2])
+        if k >= int(C[K_NEES]):
+            nees_last = mekf_nees(qe, be, Pe, _tmp4(sq, q0, q1, q2, q3), bias, wk)
+            if nees_last == nees_last:
+                nees_sum += nees_last
+                nees_n += 1
+    else:
+        we = (gy[0], gy[1], gy[2])
+    return s, we, (nees_last, nees_sum, nees_n, n_det, n_box), nobs
+
+
+@register_jitable
+def _determine(i, C, qe, ec, det):
+    """Wahba (or min-max) solve of the epoch's two vector observations of sample ``i`` into the
+    attitude estimate ``qe`` (on success); returns ``ec`` with the determination counters."""
+    VB, VR, WW, WQ, WO, WC, sb, sr, sqp, sbb, sff, skk, saa, sbk, rs = det
+    nees_last, nees_sum, nees_n, n_det, n_box = ec
+    st = -1
+    if int(C[EST_MODE]) == EST_WAHBA:
+        st = wahba_one(VB, VR, WW, i, int(C[WAHBA_METHOD]), WQ, WO, WC, sb, sr, sqp[0:4], sbb,
+                       sff, skk, saa, sbk, sqp[4:8])
+    else:
+        st, active = minmax_one(VB, VR, WW, i, C[SEARCH_RANGE], WQ, WO, WC, sb, sr, sqp[0:4],
+                                sbb, sff, skk, saa, sbk, sqp[4:8], rs[0:4], rs[4:8], rs[8:12],
+                                rs[12:16])
+        n_det += 1
+        if active:
+            n_box += 1
+    if st == 0:
+        for a in range(4):
+            qe[a] = WQ[i, a]
+    return (nees_last, nees_sum, nees_n, n_det, n_box)
+
+
+@register_jitable(inline="always")
+def _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n):
+    """PID law, Schmitt trigger or allocation, and pulse widths at command instant ``k``;
+    returns the Schmitt outputs and PID integrals ``ctl`` and (firings, on-time) ``fire``.
+    ``thr``: the reference and thruster tables, ``scr``: the allocation's scratch views."""
+    QREF, WREF, ATAB, ANOM, FNOM, AMASK = thr
+    F, free, Ssc, rsc, ysc, isc = scr
+    sx, sy, sz, ix, iy, iz = ctl
+    firings, ontime = fire
+    h_ctrl = int(C[H_CTRL])
+    t_s = C[T_S]
+    t_min = C[T_MIN]
+    tppo = 3 * n
+    tpo = 2 * n
+    cx, cy, cz, _ = qerr(qe[0], qe[1], qe[2], qe[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+                         QREF[k, 3])
+    exk = -cx
+    eyk = -cy
+    ezk = -cz
+    dx = WREF[k, 0] - we[0]
+    dy = WREF[k, 1] - we[1]
+    dz = WREF[k, 2] - we[2]
+    ux = C[KP0] * exk + C[KI0] * ix + C[KD0] * dx
+    uy = C[KP1] * eyk + C[KI1] * iy + C[KD1] * dy
+    uz = C[KP2] * ezk + C[KI2] * iz + C[KD2] * dz
+    ix += exk * t_s
+    iy += eyk * t_s
+    iz += ezk * t_s
+    ctrl_mode = int(C[CTRL_MODE])
+    if ctrl_mode == CTRL_SCHMITT:
+        sx = schmitt(sx, ux, C[U_ON], C[U_OFF])
+        sy = schmitt(sy, uy, C[U_ON], C[U_OFF])
+        sz = schmitt(sz, uz, C[U_ON], C[U_OFF])
+        row = int((sx + 1.0) * 9.0 + (sy + 1.0) * 3.0 + (sz + 1.0))
         for j in range(n):
-            c = ts[tpo + j] - m
-            if c > 1.0:
-                c = 1.0
-            elif c < 0.0:
-                c = 0.0
-            if FAILED[j] > 0.0:
-                c = 0.0
-            buf[k & bmask, j] = c
-            if k - nd >= 0:
-                ua = buf[(k - nd) & bmask, j]
+            F[j] = ATAB[row, j]
+    elif ctrl_mode == CTRL_OPEN:  # open loop: ATAB holds the on-times per period
+        row = k // h_ctrl
+        for j in range(n):
+            F[j] = ATAB[row, j] / t_s * FNOM[j] if row < ATAB.shape[0] else 0.0
+    elif int(C[ALLOC_MODE]) == ALLOC_BVLS:
+        bvls_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                      Ssc, rsc, ysc, isc, C[RPI_EPS])
+    else:
+        rpi_allocate(ANOM, C[TL0] * ux, C[TL1] * uy, C[TL2] * uz, FNOM, AMASK, F, free,
+                     Ssc, rsc, ysc, C[RPI_EPS])
+    pround = C[PULSE_ROUND] > 0.0
+    dt = C[DT]
+    for j in range(n):
+        tp = F[j] / FNOM[j] * t_s
+        if tp > t_s:
+            tp = t_s
+        if tp < t_min:
+            if pround and tp >= 0.5 * t_min:
+                tp = t_min
             else:
-                ua = 0.0
-            if k - nd - 1 >= 0:
-                ub = buf[(k - nd - 1) & bmask, j]
-            else:
-                ub = 0.0
-            ud = delay_mix(ua, ub, dfrac)
-            v, x1, x2 = lag_step(ts[x1o + j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
-            ts[x2o + j] = x2
-            ts[x1o + j] = x1
-            if v != 0.0:  # an idle thruster adds (signed) zeros: skipped, same sums
-                fav = FLEV[i, j] * v / dt  # mean force over the step (N)
-                prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
-                t0 += fav * ts[armo + 3 * j]
-                t1 += fav * ts[armo + 3 * j + 1]
-                t2 += fav * ts[armo + 3 * j + 2]
-        # ---------------------------------------------------------------- environment torques
-        # (a zero amplitude adds a signed zero to the constant: its sine is skipped, same sum)
-        tk = k * dt
-        t0 += dc0 + da0 * math.sin(d_omega * tk + dp0) if da0 != 0.0 else dc0
-        t1 += dc1 + da1 * math.sin(d_omega * tk + dp1) if da1 != 0.0 else dc1
-        t2 += dc2 + da2 * math.sin(d_omega * tk + dp2) if da2 != 0.0 else dc2
-        if n2orb > 0.0:
-            c0, c1, c2 = rotate(q0, q1, q2, q3, ENV[k, 0], ENV[k, 1], ENV[k, 2])
-            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
-            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
-            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
-            t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
-            t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
-            t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-        # ---------------------------------------------------------------- dynamics
-        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt)
-        # mean rate over the step (trapezoid) for the rate-integrating gyro
-        ws0 += 0.5 * (w0 + w0n)
-        ws1 += 0.5 * (w1 + w1n)
-        ws2 += 0.5 * (w2 + w2n)
-        w0 = w0n
-        w1 = w1n
-        w2 = w2n
-        # ---------------------------------------------------------------- metrics at t_{k+1}
-        kk = k + 1
-        rec_now = record and kk % rec_every == 0
-        if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
-            ex, ey, ez, err = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2],
-                                   QREF[kk, 3])
-        if _outside(q0, q1, q2, q3, qf0, qf1, qf2, qf3, band, tb_lo, tb_hi):
-            last_out = kk
-        wn2 = w0 * w0 + w1 * w1 + w2 * w2  # max |w| = sqrt(max |w|^2): one sqrt at the end
-        if wn2 > wmax2:
-            wmax2 = wn2
-        if kk >= k_win:
-            acc += err
-            acc2 += err * err
-            ax2 += ex * ex
-            ay2 += ey * ey
-            az2 += ez * ez
-            if err > emax:
-                emax = err
-            nwin += 1
-        if rec_now:
-            _record(REC, i, kk // rec_every, ex, ey, ez, err, qe, q0, q1, q2, q3, w0, w1, w2,
-                    nees_last, prop, ts, x2o, n)
+                tp = 0.0
+        if AMASK[j] <= 0.0:
+            tp = 0.0
+        # a new pulse unless the previous one ran to the end of its period
+        if tp > 0.0 and ts[tppo + j] < t_s:
+            firings += 1.0
+        ts[tppo + j] = tp
+        ts[tpo + j] = tp / dt  # the pulse in steps (read at every step below)
+        TOT[i, j] += tp
+        ontime += tp
+    return (sx, sy, sz, ix, iy, iz), (firings, ontime)
+
+
+@register_jitable
+def _actuate(i, k, m, nd, dfrac, ts, buf, bmask, FAILED, FLEV, MDOT, lag, dt, prop, n):
+    """Thrusters over step ``k``, ``m`` steps into the pulse period: delay line, lags,
+    thrust torque; returns the torque and the propellant used so far."""
+    a11, b1, a21, a22, b2, v1, v2, vu = lag
+    x2o = n
+    tpo = 2 * n
+    armo = 6 * n
+    t0 = 0.0
+    t1 = 0.0
+    t2 = 0.0
+    for j in range(n):
+        c = ts[tpo + j] - m
+        if c > 1.0:
+            c = 1.0
+        elif c < 0.0:
+            c = 0.0
+        if FAILED[j] > 0.0:
+            c = 0.0
+        buf[k & bmask, j] = c
+        if k - nd >= 0:
+            ua = buf[(k - nd) & bmask, j]
+        else:
+            ua = 0.0
+        if k - nd - 1 >= 0:
+            ub = buf[(k - nd - 1) & bmask, j]
+        else:
+            ub = 0.0
+        ud = delay_mix(ua, ub, dfrac)
+        v, x1, x2 = lag_step(ts[j], ts[x2o + j], ud, a11, b1, a21, a22, b2, v1, v2, vu)
+        ts[x2o + j] = x2
+        ts[j] = x1
+        if v != 0.0:  # an idle thruster adds (signed) zeros: skipped, same sums
+            fav = FLEV[i, j] * v / dt  # mean force over the step (N)
+            prop += MDOT[i, j] * v  # per-sample mass flow (dispersed thrust, constant Isp)
+            t0 += fav * ts[armo + 3 * j]
+            t1 += fav * ts[armo + 3 * j + 1]
+            t2 += fav * ts[armo + 3 * j + 2]
+    return t0, t1, t2, prop
+
+
+@register_jitable
+def _window(mt, e):
+    """Add the pointing error ``e`` at one step of the metric window to the sums ``mt``."""
+    acc, acc2, ax2, ay2, az2, emax, nwin = mt
+    ex, ey, ez, err = e
+    acc += err
+    acc2 += err * err
+    ax2 += ex * ex
+    ay2 += ey * ey
+    az2 += ez * ez
+    if err > emax:
+        emax = err
+    return (acc, acc2, ax2, ay2, az2, emax, nwin + 1)
+
+
+@register_jitable
+def _finish(OUT, i, mt, last_out, wmax2, err, kacc2, nkw, prop, fire, ec, n_steps, dt):
+    """Write sample ``i``'s metrics ``OUT[i]`` from the loop's accumulators."""
+    acc, acc2, ax2, ay2, az2, emax, nwin = mt
+    _, nees_sum, nees_n, n_det, n_box = ec
     fw = 1.0 / nwin if nwin > 0 else math.nan
     OUT[i, M_MEAN_ERR] = acc * fw
     OUT[i, M_RMS_ERR] = math.sqrt(acc2 * fw)
@@ -876,8 +858,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         OUT[i, M_SETTLE] = (last_out + 1) * dt
     OUT[i, M_FINAL_ERR] = err
     OUT[i, M_PROP] = prop
-    OUT[i, M_FIRINGS] = firings
-    OUT[i, M_ONTIME] = ontime
+    OUT[i, M_FIRINGS] = fire[0]
+    OUT[i, M_ONTIME] = fire[1]
     OUT[i, M_KNOW_RMS] = math.sqrt(kacc2 / nkw) if nkw > 0 else math.nan
     OUT[i, M_NEES] = nees_sum / nees_n if nees_n > 0 else math.nan
     OUT[i, M_NEES_N] = nees_n
@@ -951,15 +933,23 @@ CUDA_EST_MODES = (EST_TRUTH, EST_MEKF)
 
 #: The per-sample function, declared through :mod:`adcskit._targets` (one source for the CPU
 #: and the GPU driver). ``inline="never"``: the loop stays one compiled function called by
-#: :func:`run_parallel` (as before the declaration: same code, same numbers). The CUDA
-#: compilation rebinds the CPU-only dispatchers to the device sources they were built from.
+#: :func:`run_parallel` (as before the declaration: same code, same numbers). ``nrt=False``:
+#: no reference counting in the loop and its step functions (nothing there allocates; numba
+#: otherwise increments and decrements the count of every array a step function receives, at
+#: each call). The CUDA compilation rebinds the CPU-only dispatchers to the device sources they
+#: were built from.
 SAMPLE = PerSample(
-    sample_loop, inline="never", error_model="numpy",
+    sample_loop, inline="never", error_model="numpy", nrt=False,
     device_names={
-        "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
-        "mekf_update_quaternion": _mk.mekf_update_quaternion, "mekf_nees": _mk.mekf_nees,
-        "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec,
-        "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable,
+        "_sense_estimate": register_jitable(rebound(_sense_estimate, {
+            "mekf_propagate": _mk.mekf_propagate, "mekf_update_vector": _mk.mekf_update_vector,
+            "mekf_update_quaternion": _mk.mekf_update_quaternion, "mekf_nees": _mk.mekf_nees,
+            "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec})),
+        "_determine": register_jitable(rebound(_determine, {
+            "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable})),
+        # a call, not numba IR inlining, on the device: numba-cuda does not type the inlined
+        # copy ("mul(omitted, omitted)"); NVVM inlines it itself
+        "_control": register_jitable(rebound(_control, {})),
     },
 )
 sample_loop_jit = SAMPLE.cpu

@@ -165,68 +165,127 @@ def _mat3(M, o, x0, x1, x2):
 
 
 @device
-def rhs(X, D, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2):
-    """Gyrostat derivative of ``X = [q (4), omega (3), h (n_w)]`` into ``D`` (module docstring)."""
-    q0, q1, q2, q3 = X[0], X[1], X[2], X[3]
-    w0, w1, w2 = X[4], X[5], X[6]
-    ah0 = 0.0
-    ah1 = 0.0
-    ah2 = 0.0
-    at0 = 0.0
-    at1 = 0.0
-    at2 = 0.0
-    for j in range(nw):
-        a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
-        h = X[7 + j]
-        om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
-        tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
-        D[7 + j] = tw
-        ah0 += a0 * h
-        ah1 += a1 * h
-        ah2 += a2 * h
-        at0 += a0 * tw
-        at1 += a1 * tw
-        at2 += a2 * tw
-    j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
-    H0 = j0 + ah0
-    H1 = j1 + ah1
-    H2 = j2 + ah2
-    m0 = t0 - at0 - (w1 * H2 - w2 * H1)
-    m1 = t1 - at1 - (w2 * H0 - w0 * H2)
-    m2 = t2 - at2 - (w0 * H1 - w1 * H0)
-    d0, d1, d2 = _mat3(JI, 0, m0, m1, m2)
-    D[0], D[1], D[2], D[3] = qdot(q0, q1, q2, q3, w0, w1, w2)
-    D[4] = d0
-    D[5] = d1
-    D[6] = d2
-
-
-@device
 def rk4(X, XT, KS, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2, dt):
-    """One classical RK4 step of the gyrostat in place (torques held); ``q`` renormalised."""
+    """One classical RK4 step of the gyrostat ``X = [q (4), omega (3), h (n_w)]`` in place
+    (torques held); ``q`` renormalised.
+
+    The four stages are one loop over the gyrostat derivative (module docstring), written out
+    here rather than called: a called derivative took its seven arrays as numba's flattened
+    structs through the stack at each of the four calls, and the caller's reference counts of
+    them (18 atomic increments and decrements per step). The attitude and rate (``y``, their
+    derivative ``k``, the stage sum ``g``) stay in scalars; the wheel momenta use the rows
+    ``XT``, ``KD``, ``KS`` from index 7. The operations and their order are those of the former
+    ``rhs`` and element-wise stage updates (``XT = X + 0.5 dt KD``, ``KS += 2 KD``, ...).
+    """
     n = 7 + nw
-    rhs(X, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
-    for m in range(n):
-        KS[m] = KD[m]
-        XT[m] = X[m] + 0.5 * dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
-    for m in range(n):
-        KS[m] += 2.0 * KD[m]
-        XT[m] = X[m] + 0.5 * dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
-    for m in range(n):
-        KS[m] += 2.0 * KD[m]
-        XT[m] = X[m] + dt * KD[m]
-    rhs(XT, KD, J, JI, AX, nw, TM, JW, cv, cc, t0, t1, t2)
+    x0, x1, x2, x3, x4, x5, x6 = X[0], X[1], X[2], X[3], X[4], X[5], X[6]
+    y0, y1, y2, y3, y4, y5, y6 = x0, x1, x2, x3, x4, x5, x6
+    g0 = g1 = g2 = g3 = g4 = g5 = g6 = 0.0
+    k0 = k1 = k2 = k3 = k4 = k5 = k6 = 0.0
+    for m in range(7, n):
+        XT[m] = X[m]
+    for stage in range(4):
+        # ---- derivative of (y, XT[7:]) into (k, KD[7:])
+        w0, w1, w2 = y4, y5, y6
+        ah0 = 0.0
+        ah1 = 0.0
+        ah2 = 0.0
+        at0 = 0.0
+        at1 = 0.0
+        at2 = 0.0
+        if cc == 0.0:
+            # no Coulomb friction (the default): for cc = +-0 the term cc om / sqrt(om^2 + eps^2)
+            # IS the product cc om, bit for bit -- a signed zero divided by a positive divisor
+            # (finite, or +inf when om^2 overflows) keeps its sign, and an infinite or NaN om
+            # gives the same NaN either way -- so the square root and the division are skipped
+            # and the sum keeps its operands (cv om + cc om), signed zeros included. Two copies
+            # of the wheel loop: with the test inside one loop LLVM computed both terms and
+            # selected one, keeping the square root and the division.
+            for j in range(nw):
+                a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+                h = XT[7 + j]
+                om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
+                tw = TM[j] - (cv * om + cc * om)
+                KD[7 + j] = tw
+                ah0 += a0 * h
+                ah1 += a1 * h
+                ah2 += a2 * h
+                at0 += a0 * tw
+                at1 += a1 * tw
+                at2 += a2 * tw
+        else:
+            for j in range(nw):
+                a0, a1, a2 = AX[0, j], AX[1, j], AX[2, j]
+                h = XT[7 + j]
+                om = h / JW[j] - (a0 * w0 + a1 * w1 + a2 * w2)
+                tw = TM[j] - (cv * om + cc * om / math.sqrt(om * om + COULOMB_EPS * COULOMB_EPS))
+                KD[7 + j] = tw
+                ah0 += a0 * h
+                ah1 += a1 * h
+                ah2 += a2 * h
+                at0 += a0 * tw
+                at1 += a1 * tw
+                at2 += a2 * tw
+        j0, j1, j2 = _mat3(J, 0, w0, w1, w2)
+        H0 = j0 + ah0
+        H1 = j1 + ah1
+        H2 = j2 + ah2
+        m0 = t0 - at0 - (w1 * H2 - w2 * H1)
+        m1 = t1 - at1 - (w2 * H0 - w0 * H2)
+        m2 = t2 - at2 - (w0 * H1 - w1 * H0)
+        k4, k5, k6 = _mat3(JI, 0, m0, m1, m2)
+        k0, k1, k2, k3 = qdot(y0, y1, y2, y3, w0, w1, w2)
+        # ---- stage update
+        if stage == 0:
+            g0, g1, g2, g3, g4, g5, g6 = k0, k1, k2, k3, k4, k5, k6
+            hh = 0.5 * dt
+            y0, y1, y2, y3 = x0 + hh * k0, x1 + hh * k1, x2 + hh * k2, x3 + hh * k3
+            y4, y5, y6 = x4 + hh * k4, x5 + hh * k5, x6 + hh * k6
+            for m in range(7, n):
+                KS[m] = KD[m]
+                XT[m] = X[m] + 0.5 * dt * KD[m]
+        elif stage < 3:
+            g0, g1, g2, g3 = g0 + 2.0 * k0, g1 + 2.0 * k1, g2 + 2.0 * k2, g3 + 2.0 * k3
+            g4, g5, g6 = g4 + 2.0 * k4, g5 + 2.0 * k5, g6 + 2.0 * k6
+            hh = 0.5 * dt if stage == 1 else dt
+            y0, y1, y2, y3 = x0 + hh * k0, x1 + hh * k1, x2 + hh * k2, x3 + hh * k3
+            y4, y5, y6 = x4 + hh * k4, x5 + hh * k5, x6 + hh * k6
+            for m in range(7, n):
+                KS[m] += 2.0 * KD[m]
+                XT[m] = X[m] + hh * KD[m]
     s = dt / 6.0
-    for m in range(n):
+    for m in range(7, n):
         X[m] = X[m] + s * (KS[m] + KD[m])
-    X[0], X[1], X[2], X[3] = unit_q4_pos(X[0], X[1], X[2], X[3])
+    X[4] = x4 + s * (g4 + k4)
+    X[5] = x5 + s * (g5 + k5)
+    X[6] = x6 + s * (g6 + k6)
+    X[0], X[1], X[2], X[3] = unit_q4_pos(x0 + s * (g0 + k0), x1 + s * (g1 + k1), x2 + s * (g2 + k2),
+                                         x3 + s * (g3 + k3))
 
 
 @device
 def _angle(d0, d1, d2, d3):
     return 2.0 * math.atan2(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), abs(d3))
+
+
+@device
+def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
+    """Whether the pointing error of ``q`` to ``r`` exceeds ``band`` (rad): exactly
+    ``_angle(*qdiff(q, r)) > band``, with the ``atan2`` and the square root only within a
+    relative 1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
+    ``tb_lo`` / ``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)`` (rounding of the squares: ~1e-16
+    relative); a non-positive ``tb_hi`` (band >= 3 rad, or ``tan^2`` underflowing) always takes
+    the exact path, as do NaNs (both comparisons false). The thruster kernel's settling test
+    (:func:`adcskit.simulation._kernels._outside`) with this kernel's angle."""
+    d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
+    e2 = d0 * d0 + d1 * d1 + d2 * d2
+    c2 = d3 * d3
+    if tb_hi > 0.0:
+        if e2 > tb_hi * c2:
+            return True
+        if e2 < tb_lo * c2:
+            return False
+    return _angle(d0, d1, d2, d3) > band
 
 
 @device
@@ -525,25 +584,48 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     H2 = 0.0
     r = 0
     has_sine = P[i, P_DAMP] != 0.0 or P[i, P_DAMP + 1] != 0.0 or P[i, P_DAMP + 2] != 0.0
+    # settling: |error| > band decided without atan2 away from the band's edge (exact there)
+    band = C[SETTLE_BAND]
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_hi = tb2 * (1.0 + 1e-6)
+    tb_lo = tb2 * (1.0 - 1e-6)
+    # step counters instead of integer modulo: k % rec_every, k % hc, k % hg, k % hst, k % hs, k % hm
+    krec = 0
+    kc = 0
+    kg = 0
+    kst = 0
+    ks = 0
+    km = 0
     for k in range(n_steps + 1):
         t = k * dt
         q0, q1, q2, q3 = Xi[0], Xi[1], Xi[2], Xi[3]
         w0, w1, w2 = Xi[4], Xi[5], Xi[6]
         # ---- truth quantities of this step (each only where a metric or the trace needs it)
-        grid = k % rec_every == 0 or k == n_steps
+        rrow = rec_on and krec == 0  # a trace row
+        grid = krec == 0 or k == n_steps
+        ctrl = kc == 0
         point = mode == MODE_POINT
         in_win = k >= k_win
-        rate = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        rate = math.nan
+        if in_win or rrow:
+            rate = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
         qr0, qr1, qr2, qr3 = ENV[k, E_QREF], ENV[k, E_QREF + 1], ENV[k, E_QREF + 2], ENV[k, E_QREF + 3]
         perr = math.nan
         kerr = math.nan
-        if point or grid:
-            d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, qr0, qr1, qr2, qr3)
-            perr = _angle(d0, d1, d2, d3)
-        if (point and in_win) or grid:
+        if point:
+            # the error's value only for the window's metrics and the trace; elsewhere only
+            # whether it exceeds the settling band
+            if in_win or rrow:
+                d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, qr0, qr1, qr2, qr3)
+                perr = _angle(d0, d1, d2, d3)
+                if perr > band:
+                    last_out = t
+            elif _outside(q0, q1, q2, q3, qr0, qr1, qr2, qr3, band, tb_lo, tb_hi):
+                last_out = t
+        if (point and in_win) or rrow:
             d0, d1, d2, d3 = qdiff(qe0, qe1, qe2, qe3, q0, q1, q2, q3)
             kerr = _angle(d0, d1, d2, d3)
-        if grid or k % hc == 0:
+        if grid or ctrl:
             hb0, hb1, hb2 = _wheel_momentum(Xi, AXi, nw)
             hw = math.sqrt(hb0 * hb0 + hb1 * hb1 + hb2 * hb2)
             if hw > max_hw:
@@ -577,9 +659,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                 sum_k2 += kerr * kerr
                 if perr > max_e:
                     max_e = perr
-        if point and perr > C[SETTLE_BAND]:
-            last_out = t
-        if rec_on and k % rec_every == 0:
+        if rrow:
             if point:
                 REC[i, r, R_ERR] = perr
             elif mode == MODE_SUN:
@@ -619,10 +699,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
         if k == n_steps:
             break
         # ---- sensors
-        Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
-        # the rods were on during the previous step (the sample is taken before this step's command)
-        firing = k > 0 and ((k - 1) % hc) < on_steps and (m0 != 0.0 or m1 != 0.0 or m2 != 0.0)
-        if k % hg == 0:
+        if kg == 0:
             s, z0, z1 = _normal2(s)
             s, z2, z3 = _normal2(s)
             s, z4, z5 = _normal2(s)
@@ -637,7 +714,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             b0 += sig_b * z0
             b1 += sig_b * z1
             b2 += sig_b * z2
-        if hst > 0 and k % hst == 0:
+        if hst > 0 and kst == 0:
             s, z0, z1, z2 = _normal3(s)
             sg = C[SIG_ST] * ns
             XTi[0], XTi[1], XTi[2], XTi[3] = q0, q1, q2, q3
@@ -647,7 +724,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                 mekf_update_quaternion(kq, kb, KPi, XTi[0:4], C[SIG_ST], kwk)
         elif hst == 0 and not filt:
             qe0, qe1, qe2, qe3 = q0, q1, q2, q3
-        if hs > 0 and k % hs == 0:
+        if hs > 0 and ks == 0:
             if ENV[k, E_LIT] > 0.5:
                 st0, st1, st2 = rotate(q0, q1, q2, q3, ENV[k, E_SUN], ENV[k, E_SUN + 1], ENV[k, E_SUN + 2])
                 sg = C[SIG_SUN] * ns
@@ -664,7 +741,12 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
                     mekf_update_vector(kq, kb, KPi, kvb, kvr, C[SIG_SUN], uw, kwk)
             else:
                 sv = 0
-        if hm > 0 and k % hm == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
+        # the rods were on during the previous step (the sample is taken before this step's command)
+        firing = False
+        if hm > 0 and km == 0:
+            firing = k > 0 and (kc - 1 if kc > 0 else hc - 1) < on_steps and (m0 != 0.0 or m1 != 0.0 or m2 != 0.0)
+        if hm > 0 and km == 0 and not (firing and C[MAG_MODE] == MAG_BLANK):
+            Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
             bn = math.sqrt(Bb0 * Bb0 + Bb1 * Bb1 + Bb2 * Bb2)
             sg = C[SIG_MAG] * ns * bn
             s, z0, z1, z2 = _normal3(s)
@@ -688,7 +770,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             wc0 = wm0 - kb[0]
             wc1 = wm1 - kb[1]
             wc2 = wm2 - kb[2]
-            if k % hc == 0 and in_win:
+            if ctrl and in_win:
                 for m in range(4):
                     kqt[m] = Xi[m]
                 kbt[0], kbt[1], kbt[2] = b0, b1, b2
@@ -699,7 +781,7 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
         else:
             wc0, wc1, wc2 = wm0, wm1, wm2
         # ---- control and modes, every control period
-        if k % hc == 0:
+        if ctrl:
             rm = math.sqrt(wc0 * wc0 + wc1 * wc1 + wc2 * wc2)
             if seq and mode == MODE_DETUMBLE:
                 if rm < C[RATE_THR]:
@@ -814,12 +896,13 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             t0 += P[i, P_DAMP] * math.sin(ph + P[i, P_DPH])
             t1 += P[i, P_DAMP + 1] * math.sin(ph + P[i, P_DPH + 1])
             t2 += P[i, P_DAMP + 2] * math.sin(ph + P[i, P_DPH + 2])
-        if (k % hc) < on_steps:
+        if kc < on_steps:
+            Bb0, Bb1, Bb2 = rotate(q0, q1, q2, q3, ENV[k, E_B], ENV[k, E_B + 1], ENV[k, E_B + 2])
             t0 += m1 * Bb2 - m2 * Bb1
             t1 += m2 * Bb0 - m0 * Bb2
             t2 += m0 * Bb1 - m1 * Bb0
         if tfire == 1:
-            tt0, tt1, tt2, di, dp, do = thrust_step(THR, TF, nt, (k % hc) * dt, hc * dt, dt)
+            tt0, tt1, tt2, di, dp, do = thrust_step(THR, TF, nt, kc * dt, hc * dt, dt)
             t0 += tt0
             t1 += tt1
             t2 += tt2
@@ -851,10 +934,36 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
             kwm[2] = f * d2 + eg2
             mekf_propagate(kq, kb, KPi, kwm, dt, C[SIG_V], C[SIG_U], kwk)
             qe0, qe1, qe2, qe3 = kq[0], kq[1], kq[2], kq[3]
-        elif hst > 0:
+        elif hst > 0 and (k + hst - kst >= k_win or k + hc - kc < k + hst - kst
+                          or (rec_on and k + rec_every - krec <= k + hst - kst)):
+            # propagated only when the knowledge is read before the next star-tracker reset K
+            # (step k + hst - kst, which overwrites it without reading it): by the error in the
+            # window (K >= k_win: K itself reads it before its reset), the control at a period
+            # start before K, or a trace row up to K. A step that skips it is followed only by
+            # skipping steps until K (the same K, fewer steps to it), so a propagated value
+            # always continues an unbroken chain from the last reset.
             XTi[0], XTi[1], XTi[2], XTi[3] = qe0, qe1, qe2, qe3
             compose_rotvec(XTi, wm0 * dt, wm1 * dt, wm2 * dt)
             qe0, qe1, qe2, qe3 = XTi[0], XTi[1], XTi[2], XTi[3]
+        # ---- step counters
+        krec += 1
+        if krec == rec_every:
+            krec = 0
+        kc += 1
+        if kc == hc:
+            kc = 0
+        kg += 1
+        if kg == hg:
+            kg = 0
+        kst += 1
+        if kst == hst:
+            kst = 0
+        ks += 1
+        if ks == hs:
+            ks = 0
+        km += 1
+        if km == hm:
+            km = 0
     # ---- metrics
     OUT[i, M_T_DETUMBLED] = t_det
     OUT[i, M_T_ACQUIRED] = t_acq
@@ -896,8 +1005,11 @@ def wheel_sample(i, P, AX, C, ENV, AXN, PINV, NULLP, HSTAR, WPAR, JW, SEEDS, X, 
     OUT[i, M_NEES_N] = nees_n
 
 
-#: The per-sample function, one source for the CPU and the CUDA driver.
-SAMPLE = PerSample(wheel_sample, inline="never")
+#: The per-sample function, one source for the CPU and the CUDA driver. ``error_model="numpy"``:
+#: no zero-divisor test and exception branch at each division (as the thruster kernel); the loop
+#: never divides by zero (inertias > 0, normalised vectors, guarded quotients), so the numbers are
+#: the same, and a zero divisor would give inf / NaN instead of a ZeroDivisionError.
+SAMPLE = PerSample(wheel_sample, inline="never", error_model="numpy")
 wheel_sample_jit = SAMPLE.cpu
 
 
