@@ -37,6 +37,7 @@ from adcskit._progress import status
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.attitude._kernels import quat_multiply as _quat_multiply
+from adcskit.constants import RAD_PER_DEG
 from adcskit.determination.wahba import METHODS as _WAHBA_METHODS
 from adcskit.errors import InputError, InputTypeError, UncontrollableWarning
 from adcskit.simulation import _kernels as _k
@@ -53,25 +54,24 @@ __all__ = [
     "reference_profile",
 ]
 
-_RAD_PER_DEG = math.pi / 180.0
 #: Per-sample metrics: name -> (kernel slot, factor from the kernel's SI value). Angles are in
 #: degrees like the scenario's inputs (names end ``_deg``), times in s, propellant in kg.
 _METRICS: dict[str, tuple[int, float]] = {
-    "pointing_mean_deg": (_k.M_MEAN_ERR, 1.0 / _RAD_PER_DEG),
-    "pointing_rms_deg": (_k.M_RMS_ERR, 1.0 / _RAD_PER_DEG),
-    "pointing_max_deg": (_k.M_MAX_ERR, 1.0 / _RAD_PER_DEG),
-    "pointing_rms_x_deg": (_k.M_RMS_X, 1.0 / _RAD_PER_DEG),
-    "pointing_rms_y_deg": (_k.M_RMS_Y, 1.0 / _RAD_PER_DEG),
-    "pointing_rms_z_deg": (_k.M_RMS_Z, 1.0 / _RAD_PER_DEG),
+    "pointing_mean_deg": (_k.M_MEAN_ERR, 1.0 / RAD_PER_DEG),
+    "pointing_rms_deg": (_k.M_RMS_ERR, 1.0 / RAD_PER_DEG),
+    "pointing_max_deg": (_k.M_MAX_ERR, 1.0 / RAD_PER_DEG),
+    "pointing_rms_x_deg": (_k.M_RMS_X, 1.0 / RAD_PER_DEG),
+    "pointing_rms_y_deg": (_k.M_RMS_Y, 1.0 / RAD_PER_DEG),
+    "pointing_rms_z_deg": (_k.M_RMS_Z, 1.0 / RAD_PER_DEG),
     "settling_time_s": (_k.M_SETTLE, 1.0),
-    "final_error_deg": (_k.M_FINAL_ERR, 1.0 / _RAD_PER_DEG),
+    "final_error_deg": (_k.M_FINAL_ERR, 1.0 / RAD_PER_DEG),
     "propellant_kg": (_k.M_PROP, 1.0),
     "firings": (_k.M_FIRINGS, 1.0),
     "on_time_s": (_k.M_ONTIME, 1.0),
-    "knowledge_rms_deg": (_k.M_KNOW_RMS, 1.0 / _RAD_PER_DEG),
+    "knowledge_rms_deg": (_k.M_KNOW_RMS, 1.0 / RAD_PER_DEG),
     "nees_mean": (_k.M_NEES, 1.0),
     "nees_count": (_k.M_NEES_N, 1.0),
-    "max_rate_deg_s": (_k.M_MAX_RATE, 1.0 / _RAD_PER_DEG),
+    "max_rate_deg_s": (_k.M_MAX_RATE, 1.0 / RAD_PER_DEG),
     "box_active_fraction": (_k.M_BOX_ACTIVE, 1.0),
 }
 #: Names of the per-sample metrics of :class:`SimulationResult` (units in the names).
@@ -79,7 +79,7 @@ METRIC_NAMES: tuple[str, ...] = tuple(_METRICS)
 #: Wahba methods usable in the loop -> kernel code.
 WAHBA_CODES: dict[str, int] = {name: int(v[0]) for name, v in _WAHBA_METHODS.items()}
 
-_ARCSEC = _RAD_PER_DEG / 3600.0
+_ARCSEC = RAD_PER_DEG / 3600.0
 _MU = 3.986004418e14
 _RE = 6378137.0
 
@@ -275,7 +275,7 @@ def reference_profile(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.nd
     q[:, 3] = 1.0
     w = np.zeros((n_steps + 1, 3))
     if g.kind == "step":
-        qt = _rotvec_quat(np.asarray(g.target_rotvec_deg) * _RAD_PER_DEG)
+        qt = _rotvec_quat(np.asarray(g.target_rotvec_deg) * RAD_PER_DEG)
         q[t >= g.t_step] = qt
     elif g.kind == "table":
         tt = np.asarray(g.table_t, float)
@@ -333,7 +333,7 @@ def _environment_table(o: Any, dt: float, n_steps: int, h_env: int) -> tuple[np.
 
     t = np.arange(n_steps + 1) * dt
     alt = o.altitude_km * 1e3
-    st = circular_orbit(alt, o.inclination_deg * _RAD_PER_DEG, o.raan_deg * _RAD_PER_DEG, o.arg_lat0_deg * _RAD_PER_DEG, t,
+    st = circular_orbit(alt, o.inclination_deg * RAD_PER_DEG, o.raan_deg * RAD_PER_DEG, o.arg_lat0_deg * RAD_PER_DEG, t,
                         epoch=np.datetime64(o.epoch))
     r = np.asarray(st.r)
     env = np.zeros((n_steps + 1, 10))
@@ -401,16 +401,16 @@ def _draw(scenario: Scenario, n: int, gen: np.random.Generator) -> dict[str, np.
     for j in range(nt):
         dists[f"thrust_{j}"] = TruncatedGaussian(mean=1.0, std=d.thrust_rel, low=0.0, high=2.0)
         for a in range(3):
-            dists[f"mis_{j}_{a}"] = Gaussian(mean=0.0, std=d.misalignment_deg * _RAD_PER_DEG)
+            dists[f"mis_{j}_{a}"] = Gaussian(mean=0.0, std=d.misalignment_deg * RAD_PER_DEG)
     dists["delay"] = TruncatedGaussian(mean=scenario.thrusters.delay, std=d.delay_std_s, low=0.0,
                                        high=scenario.thrusters.delay + 10 * max(d.delay_std_s, 1e-12))
     dists["disturbance"] = TruncatedGaussian(mean=1.0, std=d.disturbance_rel, low=0.0, high=3.0)
     sens = scenario.sensors
     for a in range(3):
-        dists[f"att_{a}"] = Gaussian(mean=0.0, std=d.initial_attitude_deg * _RAD_PER_DEG)
-        dists[f"rate_{a}"] = Gaussian(mean=scenario.initial_rate_deg_s[a] * _RAD_PER_DEG, std=d.initial_rate_deg_s * _RAD_PER_DEG)
-        dists[f"bias_{a}"] = Gaussian(mean=0.0, std=sens.gyro_bias0_deg_h * _RAD_PER_DEG / 3600.0)
-        dists[f"kerr_{a}"] = Gaussian(mean=0.0, std=scenario.estimator.init_error_deg * _RAD_PER_DEG)
+        dists[f"att_{a}"] = Gaussian(mean=0.0, std=d.initial_attitude_deg * RAD_PER_DEG)
+        dists[f"rate_{a}"] = Gaussian(mean=scenario.initial_rate_deg_s[a] * RAD_PER_DEG, std=d.initial_rate_deg_s * RAD_PER_DEG)
+        dists[f"bias_{a}"] = Gaussian(mean=0.0, std=sens.gyro_bias0_deg_h * RAD_PER_DEG / 3600.0)
+        dists[f"kerr_{a}"] = Gaussian(mean=0.0, std=scenario.estimator.init_error_deg * RAD_PER_DEG)
     if d.sampling == "lhs":
         draws = latin_hypercube(dists, n, gen)
     else:
@@ -539,19 +539,19 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     P[:, _k.P_J:_k.P_J + 9] = J.reshape(n, 9)
     P[:, _k.P_JI:_k.P_JI + 9] = np.linalg.inv(J).reshape(n, 9)
     att = np.stack([draws[f"att_{a}"] for a in range(3)], axis=1)
-    q0 = _qmul(_rotvec_quat(att), np.broadcast_to(_rotvec_quat(np.asarray(sc.initial_rotvec_deg) * _RAD_PER_DEG), (n, 4)))
+    q0 = _qmul(_rotvec_quat(att), np.broadcast_to(_rotvec_quat(np.asarray(sc.initial_rotvec_deg) * RAD_PER_DEG), (n, 4)))
     P[:, _k.P_Q0:_k.P_Q0 + 4] = q0
     P[:, _k.P_W0:_k.P_W0 + 3] = np.stack([draws[f"rate_{a}"] for a in range(3)], axis=1)
     P[:, _k.P_DELAY] = draws["delay"]
     dsc = draws["disturbance"][:, None]
     P[:, _k.P_D0:_k.P_D0 + 3] = np.asarray(sc.disturbance.constant)[None] * dsc
     P[:, _k.P_DAMP:_k.P_DAMP + 3] = np.asarray(sc.disturbance.amplitude)[None] * dsc
-    P[:, _k.P_DPH:_k.P_DPH + 3] = np.asarray(sc.disturbance.phase_deg)[None] * _RAD_PER_DEG
+    P[:, _k.P_DPH:_k.P_DPH + 3] = np.asarray(sc.disturbance.phase_deg)[None] * RAD_PER_DEG
     P[:, _k.P_BIAS:_k.P_BIAS + 3] = np.stack([draws[f"bias_{a}"] for a in range(3)], axis=1)
     kerr = np.stack([draws[f"kerr_{a}"] for a in range(3)], axis=1)
     P[:, _k.P_QE0:_k.P_QE0 + 4] = _qmul(_rotvec_quat(kerr), q0)
-    P[:, _k.P_SIGA0] = max(sc.estimator.init_error_deg * _RAD_PER_DEG, 1e-9)
-    P[:, _k.P_SIGB0] = max(sc.sensors.gyro_bias0_deg_h * _RAD_PER_DEG / 3600.0, 1e-12)
+    P[:, _k.P_SIGA0] = max(sc.estimator.init_error_deg * RAD_PER_DEG, 1e-9)
+    P[:, _k.P_SIGB0] = max(sc.sensors.gyro_bias0_deg_h * RAD_PER_DEG / 3600.0, 1e-12)
     # thrusters: dispersed directions and force levels
     dirs0 = np.asarray(th.directions)
     mis = np.stack([np.stack([draws[f"mis_{j}_{a}"] for a in range(3)], axis=1) for j in range(nt)], axis=1)
@@ -586,8 +586,8 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     C[_k.N2ORB] = n2 if sc.orbit.gravity_gradient else 0.0
     per = sc.disturbance.period_s if sc.disturbance.period_s > 0 else 2 * math.pi / n_orb
     C[_k.D_OMEGA] = 2 * math.pi / per
-    s_sun = sc.sensors.sun_noise_deg * _RAD_PER_DEG
-    s_mag = sc.sensors.mag_noise_deg * _RAD_PER_DEG
+    s_sun = sc.sensors.sun_noise_deg * RAD_PER_DEG
+    s_mag = sc.sensors.mag_noise_deg * RAD_PER_DEG
     C[_k.SIG_SUN] = s_sun
     C[_k.SIG_MAG] = s_mag
     C[_k.SIG_ST] = sc.sensors.star_tracker_noise_arcsec * _ARCSEC
@@ -618,7 +618,7 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     C[_k.KD0:_k.KD2 + 1] = c.kd
     C[_k.TL0:_k.TL2 + 1] = (1.0, 1.0, 1.0) if c.kind == "pwm" else c.torque_level
     C[_k.K_WIN] = int(math.ceil(sc.sim.metrics_from_s / dt - 1e-9))
-    C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * _RAD_PER_DEG
+    C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * RAD_PER_DEG
     C[_k.REC_EVERY] = sc.sim.record_every
     C[_k.K_NEES] = int(math.ceil(sc.sim.nees_from_s / dt - 1e-9))
     max_delay = float(np.max(draws["delay"])) if n else th.delay

@@ -28,7 +28,6 @@ the percentiles are NumPy's.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,6 +35,7 @@ import numpy as np
 
 from adcskit._results import Result
 from adcskit._validation import check_choice, check_finite, check_flag, check_int, short_repr
+from adcskit.constants import DEG_PER_RAD
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation.core import SimulationResult
 from adcskit.simulation.export import CHANNEL_INFO, _group_channels
@@ -56,10 +56,9 @@ __all__ = [
 
 #: Percentiles of an envelope, %.
 BANDS = (1.0, 5.0, 50.0, 95.0, 99.0)
-_DEG_PER_RAD = 180.0 / math.pi
 #: Colours of the worst samples, worst first (red, orange, purple, brown, pink).
 _WORST_COLOURS = ("C3", "C1", "C4", "C5", "C6")
-_UNIT_SCALES = {"rad": ("deg", _DEG_PER_RAD), "rad/s": ("deg/s", _DEG_PER_RAD)}
+_UNIT_SCALES = {"rad": ("deg", DEG_PER_RAD), "rad/s": ("deg/s", DEG_PER_RAD)}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -375,7 +374,7 @@ def attitude_error_figure(result: SimulationResult, *, worst: int = 3, worst_by:
     check_choice("yscale", yscale, ("linear", "log", "symlog"))
     return _panels(res, [("pointing_error", "pointing error", yscale), ("err_x", "error about x", "linear"),
                          ("err_y", "error about y", "linear"), ("err_z", "error about z", "linear")],
-                   "deg", _DEG_PER_RAD, worst, worst_by, t_from, "attitude error")
+                   "deg", DEG_PER_RAD, worst, worst_by, t_from, "attitude error")
 
 
 def body_rate_figure(result: SimulationResult, *, worst: int = 3, worst_by: str = "max_rate_deg_s",
@@ -410,7 +409,7 @@ def body_rate_figure(result: SimulationResult, *, worst: int = 3, worst_by: str 
     worst = check_int("worst", worst, minimum=0)
     t_from = check_finite("t_from", t_from)
     return _panels(res, [("omega_x", "rate about x", "linear"), ("omega_y", "rate about y", "linear"),
-                         ("omega_z", "rate about z", "linear")], "deg/s", _DEG_PER_RAD, worst, worst_by, t_from,
+                         ("omega_z", "rate about z", "linear")], "deg/s", DEG_PER_RAD, worst, worst_by, t_from,
                    "body rates")
 
 

@@ -52,6 +52,7 @@ import numpy as np
 
 from adcskit._results import Result
 from adcskit._validation import check_choice
+from adcskit.constants import DEG_PER_RAD
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation.core import SimulationResult
 from adcskit.simulation.scenario import Scenario
@@ -72,7 +73,6 @@ WINDOWED_METRICS = ("pointing_mean_deg", "pointing_rms_deg", "pointing_max_deg",
 #: Metrics that :func:`check_simulation` can re-window from the recorded traces.
 TRACE_METRICS = ("pointing_mean_deg", "pointing_rms_deg", "pointing_max_deg", "pointing_rms_x_deg",
                  "pointing_rms_y_deg", "pointing_rms_z_deg", "max_rate_deg_s")
-_DEG_PER_RAD = 180.0 / math.pi
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -214,7 +214,7 @@ def _from_trace(res: SimulationResult, scenario: Scenario, metric: str, after_s:
     tr = np.asarray(res.trace, dtype=float)[:, keep, :]
     if metric == "max_rate_deg_s":
         w = np.sqrt(sum(tr[:, :, ch[c]] ** 2 for c in ("omega_x", "omega_y", "omega_z")))
-        v = np.max(w, axis=1) * _DEG_PER_RAD
+        v = np.max(w, axis=1) * DEG_PER_RAD
     else:
         comp = {"pointing_rms_x_deg": "err_x", "pointing_rms_y_deg": "err_y", "pointing_rms_z_deg": "err_z"}
         e = tr[:, :, ch[comp.get(metric, "pointing_error")]]
@@ -224,7 +224,7 @@ def _from_trace(res: SimulationResult, scenario: Scenario, metric: str, after_s:
             v = np.max(e, axis=1)
         else:
             v = np.sqrt(np.mean(e * e, axis=1))
-        v = v * _DEG_PER_RAD
+        v = v * DEG_PER_RAD
     t_first = kk[keep][0] * sim.dt
     if rec == 1:
         src = f"trace, every step over [{t_first:g}, {sim.t_final:g}] s"

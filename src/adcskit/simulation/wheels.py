@@ -87,6 +87,7 @@ from adcskit._validation import (
     check_range,
     short_repr,
 )
+from adcskit.constants import RAD_PER_DEG
 from adcskit.errors import InputError, InputTypeError
 from adcskit.simulation import _wheel_kernels as _k
 from adcskit.simulation.scenario import (
@@ -123,9 +124,8 @@ __all__ = [
     "WHEEL_ENVELOPE_CHANNELS",
 ]
 
-_RAD_PER_DEG = math.pi / 180.0
 _RPM = 2.0 * math.pi / 60.0
-_ARCSEC = _RAD_PER_DEG / 3600.0
+_ARCSEC = RAD_PER_DEG / 3600.0
 _MU = 3.986004418e14
 _RE = 6378137.0
 
@@ -254,14 +254,14 @@ class WheelSpec(_Spec):
         (4, 0.5774)
         """
         e = check_range("elevation_deg", elevation_deg, 0.0, 90.0, lo_open=True, hi_open=True, unit="deg")
-        if min(math.sin(e * _RAD_PER_DEG), math.cos(e * _RAD_PER_DEG)) < 1e-6:
+        if min(math.sin(e * RAD_PER_DEG), math.cos(e * RAD_PER_DEG)) < 1e-6:
             raise InputError(f"elevation_deg must keep the pyramid's axes spanning 3 axes (between 6e-5 and "
                              f"89.99994 deg); got {e!r} deg")
         return cls(axes=_pyramid_axes(e), **kw)
 
 
 def _pyramid_axes(elevation_deg: float) -> tuple[tuple[float, float, float], ...]:
-    e = elevation_deg * _RAD_PER_DEG
+    e = elevation_deg * RAD_PER_DEG
     return tuple((math.cos(e) * math.cos(p), math.cos(e) * math.sin(p), math.sin(e))
                  for p in (math.pi / 4 + j * math.pi / 2 for j in range(4)))
 
@@ -740,20 +740,20 @@ _METRICS: dict[str, tuple[int, float]] = {
     "t_detumbled_s": (_k.M_T_DETUMBLED, 1.0),
     "t_acquired_s": (_k.M_T_ACQUIRED, 1.0),
     "final_mode": (_k.M_FINAL_MODE, 1.0),
-    "pointing_mean_deg": (_k.M_POINT_MEAN, 1.0 / _RAD_PER_DEG),
-    "pointing_rms_deg": (_k.M_POINT_RMS, 1.0 / _RAD_PER_DEG),
-    "pointing_max_deg": (_k.M_POINT_MAX, 1.0 / _RAD_PER_DEG),
+    "pointing_mean_deg": (_k.M_POINT_MEAN, 1.0 / RAD_PER_DEG),
+    "pointing_rms_deg": (_k.M_POINT_RMS, 1.0 / RAD_PER_DEG),
+    "pointing_max_deg": (_k.M_POINT_MAX, 1.0 / RAD_PER_DEG),
     "pointing_fraction": (_k.M_POINT_FRAC, 1.0),
     "settling_time_s": (_k.M_SETTLE, 1.0),
-    "knowledge_rms_deg": (_k.M_KNOW_RMS, 1.0 / _RAD_PER_DEG),
-    "final_rate_deg_s": (_k.M_FINAL_RATE, 1.0 / _RAD_PER_DEG),
-    "max_rate_deg_s": (_k.M_MAX_RATE_WIN, 1.0 / _RAD_PER_DEG),
+    "knowledge_rms_deg": (_k.M_KNOW_RMS, 1.0 / RAD_PER_DEG),
+    "final_rate_deg_s": (_k.M_FINAL_RATE, 1.0 / RAD_PER_DEG),
+    "max_rate_deg_s": (_k.M_MAX_RATE_WIN, 1.0 / RAD_PER_DEG),
     "max_wheel_speed_rpm": (_k.M_MAX_SPEED, 1.0 / _RPM),
     "max_wheel_momentum_nms": (_k.M_MAX_HW, 1.0),
     "final_wheel_momentum_nms": (_k.M_FINAL_HW, 1.0),
     "max_dipole_am2": (_k.M_MAX_DIPOLE, 1.0),
     "momentum_drift_rel": (_k.M_H_DRIFT, 1.0),
-    "final_sun_angle_deg": (_k.M_SUN_FINAL, 1.0 / _RAD_PER_DEG),
+    "final_sun_angle_deg": (_k.M_SUN_FINAL, 1.0 / RAD_PER_DEG),
 }
 #: Metrics added when the scenario has unloading thrusters (``thruster_unloading``).
 _UNLOAD_METRICS: dict[str, tuple[int, float]] = {
@@ -943,8 +943,8 @@ class WheelSimulationResult:
 
 #: Channels drawn by :func:`wheel_envelope_figure` by default, with their display unit and factor.
 WHEEL_ENVELOPE_CHANNELS: dict[str, tuple[str, float]] = {
-    "error": ("pointing / sun error, deg", 1.0 / _RAD_PER_DEG),
-    "rate": ("body rate, deg/s", 1.0 / _RAD_PER_DEG),
+    "error": ("pointing / sun error, deg", 1.0 / RAD_PER_DEG),
+    "rate": ("body rate, deg/s", 1.0 / RAD_PER_DEG),
     "speed_0": ("wheel 0 speed, rpm", 1.0 / _RPM),
     "h_wheels": ("wheel momentum |A h|, N m s", 1.0),
     "dipole_x": ("dipole x, A m^2", 1.0),
@@ -1027,7 +1027,7 @@ def _environment(sc: WheelScenario, n_steps: int) -> tuple[np.ndarray, float]:
     dt = sc.sim.dt
     t = np.arange(n_steps + 1) * dt
     alt = o.altitude_km * 1e3
-    st = circular_orbit(alt, o.inclination_deg * _RAD_PER_DEG, o.raan_deg * _RAD_PER_DEG, o.arg_lat0_deg * _RAD_PER_DEG, t,
+    st = circular_orbit(alt, o.inclination_deg * RAD_PER_DEG, o.raan_deg * RAD_PER_DEG, o.arg_lat0_deg * RAD_PER_DEG, t,
                         epoch=np.datetime64(o.epoch))
     r = np.asarray(st.r)
     v = np.asarray(st.v)
@@ -1047,7 +1047,7 @@ def _environment(sc: WheelScenario, n_steps: int) -> tuple[np.ndarray, float]:
     if sc.modes.pointing == "nadir":
         env[:, _k.E_QREF:_k.E_QREF + 4] = _lvlh_quaternions(r, v)
     else:
-        env[:, _k.E_QREF:_k.E_QREF + 4] = _rotvec_quat(np.asarray(sc.modes.target_rotvec_deg) * _RAD_PER_DEG)
+        env[:, _k.E_QREF:_k.E_QREF + 4] = _rotvec_quat(np.asarray(sc.modes.target_rotvec_deg) * RAD_PER_DEG)
     return env, math.sqrt(_MU / (_RE + alt) ** 3)
 
 
@@ -1058,12 +1058,12 @@ def _draw(sc: WheelScenario, n: int, gen: np.random.Generator) -> dict[str, np.n
     dists: dict[str, Any] = {}
     for a in range(3):
         dists[f"inertia_{a}"] = TruncatedGaussian(mean=1.0, std=d.inertia_rel, low=0.1, high=1.9)
-        dists[f"rate_{a}"] = Gaussian(mean=sc.initial_rate_deg_s[a] * _RAD_PER_DEG, std=d.initial_rate_deg_s * _RAD_PER_DEG)
-        dists[f"att_{a}"] = Gaussian(mean=0.0, std=d.initial_attitude_deg * _RAD_PER_DEG)
-        dists[f"bias_{a}"] = Gaussian(mean=0.0, std=sc.sensors.gyro_bias0_deg_h * _RAD_PER_DEG / 3600.0)
+        dists[f"rate_{a}"] = Gaussian(mean=sc.initial_rate_deg_s[a] * RAD_PER_DEG, std=d.initial_rate_deg_s * RAD_PER_DEG)
+        dists[f"att_{a}"] = Gaussian(mean=0.0, std=d.initial_attitude_deg * RAD_PER_DEG)
+        dists[f"bias_{a}"] = Gaussian(mean=0.0, std=sc.sensors.gyro_bias0_deg_h * RAD_PER_DEG / 3600.0)
     for j in range(sc.wheels.n):
         for a in range(3):
-            dists[f"mis_{j}_{a}"] = Gaussian(mean=0.0, std=d.wheel_misalignment_deg * _RAD_PER_DEG)
+            dists[f"mis_{j}_{a}"] = Gaussian(mean=0.0, std=d.wheel_misalignment_deg * RAD_PER_DEG)
     dists["noise"] = TruncatedGaussian(mean=1.0, std=d.sensor_noise_rel, low=0.0, high=3.0)
     if d.sampling == "lhs":
         draws = latin_hypercube(dists, n, gen)
@@ -1135,7 +1135,7 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     if sc.dispersions.initial_attitude == "random":
         q0 = draws["random_q"] * np.where(draws["random_q"][:, 3:] < 0, -1.0, 1.0)
     else:
-        q_nom = Rotation.from_quat(_rotvec_quat(np.asarray(sc.initial_rotvec_deg) * _RAD_PER_DEG)[0])
+        q_nom = Rotation.from_quat(_rotvec_quat(np.asarray(sc.initial_rotvec_deg) * RAD_PER_DEG)[0])
         q0 = (q_nom * Rotation.from_quat(_rotvec_quat(att))).as_quat()  # A(q) = A(dq) A(q_nom)
         q0 *= np.where(q0[:, 3:] < 0, -1.0, 1.0)
     P[:, _k.P_Q0:_k.P_Q0 + 4] = q0
@@ -1144,7 +1144,7 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     P[:, _k.P_NS] = draws["noise"]
     P[:, _k.P_D0:_k.P_D0 + 3] = np.asarray(sc.disturbance.constant)
     P[:, _k.P_DAMP:_k.P_DAMP + 3] = np.asarray(sc.disturbance.amplitude)
-    P[:, _k.P_DPH:_k.P_DPH + 3] = np.asarray(sc.disturbance.phase_deg) * _RAD_PER_DEG
+    P[:, _k.P_DPH:_k.P_DPH + 3] = np.asarray(sc.disturbance.phase_deg) * RAD_PER_DEG
     A_nom = w.axis_matrix()
     mis = np.stack([np.stack([draws[f"mis_{j}_{a}"] for a in range(3)], axis=1) for j in range(nw)], axis=1)
     R = Rotation.from_rotvec(mis.reshape(-1, 3)).as_matrix().reshape(n, nw, 3, 3)
@@ -1170,8 +1170,8 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     C[_k.N2ORB] = n_orb**2 if sc.orbit.gravity_gradient else 0.0
     per = sc.disturbance.period_s if sc.disturbance.period_s > 0 else 2 * math.pi / n_orb
     C[_k.D_OMEGA] = 2 * math.pi / per
-    C[_k.SIG_SUN] = sc.sensors.sun_noise_deg * _RAD_PER_DEG
-    C[_k.SIG_MAG] = sc.sensors.mag_noise_deg * _RAD_PER_DEG
+    C[_k.SIG_SUN] = sc.sensors.sun_noise_deg * RAD_PER_DEG
+    C[_k.SIG_MAG] = sc.sensors.mag_noise_deg * RAD_PER_DEG
     C[_k.SIG_ST] = sc.sensors.star_tracker_noise_arcsec * _ARCSEC
     C[_k.SIG_V] = sc.sensors.gyro_arw
     C[_k.SIG_U] = sc.sensors.gyro_rrw
@@ -1179,7 +1179,7 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     C[_k.LAW] = {"pd": _k.LAW_PD, "wie": _k.LAW_WIE, "open-loop": _k.LAW_OPEN}[c.law]
     C[_k.K_GAIN] = c.bandwidth_rad_s**2
     C[_k.C_GAIN] = 2.0 * c.damping * c.bandwidth_rad_s
-    C[_k.RATE_MAX] = c.rate_limit_deg_s * _RAD_PER_DEG
+    C[_k.RATE_MAX] = c.rate_limit_deg_s * RAD_PER_DEG
     C[_k.TAU_MAX] = w.max_torque_nm
     C[_k.OMEGA_MAX] = w.max_speed_rpm * _RPM
     C[_k.C_VISC] = w.viscous_nms
@@ -1197,14 +1197,14 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     md = sc.modes
     C[_k.MODE0] = MODE_NAMES.index(md.initial)
     C[_k.SEQUENCE] = 1.0 if md.sequence else 0.0
-    C[_k.RATE_THR] = md.rate_threshold_deg_s * _RAD_PER_DEG
+    C[_k.RATE_THR] = md.rate_threshold_deg_s * RAD_PER_DEG
     C[_k.DWELL_STEPS] = int(round(md.dwell_s / dt))
-    C[_k.SUN_THR_COS] = math.cos(md.sun_threshold_deg * _RAD_PER_DEG)
+    C[_k.SUN_THR_COS] = math.cos(md.sun_threshold_deg * RAD_PER_DEG)
     C[_k.SUN_AX0:_k.SUN_AX2 + 1] = md.sun_axis
     C[_k.POINT_KIND] = _k.POINT_NADIR if md.pointing == "nadir" else _k.POINT_INERTIAL
     C[_k.ORBIT_RATE] = n_orb
     C[_k.K_WIN] = int(math.ceil(sc.sim.metrics_from_s / dt - 1e-9))
-    C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * _RAD_PER_DEG
+    C[_k.SETTLE_BAND] = sc.sim.settle_band_deg * RAD_PER_DEG
     C[_k.REC_EVERY] = sc.sim.record_every
     C[_k.JN0:_k.JN0 + 9] = J0.reshape(9)
     if c.law == "open-loop":
@@ -1230,8 +1230,8 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
     est = sc.estimator
     if est is not None:
         C[_k.EST_ON] = 1.0
-        C[_k.EST_SIG0] = est.init_error_deg * _RAD_PER_DEG
-        C[_k.EST_SIGB0] = sc.sensors.gyro_bias0_deg_h * _RAD_PER_DEG / 3600.0
+        C[_k.EST_SIG0] = est.init_error_deg * RAD_PER_DEG
+        C[_k.EST_SIGB0] = sc.sensors.gyro_bias0_deg_h * RAD_PER_DEG / 3600.0
         C[_k.EST_UW] = est.underweight
     shared = dict(C=C, ENV=env, AXN=np.ascontiguousarray(A_nom), PINV=pinv, NULLP=nullp, HSTAR=hstar,
                   WPAR=wpar, JW=jw, THR=thr, n_steps=n_steps)

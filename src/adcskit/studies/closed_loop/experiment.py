@@ -33,6 +33,7 @@ import numpy as np
 
 from adcskit._progress import status
 from adcskit._results import Result
+from adcskit.constants import RAD_PER_DEG
 from adcskit.errors import UncontrollableWarning
 from adcskit.simulation import (
     MODE_NAMES,
@@ -75,7 +76,6 @@ __all__ = ["Q1_READINGS", "Q2_READINGS", "Q2_MINMAX_READINGS", "SeedRatio", "Tra
            "WheelsVsThrusters", "Q6_READINGS", "Q6_STREAM", "SeedTable", "ModeSeedRow", "ModeRequirementRow",
            "ModeSequence", "Measurements", "measure", "q5_requirements", "q6_scenario", "q6_tables"]
 
-_RAD_PER_DEG = math.pi / 180.0
 
 Q1_READINGS = ("pinv-redistribute, all thrusters", "lp-min-fuel, all thrusters",
                "pinv-redistribute, one failed", "lp-min-fuel, one failed")
@@ -579,7 +579,7 @@ def _q3_gains(cfg: Config, sim: _Sim, seeds: list) -> tuple[Gains, list]:
 def _q4_slews(cfg: Config, sim: _Sim, seeds: list, ref_layout: ThrusterSpec) -> Slews:
     status("closed-loop: Q4 optimal slew vs step (GEO)")
     amax = cfg.slew_accel_fraction * cfg.geo_torque_level_nm / S3_INERTIA[2]
-    table, sol = optimal_slew_table(cfg.slew_deg * _RAD_PER_DEG, amax, (0.0, 0.0, 1.0), t0=1.0)
+    table, sol = optimal_slew_table(cfg.slew_deg * RAD_PER_DEG, amax, (0.0, 0.0, 1.0), t0=1.0)
     step = GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, cfg.slew_deg), t_step=1.0)
     settling, propellant, rows = [], [], []
     base4 = _geo_base(cfg, ref_layout, "pinv-redistribute").replace(
@@ -599,7 +599,7 @@ def _q4_slews(cfg: Config, sim: _Sim, seeds: list, ref_layout: ThrusterSpec) -> 
                             propellant_step_kg=ps_, propellant_optimal_kg=po_))
     rec_s = sim(base4.replace(guidance=step), seeds[0].spawn(2)[1], record=True, n=cfg.record_samples)
     rec_o = sim(base4.replace(guidance=table), seeds[0].spawn(2)[1], record=True, n=cfg.record_samples)
-    return Slews(optimal_tf_s=float(sol.tf), bang_bang_tf_s=2 * math.sqrt(cfg.slew_deg * _RAD_PER_DEG / amax),
+    return Slews(optimal_tf_s=float(sol.tf), bang_bang_tf_s=2 * math.sqrt(cfg.slew_deg * RAD_PER_DEG / amax),
                  settling_runs=tuple(settling), propellant_runs=tuple(propellant), rows=tuple(rows),
                  step_trace=_trace(rec_s), optimal_trace=_trace(rec_o))
 
