@@ -6,7 +6,7 @@ the default run selects (everything but ``slow``):
 * ``study`` — quick runs of whole studies (``tests/studies/``), minutes each;
 * ``docs`` — the Sphinx build, the docstring examples of every module and the docs pages;
 * ``compile`` — tests whose first run compiles a large numba kernel (the closed-loop
-  simulator, about 3 minutes on 2 cores; cached in ``__pycache__`` afterwards).
+  simulator, about 75 CPU-seconds; cached in ``__pycache__`` afterwards).
 
 The fast lane for day-to-day work is ``pytest -m "not slow and not study and not docs"``
 (a ``-m`` on the command line replaces the ``-m 'not slow'`` of ``addopts``, so keep

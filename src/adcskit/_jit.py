@@ -22,8 +22,8 @@ from typing import Any
 
 __all__ = ["will_compile", "CLOSED_LOOP_NOTICE"]
 
-#: One-line notice before the closed-loop simulator compiles (measured: about 3 min on 2 cores).
-CLOSED_LOOP_NOTICE = "compiling the closed-loop simulator once, about 3 min; cached afterwards"
+#: One-line notice before the closed-loop simulator compiles (measured: 75 CPU-s cold, 2026-12-02; docs/benchmarks.md "Compile time of the kernels").
+CLOSED_LOOP_NOTICE = "compiling the closed-loop simulator once, about 1-2 min; cached afterwards"
 
 
 def will_compile(dispatcher: Any) -> bool | None:

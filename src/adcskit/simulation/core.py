@@ -761,8 +761,8 @@ def simulate(
 
     Notes
     -----
-    The first call in a fresh installation compiles the numba kernel (about 3 min on
-    2 cores; cached on disk afterwards); inside a progress display (the ``adcskit`` CLI) a
+    The first call in a fresh installation compiles the numba kernel (about 75 CPU-seconds,
+    1-2 min; cached on disk afterwards); inside a progress display (the ``adcskit`` CLI) a
     one-line notice says so first. The notice
     is printed only when numba's disk cache holds no usable entry for the kernel.
 
