@@ -324,6 +324,33 @@ def test_cli_announces_kernel_compilation_only_when_pending(fake, tmp_path, monk
     assert cli.KERNELS_NOTICE not in capsys.readouterr().out
 
 
+def test_kernels_pending_counts_modules_with_nothing_compiled(monkeypatch):
+    # a warm run printed "compiling adcskit's numba kernels once" (2026-12-02): IR-inlined helpers
+    # and entry points a run never calls have no cache entry of their own; a module counts only
+    # when none of its own dispatchers is compiled or cached
+    import sys
+    import types
+
+    import numba
+
+    import adcskit.cli as cli
+
+    called = numba.njit(lambda x: x + 1)
+    assert called(1) == 2
+    unused = numba.njit(lambda x: x + 2)
+    inlined = numba.njit(inline="always")(lambda x: x * 2)
+    warm = types.ModuleType("_adcskit_fake_warm")
+    warm.called, warm.unused, warm.inlined = called, unused, inlined
+    cold = types.ModuleType("_adcskit_fake_cold")
+    cold.entry, cold.inlined = numba.njit(lambda x: x - 1), inlined
+    only_inlined = types.ModuleType("_adcskit_fake_inlined")
+    only_inlined.inlined = inlined
+    for m in (warm, cold, only_inlined):
+        monkeypatch.setitem(sys.modules, m.__name__, m)
+    monkeypatch.setattr(cli, "_KERNEL_MODULES", (warm.__name__, cold.__name__, only_inlined.__name__))
+    assert cli._kernels_pending() == 1  # the cold module only
+
+
 def test_kernels_pending_reads_the_numba_caches():
     from adcskit.cli import _kernels_pending
 

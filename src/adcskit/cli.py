@@ -452,7 +452,15 @@ KERNELS_NOTICE = "compiling adcskit's numba kernels once, about 2 min on 2 cores
 
 
 def _kernels_pending() -> int:
-    """How many of the studies' numba kernels (closed-loop simulator aside) compile on first use."""
+    """How many of the studies' kernel modules (closed-loop simulator aside) compile on first use.
+
+    A module counts when none of its own dispatchers would load from numba's disk cache: a
+    cold cache, or a module whose source changed (numba then ignores its entries). Helpers that
+    numba inlines into their callers (``inline="always"``) never get a cache entry of their own,
+    and a module may hold entry points a given run does not call (``solve_batch_parallel`` in a
+    quick run), so a single pending dispatcher says nothing: before this rule the notice was
+    printed on every warm run.
+    """
     import importlib
 
     from numba.core.registry import CPUDispatcher
@@ -462,9 +470,11 @@ def _kernels_pending() -> int:
     pending = 0
     for mod_name in _KERNEL_MODULES:
         mod = importlib.import_module(mod_name)
-        for obj in vars(mod).values():
-            if isinstance(obj, CPUDispatcher) and getattr(obj, "_cache", None) is not None:
-                pending += bool(will_compile(obj))
+        own = [obj for obj in vars(mod).values()
+               if isinstance(obj, CPUDispatcher) and getattr(obj, "_cache", None) is not None
+               and obj.targetoptions.get("inline", "never") == "never"]
+        if own and all(will_compile(obj) for obj in own):
+            pending += 1
     return pending
 
 
