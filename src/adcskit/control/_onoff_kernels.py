@@ -1,11 +1,17 @@
-"""Private kernels of the on-off loop: one per-sample source for the CPU and the GPU, plus
-the NumPy reference path.
+"""Private kernels of the on-off loop: a per-sample source for the GPU (and for traces), a
+lane-block source for the CPU, plus the NumPy reference path.
 
 :func:`_sample` simulates one sample; it is compiled twice from this one source
-(:mod:`adcskit._targets`): by ``numba.njit`` for the CPU driver :func:`simulate_parallel`
-(``prange`` over samples) and by ``numba.cuda.jit(device=True)`` for the GPU driver
-:func:`simulate_cuda` (one thread per sample). :func:`simulate_numpy` is an independent
-reference vectorised over samples.
+(:mod:`adcskit._targets`): by ``numba.njit`` (the CPU driver's path when traces are
+recorded) and by ``numba.cuda.jit(device=True)`` for the GPU driver :func:`simulate_cuda`
+(one thread per sample). Without traces the CPU driver :func:`simulate_parallel` runs
+:func:`_lanes` instead: blocks of up to :data:`LANES` samples advanced together, each piece of
+a step a short loop over the block's samples that LLVM vectorises (SIMD across samples, 1.7-2x
+the per-sample kernel's sample-steps per CPU-second; docs/benchmarks.md, "On-off kernel:
+samples in lanes"). It is a second source of the same model, kept to *the same operations in
+the same order per sample*, so the two give identical numbers (tested bit for bit, with
+partial blocks and time-varying disturbances: tests/control/test_onoff.py).
+:func:`simulate_numpy` is an independent reference vectorised over samples.
 
 The CPU kernels perform *the same floating-point operations in the same order* as the NumPy
 path, so their results agree bit for bit (no fused multiply-add: numba runs without
