@@ -117,6 +117,27 @@ def test_numba_matches_numpy_bit_for_bit(rate):
     np.testing.assert_array_equal(a, c)
 
 
+@pytest.mark.parametrize("n, varying, lanes", [(5, True, 16), (70, False, 16), (70, True, 64), (133, False, 64)])
+def test_lane_blocks_match_the_per_sample_kernel_bit_for_bit(n, varying, lanes):
+    # the CPU driver advances blocks of samples together (SIMD across samples) with the same
+    # operations per sample as the per-sample kernel (used with traces and on the GPU):
+    # identical floats, whatever the block size, a partial last block, a sinusoidal disturbance
+    from adcskit.control import _onoff_kernels as k
+    from adcskit.control.onoff import _buffer_length, _coefficients, _param_matrix
+
+    s = LoopSettings(t_final=2.0, t_window=0.5, command_rate_hz=200.0)
+    P = _param_matrix(_random_batch(n, np.random.default_rng(n), varying=varying))
+    C = _coefficients(s)
+    n_steps, hold, n_win = s.n_steps, s.hold_steps, s.n_window
+    L = _buffer_length(P, s.dt)
+    traces = np.zeros((n, n_steps + 1, k.N_TRACE))  # traces: one sample at a time
+    per_sample = k.simulate_serial(P, C, n_steps, hold, n_win, L, traces, lanes)
+    none = np.empty((0, 0, k.N_TRACE))
+    for fn in (k.simulate_serial, k.simulate_parallel):
+        blocks = fn(P, C, n_steps, hold, n_win, L, none, lanes)
+        assert blocks.tobytes() == per_sample.tobytes()
+
+
 def test_numba_matches_numpy_time_varying_disturbance():
     # libm sin vs numpy sin may differ by an ulp; relay switching can amplify that, so we
     # compare a short run where no switching instant is close to a threshold (10 s -> 1e-9)

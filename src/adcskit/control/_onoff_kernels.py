@@ -1,11 +1,17 @@
-"""Private kernels of the on-off loop: one per-sample source for the CPU and the GPU, plus
-the NumPy reference path.
+"""Private kernels of the on-off loop: a per-sample source for the GPU (and for traces), a
+lane-block source for the CPU, plus the NumPy reference path.
 
 :func:`_sample` simulates one sample; it is compiled twice from this one source
-(:mod:`adcskit._targets`): by ``numba.njit`` for the CPU driver :func:`simulate_parallel`
-(``prange`` over samples) and by ``numba.cuda.jit(device=True)`` for the GPU driver
-:func:`simulate_cuda` (one thread per sample). :func:`simulate_numpy` is an independent
-reference vectorised over samples.
+(:mod:`adcskit._targets`): by ``numba.njit`` (the CPU driver's path when traces are
+recorded) and by ``numba.cuda.jit(device=True)`` for the GPU driver :func:`simulate_cuda`
+(one thread per sample). Without traces the CPU driver :func:`simulate_parallel` runs
+:func:`_lanes` instead: blocks of up to :data:`LANES` samples advanced together, each piece of
+a step a short loop over the block's samples that LLVM vectorises (SIMD across samples, 1.7-2x
+the per-sample kernel's sample-steps per CPU-second; docs/benchmarks.md, "On-off kernel:
+samples in lanes"). It is a second source of the same model, kept to *the same operations in
+the same order per sample*, so the two give identical numbers (tested bit for bit, with
+partial blocks and time-varying disturbances: tests/control/test_onoff.py).
+:func:`simulate_numpy` is an independent reference vectorised over samples.
 
 The CPU kernels perform *the same floating-point operations in the same order* as the NumPy
 path, so their results agree bit for bit (no fused multiply-add: numba runs without
@@ -32,7 +38,7 @@ import math
 import numba
 import numpy as np
 
-from adcskit._targets import LazyKernels, PerSample, import_cuda
+from adcskit._targets import LazyKernels, PerSample, device, import_cuda
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 
 # --- per-sample parameter columns ---------------------------------------------------------
@@ -64,6 +70,26 @@ METRIC_NAMES = (
 # --- trace columns ----------------------------------------------------------------------
 TR_THETA, TR_OMEGA, TR_U, TR_CMD, TR_THRUST = range(5)
 N_TRACE = 5
+
+
+@device
+def _metrics(out, i, max_over, abs_step, acc, n_win, max_win, fuel, firings, last_out, n_steps, dt, e):
+    """Write sample ``i``'s metrics (``out[i, :]``) from its accumulators."""
+    if abs_step > 0.0:
+        out[i, OVERSHOOT_PCT] = max(max_over, 0.0) / abs_step * 100.0
+    else:
+        out[i, OVERSHOOT_PCT] = math.nan
+    out[i, MEAN_ABS_ERR] = acc / n_win
+    out[i, MAX_ABS_ERR] = max_win
+    out[i, FUEL] = fuel
+    out[i, FIRINGS] = firings
+    if last_out < 0:
+        out[i, SETTLING_TIME] = 0.0
+    elif last_out >= n_steps:
+        out[i, SETTLING_TIME] = math.nan
+    else:
+        out[i, SETTLING_TIME] = (last_out + 1) * dt
+    out[i, FINAL_ERR] = e
 
 
 def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
@@ -200,38 +226,182 @@ def _sample(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out):
             rec[i, k + 1, TR_U] = u
             rec[i, k + 1, TR_CMD] = s
             rec[i, k + 1, TR_THRUST] = torque * x2
-    if abs_step > 0.0:
-        out[i, OVERSHOOT_PCT] = max(max_over, 0.0) / abs_step * 100.0
-    else:
-        out[i, OVERSHOOT_PCT] = math.nan
-    out[i, MEAN_ABS_ERR] = acc / n_win
-    out[i, MAX_ABS_ERR] = max_win
-    out[i, FUEL] = fuel
-    out[i, FIRINGS] = firings
-    if last_out < 0:
-        out[i, SETTLING_TIME] = 0.0
-    elif last_out >= n_steps:
-        out[i, SETTLING_TIME] = math.nan
-    else:
-        out[i, SETTLING_TIME] = (last_out + 1) * dt
-    out[i, FINAL_ERR] = e
+    _metrics(out, i, max_over, abs_step, acc, n_win, max_win, fuel, firings, last_out, n_steps, dt, e)
 
 
 SAMPLE = PerSample(_sample)
 _sample_cpu = SAMPLE.cpu
 
+# --- CPU: many samples at once ----------------------------------------------------------------
+#: Most samples one CPU thread advances together (:func:`_lanes`); fewer when a batch is small,
+#: so that every thread gets a block (:func:`lane_count`).
+LANES = 64
+#: Fewest samples per block: below ~16 the per-lane loops cost more than they vectorise.
+MIN_LANES = 16
+# rows of a block's per-lane scratch F (one float per lane each)
+(_KP, _KI, _KD, _UON, _UOFF, _INVJ, _G, _ABST, _FRAC, _D0, _DAMP, _DOM, _TREF, _TH, _OM, _SGN,
+ _BAND, _E, _INTEG, _XF, _X1, _X2, _S, _FIR, _FUEL, _MO, _ACC, _MW, _TD, _ABSSTEP, _UA, _UB,
+ _UD, _PP, _VV) = range(35)
+N_LANE_ROWS = 35
 
-def _simulate(P, C, n_steps, hold, n_win, buf_len, rec):
-    """CPU driver: simulate every row of ``P``; return the (N, N_METRICS) metrics."""
+
+@numba.njit(nogil=True, cache=True)
+def _lanes(i0, L, P, C, n_steps, hold, n_win, buf_len, out, buf, ndi, lo, F):
+    """Simulate samples ``i0 .. i0 + L - 1`` together and write their metrics to ``out``.
+
+    The same floating-point operations in the same order per sample as :func:`_sample`
+    (identical results, bit for bit), but time-major over a block of samples: each piece of a
+    step is a loop over the block's lanes (structure of arrays: one row of ``F`` per state
+    variable), which LLVM turns into SIMD instructions (AVX2: four samples per instruction)
+    without changing one operation. A step is split into several short lane loops, not one:
+    a loop touching many arrays is not vectorised (too many run-time overlap checks), and the
+    delay line's reads (a different row per lane) are gathered in a loop of their own. Measured
+    1.9-2.0x the per-sample kernel on one thread (docs/benchmarks.md, "On-off kernel: samples
+    in lanes"). No traces (the drivers use :func:`_sample` when recording).
+
+    ``buf``: (``buf_len``, >= L) delay line, one column per lane; ``ndi``, ``lo``: int64 (>= L,)
+    (delay in whole steps, last step outside the band); ``F``: (:data:`N_LANE_ROWS`, >= L).
+    """
+    mask = buf_len - 1
+    a11, b1, a21, a22, b2 = C[A11], C[B1], C[A21], C[A22], C[B2]
+    v1, v2, vu, p1, p2, pu = C[V1], C[V2], C[VU], C[P1], C[P2], C[PU]
+    alpha = C[ALPHA]
+    inv_td = C[INV_TD]
+    dt = C[DT]
+    half_dt2 = C[HALF_DT2]
+    band_frac = C[BAND_FRAC]
+    k_win0 = n_steps - n_win + 1
+    kp, ki, kd, uon, uoff, invj, g, abst = F[_KP], F[_KI], F[_KD], F[_UON], F[_UOFF], F[_INVJ], F[_G], F[_ABST]
+    frac, d0, damp, dom, tref, th, om, sgn = F[_FRAC], F[_D0], F[_DAMP], F[_DOM], F[_TREF], F[_TH], F[_OM], F[_SGN]
+    band, e, integ, xf, x1, x2, s, fir = F[_BAND], F[_E], F[_INTEG], F[_XF], F[_X1], F[_X2], F[_S], F[_FIR]
+    fuel, mo, acc, mw, td, absstep = F[_FUEL], F[_MO], F[_ACC], F[_MW], F[_TD], F[_ABSSTEP]
+    ua, ub, ud, pp, vv = F[_UA], F[_UB], F[_UD], F[_PP], F[_VV]
+    varying = False
+    for j in range(L):  # as _sample's set-up
+        i = i0 + j
+        kp[j] = P[i, KP]
+        ki[j] = P[i, KI]
+        kd[j] = P[i, KD]
+        uon[j] = P[i, UON]
+        uoff[j] = P[i, UOFF]
+        invj[j] = 1.0 / P[i, INERTIA]
+        torque = P[i, TORQUE]
+        g[j] = torque * invj[j]
+        abst[j] = abs(torque)
+        delay_steps = P[i, DELAY] / dt
+        nd = int(math.floor(delay_steps))
+        ndi[j] = nd
+        frac[j] = delay_steps - nd
+        d0[j] = P[i, D0]
+        damp[j] = P[i, DAMP]
+        dom[j] = P[i, DOMEGA]
+        tref[j] = P[i, THREF]
+        th[j] = P[i, TH0]
+        om[j] = P[i, OM0]
+        step = tref[j] - th[j]
+        sgn[j] = 1.0 if step >= 0.0 else -1.0
+        absstep[j] = abs(step)
+        band[j] = band_frac * absstep[j]
+        e[j] = tref[j] - th[j]
+        integ[j] = 0.0
+        xf[j] = e[j]
+        x1[j] = 0.0
+        x2[j] = 0.0
+        s[j] = 0.0
+        fir[j] = 0.0
+        fuel[j] = 0.0
+        mo[j] = -math.inf
+        acc[j] = 0.0
+        mw[j] = 0.0
+        lo[j] = 0 if abs(e[j]) > band[j] else -1
+        td[j] = d0[j]
+        varying = varying or damp[j] != 0.0
+    for r in range(buf_len):
+        for j in range(L):
+            buf[r, j] = 0.0
+    cnt = 0
+    for k in range(n_steps):
+        if cnt == 0:  # controller at the command instants (the same for every lane)
+            cnt = hold
+            for j in range(L):
+                u = kp[j] * e[j] + ki[j] * integ[j] + kd[j] * ((e[j] - xf[j]) * inv_td)
+                prev = s[j]
+                s[j] = schmitt(prev, u, uon[j], uoff[j])
+                if s[j] != 0.0 and s[j] != prev:
+                    fir[j] += 1.0
+        cnt -= 1
+        row = k & mask
+        for j in range(L):
+            buf[row, j] = s[j]
+        for j in range(L):  # the delay line's two reads (gathers: a loop of their own)
+            ka = k - ndi[j]
+            ua[j] = buf[ka & mask, j] if ka >= 0 else 0.0
+            ub[j] = buf[(ka - 1) & mask, j] if ka - 1 >= 0 else 0.0
+        for j in range(L):
+            ud[j] = delay_mix(ua[j], ub[j], frac[j])
+        if varying:
+            for j in range(L):
+                if damp[j] != 0.0:
+                    td[j] = d0[j] + damp[j] * math.sin(dom[j] * ((k + 0.5) * dt))
+        for j in range(L):  # thruster lag
+            pp[j] = p1 * x1[j] + p2 * x2[j] + pu * ud[j]
+            vv[j], x1[j], x2[j] = lag_step(x1[j], x2[j], ud[j], a11, b1, a21, a22, b2, v1, v2, vu)
+        for j in range(L):  # rigid body, exact for a command held over the step
+            th[j] = th[j] + om[j] * dt + g[j] * pp[j] + (td[j] * invj[j]) * half_dt2
+            om[j] = om[j] + g[j] * vv[j] + (td[j] * invj[j]) * dt
+        for j in range(L):  # fuel, PID states
+            fuel[j] += abst[j] * abs(vv[j])
+            integ[j] = integ[j] + e[j] * dt
+            xf[j] = xf[j] + alpha * (e[j] - xf[j])
+        for j in range(L):  # metrics at t_{k+1}
+            ej = tref[j] - th[j]
+            e[j] = ej
+            over = sgn[j] * (th[j] - tref[j])
+            mo[j] = over if over > mo[j] else mo[j]
+            lo[j] = k + 1 if abs(ej) > band[j] else lo[j]
+        if k + 1 >= k_win0:
+            for j in range(L):
+                acc[j] += abs(e[j])
+            for j in range(L):
+                ae = abs(e[j])
+                mw[j] = ae if ae > mw[j] else mw[j]
+    for j in range(L):
+        _metrics(out, i0 + j, mo[j], absstep[j], acc[j], n_win, mw[j], fuel[j], fir[j], lo[j], n_steps,
+                 dt, e[j])
+
+
+def lane_count(n):
+    """Samples per block of the CPU driver for a batch of ``n``: :data:`LANES`, or fewer (not
+    below :data:`MIN_LANES`) so that every numba thread gets a block. Any count gives the
+    same numbers."""
+    per_thread = -(-int(n) // numba.get_num_threads())
+    return max(MIN_LANES, min(LANES, per_thread))
+
+
+def _simulate(P, C, n_steps, hold, n_win, buf_len, rec, lanes):
+    """CPU driver: simulate every row of ``P``; return the (N, N_METRICS) metrics.
+
+    Without traces, blocks of ``lanes`` samples (:func:`lane_count`) through :func:`_lanes`
+    (``prange`` over blocks); with
+    traces, one sample at a time through :func:`_sample` (``prange`` over samples). The two
+    give the same numbers."""
     n = P.shape[0]
     out = np.empty((n, N_METRICS))
-    for i in numba.prange(n):
-        buf = np.empty(buf_len)
-        _sample_cpu(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
+    if rec.shape[0] > 0:
+        for i in numba.prange(n):
+            buf = np.empty(buf_len)
+            _sample_cpu(i, P, C, n_steps, hold, n_win, buf_len, buf, rec, out)
+        return out
+    for b in numba.prange((n + lanes - 1) // lanes):
+        i0 = b * lanes
+        L = min(lanes, n - i0)
+        F = np.empty((N_LANE_ROWS, L))
+        _lanes(i0, L, P, C, n_steps, hold, n_win, buf_len, out, np.empty((buf_len, L)),
+               np.empty(L, np.int64), np.empty(L, np.int64), F)
     return out
 
 
-def _simulate_python(P, C, n_steps, hold, n_win, buf_len, rec):
+def _simulate_python(P, C, n_steps, hold, n_win, buf_len, rec, lanes=1):
     """The plain-Python driver around the plain per-sample function (benchmarks only)."""
     n = P.shape[0]
     out = np.empty((n, N_METRICS))

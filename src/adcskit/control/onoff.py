@@ -505,7 +505,7 @@ _Kernel = Callable[..., np.ndarray]
 
 def _run_numba(P, C, n_steps, hold, n_win, L, rec, parallel):
     fn = _k.simulate_parallel if parallel else _k.simulate_serial
-    return fn(P, C, n_steps, hold, n_win, L, rec)
+    return fn(P, C, n_steps, hold, n_win, L, rec, _k.lane_count(P.shape[0]))
 
 
 def _run_numpy(P, C, n_steps, hold, n_win, L, rec, parallel):
