@@ -705,6 +705,11 @@ def _fmt_duration(s: float) -> str:
     return f"{s / 86400:.1f} days"
 
 
+#: Shortest timed calibration of :func:`estimate_tuning_time` (s), and its most batches.
+_MIN_CALIBRATION_S = 0.5
+_MAX_CALIBRATION_BATCHES = 64
+
+
 def estimate_tuning_time(
     scale: RobustTuningScale = PAPER_SCALE,
     *,
@@ -717,7 +722,8 @@ def estimate_tuning_time(
 
     The calibration simulates ``calibration_samples`` loops (random gains in S4's box,
     nominal parameters) for ``min(t_final, 5 s)`` after one untimed warm-up batch
-    (compilation), measures sample-steps per second, and scales: one GA generation is
+    (compilation), repeated until at least 0.5 s have passed, measures sample-steps per
+    second (wall clock: the prediction is of wall time), and scales: one GA generation is
     ``pop_size × n_samples`` loops of ``settings.n_steps`` steps (pymoo's GA evaluates
     ``pop_size`` offspring per generation), the cap adds ``max_gen + 1`` of them (the
     initial population), and the evaluation is ``n_eval`` loops.
@@ -768,10 +774,17 @@ def estimate_tuning_time(
     )
     gains = as_rng(rng).uniform(1.0, 100.0, size=(n_cal, 3))
     evaluate_gains(gains[: min(n_cal, 64)], settings=cal, backend=target)  # compile / load cache
+    # time whole batches until at least _MIN_CALIBRATION_S have passed (one 1024-loop batch is
+    # ~0.05 s on two cores: a single one read 2x apart between runs)
     t0 = time.perf_counter()
-    evaluate_gains(gains, settings=cal, backend=target)
-    elapsed = max(time.perf_counter() - t0, 1e-9)
-    rate = n_cal * cal.n_steps / elapsed
+    batches = 0
+    while True:
+        evaluate_gains(gains, settings=cal, backend=target)
+        batches += 1
+        elapsed = time.perf_counter() - t0
+        if elapsed >= _MIN_CALIBRATION_S or batches >= _MAX_CALIBRATION_BATCHES:
+            break
+    rate = batches * n_cal * cal.n_steps / max(elapsed, 1e-9)
     steps = settings.n_steps
     gen_s = scale.pop_size * scale.n_samples * steps / rate
     tune_s = (scale.max_gen + 1) * gen_s

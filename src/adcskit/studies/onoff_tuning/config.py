@@ -50,8 +50,9 @@ protocol (``ga_pop`` 70, ``ga_max_gen`` 1000 with the S4 stopping rule, ``n_lhs`
 samples per candidate, ``n_mc`` 10 000-run evaluations: ``PAPER_SCALE`` of
 :mod:`adcskit.control.tuning`; giving one of these keys another value beside it is an error)
 and prints a time estimate first (issue 14's timed probe,
-:func:`~adcskit.control.tuning.estimate_tuning_time`); days on two CPU cores, meant for
-``backend="cuda"`` (robust GA, evaluations) or a Dask executor.
+:func:`~adcskit.control.tuning.estimate_tuning_time`); up to ≈ 2 h per case at the
+generation cap on two CPU cores (2026-12-02), minutes with ``backend="cuda"`` (robust GA,
+evaluations).
 
 Attributes
 ----------
