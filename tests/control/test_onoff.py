@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 import pytest
 
@@ -136,6 +137,17 @@ def test_lane_blocks_match_the_per_sample_kernel_bit_for_bit(n, varying, lanes):
     for fn in (k.simulate_serial, k.simulate_parallel):
         blocks = fn(P, C, n_steps, hold, n_win, L, none, lanes)
         assert blocks.tobytes() == per_sample.tobytes()
+
+
+def test_lane_count_gives_every_thread_a_block():
+    from adcskit.control import _onoff_kernels as k
+
+    threads = numba.get_num_threads()
+    for n in (1, 20, 100, 2800, 10**6):
+        lanes = k.lane_count(n)
+        assert k.MIN_LANES <= lanes <= k.LANES
+        if n >= k.MIN_LANES * threads:
+            assert -(-n // lanes) >= threads  # at least one block per thread
 
 
 def test_numba_matches_numpy_time_varying_disturbance():
