@@ -29,9 +29,9 @@ up to rounding; the tests check this to 1e-10.
 Hand-written here: the recursions themselves (a few lines each). scipy has no discrete
 Kalman filter; filterpy is unmaintained and not a dependency. Every inverse is a Cholesky
 solve, never an explicit inverse: LAPACK ``potrf``/``potrs`` through ``scipy.linalg.lapack``, the
-routines ``scipy.linalg.cho_factor``/``cho_solve`` call, without their per-call checks (12 µs of
-a 14 µs factor-and-solve of a 6 x 6 innovation covariance, once per filter step; bit-identical,
-tested against ``cho_factor``/``cho_solve``).
+routines ``scipy.linalg.cho_factor``/``cho_solve`` call, without their per-call checks (≈ 10 of
+15 µs per call on S1's 2 x 2 and 6 x 6 innovation covariances, two calls per filter step;
+bit-identical, tested against ``cho_factor``/``cho_solve``).
 
 References
 ----------
@@ -75,9 +75,9 @@ def _cho_factor(S):
     """``scipy.linalg.cho_factor(S, lower=True, check_finite=False)`` for a float64 ``S``, unchecked.
 
     The same LAPACK call (``dpotrf``, lower, triangle above not cleaned), so the same bits,
-    without scipy's per-call argument checks and batch wrapper, which cost ~6x the factorisation of
-    the small matrices of a filter step. Raises ``LinAlgError`` with scipy's message when ``S`` is
-    not positive definite.
+    without scipy's per-call argument checks and batch wrapper, which cost several times the
+    factorisation of the small matrices of a filter step. Raises ``LinAlgError`` with scipy's
+    message when ``S`` is not positive definite.
     """
     c, info = dpotrf(S, lower=1, clean=0)
     if info > 0:
