@@ -1,19 +1,21 @@
-"""The filter step's Cholesky calls in model-estimation: scipy's ``cho_factor``/``cho_solve`` vs LAPACK.
+"""model-estimation's small LAPACK calls: through scipy's public functions vs LAPACK directly.
 
-``adcskit.estimation.kalman`` factors the innovation covariance and solves with it once per
-filter step through ``dpotrf``/``dpotrs`` directly (issue 24 item 1); before, it called
-``scipy.linalg.cho_factor``/``cho_solve``, which run the same LAPACK routines after ~12 µs of
-per-call checks. This script runs one seed's worth of the model-estimation study's tasks
+Two inner-loop calls of the study go to LAPACK directly since issue 24 item 1, each the routine
+scipy's function calls, without its per-call checks: the filter step's Cholesky factor and solves
+(``adcskit.estimation.kalman._cho_factor``/``_cho_solve``: ``dpotrf``/``dpotrs``, before
+``scipy.linalg.cho_factor``/``cho_solve``) and the online adaptive GMRES's Hessenberg least
+squares (``adcskit.estimation.identification._lstsq_tall``: ``dgelsd``, before
+``scipy.linalg.lstsq``). This script runs one seed's worth of the model-estimation study's tasks
 (every reading, case and method at full per-run sizes: 200 steps) in this process, alternately
 with the scipy calls put back and with the direct LAPACK calls, and prints the process CPU time
 (``time.process_time``) of each pass: pairs in alternating order (before/after, then
 after/before, ...), medians, the load average; then, in one more pass each, the calls and the
-wall time spent inside them. The outputs of the two variants are compared bit for bit (every
+wall time spent inside them, per helper. The outputs of the two variants are compared bit for bit (every
 task's final errors and error histories).
 
 Usage::
 
-    PYTHONPATH=src python benchmarks/bench_kalman_cholesky.py [--pairs 4] [--seeds 1]
+    PYTHONPATH=src python benchmarks/bench_estimation_lapack.py [--pairs 4] [--seeds 1]
 """
 
 from __future__ import annotations
@@ -29,13 +31,19 @@ import scipy.linalg as sla
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
-from adcskit.estimation import kalman  # noqa: E402
+from adcskit.estimation import identification, kalman  # noqa: E402
 from adcskit.studies.model_estimation import experiment as ex  # noqa: E402
 from adcskit.studies.model_estimation.config import Config  # noqa: E402
 
-_LAPACK = (kalman._cho_factor, kalman._cho_solve)
+_LAPACK = (kalman._cho_factor, kalman._cho_solve, identification._lstsq_tall)
 _SCIPY = (lambda S: sla.cho_factor(S, lower=True, check_finite=False),
-          lambda cf, b: sla.cho_solve(cf, b, check_finite=False))
+          lambda cf, b: sla.cho_solve(cf, b, check_finite=False),
+          lambda H, rhs: sla.lstsq(H, rhs, check_finite=False)[0])
+_NAMES = ("Cholesky factor", "Cholesky solve", "Hessenberg lstsq")
+
+
+def _install(variant) -> None:
+    kalman._cho_factor, kalman._cho_solve, identification._lstsq_tall = variant
 
 
 def _tasks(n_seeds: int) -> list[dict]:
@@ -51,28 +59,28 @@ def _tasks(n_seeds: int) -> list[dict]:
 
 
 def _pass(variant, tasks):
-    kalman._cho_factor, kalman._cho_solve = variant
+    _install(variant)
     c0 = time.process_time()
     runs = [ex._run_task(t) for t in tasks]
     return time.process_time() - c0, runs
 
 
-def _inside(variant, tasks) -> tuple[int, float]:
-    """Calls of the Cholesky helpers in one pass and the wall time spent inside them [s]
+def _inside(variant, tasks) -> list[tuple[int, float]]:
+    """Calls of each helper in one pass and the wall time spent inside them [s]
     (``perf_counter``: this VM books the CPU time of a call of microseconds in 4 ms ticks)."""
-    n, t = [0], [0.0]
+    acc = [[0, 0.0] for _ in variant]
 
-    def timed(fn):
+    def timed(fn, c):
         def wrapped(*a):
             t0 = time.perf_counter()
             out = fn(*a)
-            t[0] += time.perf_counter() - t0
-            n[0] += 1
+            c[1] += time.perf_counter() - t0
+            c[0] += 1
             return out
         return wrapped
 
-    _pass((timed(variant[0]), timed(variant[1])), tasks)
-    return n[0], t[0]
+    _pass(tuple(timed(fn, c) for fn, c in zip(variant, acc, strict=True)), tasks)
+    return [(n, t) for n, t in acc]
 
 
 def _same(a, b) -> bool:
@@ -87,7 +95,7 @@ def main() -> int:
     args = ap.parse_args()
     tasks = _tasks(args.seeds)
     _pass(_LAPACK, tasks[:2])  # warm up imports and caches
-    times: dict[str, list[float]] = {"scipy cho_factor/cho_solve (before)": [], "LAPACK dpotrf/dpotrs (after)": []}
+    times: dict[str, list[float]] = {"scipy's functions (before)": [], "LAPACK directly (after)": []}
     names = list(times)
     ref = None
     loads = []
@@ -102,15 +110,16 @@ def main() -> int:
             elif not _same(ref, runs):
                 print("OUTPUTS DIFFER between the variants")
                 return 1
-            print(f"pair {i + 1}: {names[k]:<38} {dt:7.2f} CPU-s")
+            print(f"pair {i + 1}: {names[k]:<27} {dt:7.2f} CPU-s")
     med = {k: statistics.median(v) for k, v in times.items()}
     b, a = med[names[0]], med[names[1]]
     print(f"{len(tasks)} tasks x {args.pairs} pairs; medians: before {b:.2f} CPU-s, after {a:.2f} CPU-s "
           f"({100 * (a - b) / b:+.1f} %); outputs bit-identical; load average {min(loads):.1f}-{max(loads):.1f}")
     for k, variant in ((0, _SCIPY), (1, _LAPACK)):
-        n, t = _inside(variant, tasks)
-        print(f"inside the calls, one more pass: {names[k]:<38} {n} calls, {t:.3f} s wall ({1e6 * t / n:.1f} us/call)")
-    kalman._cho_factor, kalman._cho_solve = _LAPACK
+        for what, (n, t) in zip(_NAMES, _inside(variant, tasks), strict=True):
+            print(f"inside the calls, one more pass: {names[k]:<27} {what:<17} {n:6d} calls, {t:.3f} s wall "
+                  f"({1e6 * t / max(n, 1):.1f} us/call)")
+    _install(_LAPACK)
     return 0
 
 
