@@ -28,7 +28,10 @@ up to rounding; the tests check this to 1e-10.
 
 Hand-written here: the recursions themselves (a few lines each). scipy has no discrete
 Kalman filter; filterpy is unmaintained and not a dependency. Every inverse is a Cholesky
-solve (``scipy.linalg.cho_factor``/``cho_solve``), never an explicit inverse.
+solve, never an explicit inverse: LAPACK ``potrf``/``potrs`` through ``scipy.linalg.lapack``, the
+routines ``scipy.linalg.cho_factor``/``cho_solve`` call, without their per-call checks (≈ 10 of
+15 µs per call on S1's 2 x 2 and 6 x 6 innovation covariances, two calls per filter step;
+bit-identical, tested against ``cho_factor``/``cho_solve``).
 
 References
 ----------
@@ -43,7 +46,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve
+from scipy.linalg import LinAlgError
+from scipy.linalg.lapack import dpotrf, dpotrs
 
 from adcskit._results import Result
 from adcskit._validation import as_array, as_rng, check_choice, check_positive
@@ -67,17 +71,42 @@ KALMAN_FORMS: dict[str, str] = {
 # --------------------------------------------------------------------------- kernels
 
 
+def _cho_factor(S):
+    """``scipy.linalg.cho_factor(S, lower=True, check_finite=False)`` for a float64 ``S``, unchecked.
+
+    The same LAPACK call (``dpotrf``, lower, triangle above not cleaned), so the same bits,
+    without scipy's per-call argument checks and batch wrapper, which cost several times the
+    factorisation of the small matrices of a filter step. Raises ``LinAlgError`` with scipy's
+    message when ``S`` is not positive definite.
+    """
+    c, info = dpotrf(S, lower=1, clean=0)
+    if info > 0:
+        raise LinAlgError(f"{info}-th leading minor of the array is not positive definite")
+    if info < 0:
+        raise ValueError(f"LAPACK reported an illegal value in {-info}-th argument on entry to \"POTRF\".")
+    return c, True
+
+
+def _cho_solve(S_cf, b):
+    """``scipy.linalg.cho_solve(S_cf, b, check_finite=False)`` for a factor of :func:`_cho_factor`,
+    unchecked (the same LAPACK ``dpotrs`` call)."""
+    x, info = dpotrs(S_cf[0], b, lower=1)
+    if info != 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal potrs")
+    return x
+
+
 def _innovation(x_pred, P_pred, y, C, R):
     """Innovation ``nu``, its covariance ``S`` and the Cholesky factor of ``S``."""
     nu = y - C @ x_pred
     S = C @ P_pred @ C.T + R
     S = 0.5 * (S + S.T)
-    return nu, S, cho_factor(S, lower=True, check_finite=False)
+    return nu, S, _cho_factor(S)
 
 
 def _measurement_update(x_pred, P_pred, nu, C, R, S_cf):
     """Filtered state and Joseph-form covariance."""
-    K = cho_solve(S_cf, C @ P_pred, check_finite=False).T  # P C^T S^-1 (P, S symmetric)
+    K = _cho_solve(S_cf, C @ P_pred).T  # P C^T S^-1 (P, S symmetric)
     x_f = x_pred + K @ nu
     IKC = np.eye(P_pred.shape[0]) - K @ C
     P_f = IKC @ P_pred @ IKC.T + K @ R @ K.T
@@ -94,7 +123,7 @@ def _step_predict_update(x_pred, P_pred, y, u, A, B, C, Q, R):
 
 def _step_predictor(x_pred, P_pred, y, u, A, B, C, Q, R):
     nu, S, S_cf = _innovation(x_pred, P_pred, y, C, R)
-    Kp = cho_solve(S_cf, C @ P_pred @ A.T, check_finite=False).T  # A P C^T S^-1
+    Kp = _cho_solve(S_cf, C @ P_pred @ A.T).T  # A P C^T S^-1
     x_next = A @ x_pred + B @ u + Kp @ nu
     AKC = A - Kp @ C
     P_next = AKC @ P_pred @ AKC.T + Kp @ R @ Kp.T + Q
@@ -109,7 +138,7 @@ _STEPS = {"predict-update": _step_predict_update, "predictor": _step_predictor}
 def _loglik_term(nu, S_cf):
     m = nu.shape[0]
     logdet = 2.0 * np.sum(np.log(np.abs(np.diag(S_cf[0]))))
-    return -0.5 * (nu @ cho_solve(S_cf, nu, check_finite=False) + logdet + m * np.log(2 * np.pi))
+    return -0.5 * (nu @ _cho_solve(S_cf, nu) + logdet + m * np.log(2 * np.pi))
 
 
 # --------------------------------------------------------------------------- results
