@@ -6,11 +6,12 @@ average: the protocol of docs/benchmarks.md for a speed change on a shared machi
 figure is the user + system CPU of the child process (``os.wait4``), or, when the command
 prints a line ``CPU <seconds>``, that value (a script that times only the part it changes).
 ``{out}`` in ``CMD`` becomes a fresh directory per run, ``{tree}`` ``before`` or ``after``.
-Every run must exit 0.
+Every run must exit 0. ``--keep DIR`` keeps the ``{out}`` directories under ``DIR`` (to compare
+the outputs of the two trees afterwards), otherwise they are removed.
 
 Usage::
 
-    python benchmarks/interleaved_cpu.py BEFORE_SRC AFTER_SRC PAIRS -- CMD...
+    python benchmarks/interleaved_cpu.py BEFORE_SRC AFTER_SRC PAIRS [--keep DIR] -- CMD...
 
 Example (the source tree before a change from git, the worktree's after it)::
 
@@ -49,10 +50,13 @@ def main() -> int:
         return 2
     i = sys.argv.index("--")
     before, after, pairs = sys.argv[1], sys.argv[2], int(sys.argv[3])
+    opts = sys.argv[4:i]
+    keep = opts[opts.index("--keep") + 1] if "--keep" in opts else None
     cmd = sys.argv[i + 1:]
     res: dict[str, list[float]] = {"before": [], "after": []}
     loads = [os.getloadavg()[0]]
-    with tempfile.TemporaryDirectory() as workdir:
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = keep or tmp
         for k in range(pairs):
             order = [("before", before), ("after", after)]
             if k % 2:

@@ -45,7 +45,8 @@ import re
 import sys
 from typing import Any
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+if not os.environ.get("PYTHONPATH"):  # PYTHONPATH=... selects the source tree (e.g. a tree before a change)
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import _profiling  # noqa: E402
