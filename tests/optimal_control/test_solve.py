@@ -192,7 +192,9 @@ def test_scalar_control_function_equals_control_at_bit_for_bit(min_time_gauss, k
     u = s._control_function(kind)
     for t in times:
         assert u(t).tobytes() == s.control_at(t, kind=kind).tobytes(), t
-    assert u(np.array([0.5, 1.5])).tobytes() == s.control_at([0.5, 1.5], kind=kind).tobytes()
+    for arr in (np.array([0.5, 1.5]), np.array([0.5]), [1.5]):
+        assert u(arr).shape == s.control_at(arr, kind=kind).shape
+        assert u(arr).tobytes() == s.control_at(arr, kind=kind).tobytes()
     with pytest.raises(InputError, match="horizon"):
         u(s.tf + 1.0)
 

@@ -302,9 +302,11 @@ class OptimalControlSolution:
         lower, upper = self.problem.control_lower, self.problem.control_upper
 
         def control(t) -> np.ndarray:
+            if np.ndim(t) != 0:
+                return self.control_at(t, kind=kind)  # arrays: as before
             tt = np.atleast_1d(np.asarray(t, float))
-            if tt.shape != (1,) or not self.t0 - margin <= tt[0] <= self.tf + margin:
-                return self.control_at(t, kind=kind)  # arrays, NaN, outside the horizon: as before
+            if not self.t0 - margin <= tt[0] <= self.tf + margin:
+                return self.control_at(t, kind=kind)  # NaN, outside the horizon: as before
             tt = np.clip(tt, lo, hi)
             j = int(min(np.searchsorted(ends, tt[0], side="left"), last))
             p = self.pieces[j]
