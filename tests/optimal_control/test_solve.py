@@ -180,6 +180,25 @@ def test_interpolation_reproduces_nodes(min_time_gauss):
     np.testing.assert_allclose(s.state_at(t)[:, 0], A * t**2 / 2, atol=1e-7)
 
 
+@pytest.mark.parametrize("kind", ["lagrange", "nearest"])
+def test_scalar_control_function_equals_control_at_bit_for_bit(min_time_gauss, kind):
+    # resimulate's per-evaluation control (tables kept per interval, issue 24 item 1) must be
+    # control_at itself: same bits at interior times, mesh points (the interval ending there),
+    # t0, tf, times just outside within the rounding margin; arrays and errors as control_at
+    s = min_time_gauss
+    ends = [p.t_end for p in s.pieces]
+    eps = 1e-10 * (s.tf - s.t0)  # inside control_at's clipping margin 1e-9 (tf - t0)
+    times = [*np.linspace(s.t0, s.tf, 97), *ends, *s.t_control, s.t0 - eps, s.tf + eps, np.float64(1.3)]
+    u = s._control_function(kind)
+    for t in times:
+        assert u(t).tobytes() == s.control_at(t, kind=kind).tobytes(), t
+    for arr in (np.array([0.5, 1.5]), np.array([0.5]), [1.5]):
+        assert u(arr).shape == s.control_at(arr, kind=kind).shape
+        assert u(arr).tobytes() == s.control_at(arr, kind=kind).tobytes()
+    with pytest.raises(InputError, match="horizon"):
+        u(s.tf + 1.0)
+
+
 def test_validation_messages():
     p = double_integrator_min_time()
     with pytest.raises(InputError, match="method must be one of 'gauss', 'radau'"):

@@ -215,20 +215,20 @@ def resimulate(
     points_per_interval = check_int("points_per_interval", points_per_interval, minimum=1, maximum=100_000)
     prob = solution.problem
     f = solution.dynamics_fun
+    # solution.control_at(t, kind=...) for one time, with each interval's tables computed once
+    control_at = solution._control_function("lagrange" if control == "switching" else control)
     if control == "switching":
         bb = bang_bang(solution).is_bang_bang
         lo, hi = prob.control_lower, prob.control_upper
         tc, sw = solution.t_control, solution.switching
 
         def ufun(t):
-            u = solution.control_at(t, kind="lagrange")
+            u = control_at(t)
             for j in np.flatnonzero(bb):
                 u[j] = lo[j] if np.interp(t, tc, sw[:, j]) > 0 else hi[j]
             return u
     else:
-
-        def ufun(t):
-            return solution.control_at(t, kind=control)
+        ufun = control_at
     x = solution.x[0].copy()
     ts, xs = [np.array([solution.t0])], [x[None, :]]
     nfev = 0

@@ -147,7 +147,12 @@ def lagrange_matrix(support, points) -> np.ndarray:
     """
     s = as_array("support", support, ndim=1)
     p = as_array("points", points, ndim=1)
-    bw = barycentric_weights(s)
+    return _lagrange_rows(s, barycentric_weights(s), p)
+
+
+def _lagrange_rows(s: np.ndarray, bw: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """:func:`lagrange_matrix` from validated float arrays and the support's barycentric
+    weights ``bw`` (:func:`barycentric_weights`), for callers that keep ``bw`` for many calls."""
     diff = p[:, None] - s[None, :]
     out = np.empty((p.size, s.size))
     exact = diff == 0.0

@@ -65,7 +65,7 @@ from adcskit.optimal_control._nlp import (  # noqa: F401 - _resolve_options: als
     _run_ipopt,
     _solution_funs,
 )
-from adcskit.optimal_control.nodes import lagrange_matrix
+from adcskit.optimal_control.nodes import _lagrange_rows, barycentric_weights, lagrange_matrix
 from adcskit.optimal_control.problem import Guess, Mesh, OptimalControlProblem
 from adcskit.optimal_control.transcription import (
     METHODS,
@@ -283,17 +283,39 @@ class OptimalControlSolution:
         out = np.empty((tt.size, self.u.shape[1]))
         idx = self._locate(tt)
         for j in np.unique(idx):
-            p = self.pieces[j]
             m = idx == j
-            t_start = p.ts[0]
-            if kind == "lagrange":
-                L = lagrange_matrix(_tau(p.tc, t_start, p.t_end), _tau(tt[m], t_start, p.t_end))
-                out[m] = L @ p.uc
-            else:
-                k = np.abs(tt[m][:, None] - p.tc[None, :]).argmin(axis=1)
-                out[m] = p.uc[k]
+            out[m] = _piece_control(self.pieces[j], tt[m], kind)
         out = np.clip(out, self.problem.control_lower, self.problem.control_upper)
         return out if np.ndim(t) else out[0]
+
+    def _control_function(self, kind: str = "lagrange"):
+        """``t -> self.control_at(t, kind=kind)`` for one scalar time, bit for bit, with the
+        interval ends and each interval's support points and barycentric weights computed once
+        (:func:`~adcskit.optimal_control.resimulate` calls it at every right-hand-side
+        evaluation; ``control_at`` recomputed them and re-validated its arrays per call)."""
+        check_choice("kind", kind, ("lagrange", "nearest"))
+        ends = np.array([p.t_end for p in self.pieces])
+        last = len(self.pieces) - 1
+        lo, hi = min(self.t0, self.tf), max(self.t0, self.tf)
+        margin = 1e-9 * max(abs(self.tf - self.t0), 1e-300)
+        tables: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        lower, upper = self.problem.control_lower, self.problem.control_upper
+
+        def control(t) -> np.ndarray:
+            if np.ndim(t) != 0:
+                return self.control_at(t, kind=kind)  # arrays: as before
+            tt = np.atleast_1d(np.asarray(t, float))
+            if not self.t0 - margin <= tt[0] <= self.tf + margin:
+                return self.control_at(t, kind=kind)  # NaN, outside the horizon: as before
+            tt = np.clip(tt, lo, hi)
+            j = int(min(np.searchsorted(ends, tt[0], side="left"), last))
+            p = self.pieces[j]
+            if kind == "lagrange" and j not in tables:
+                sup = _tau(p.tc, p.ts[0], p.t_end)
+                tables[j] = (sup, barycentric_weights(sup))
+            return np.clip(_piece_control(p, tt, kind, tables.get(j)), lower, upper)[0]
+
+        return control
 
     def costate_at(self, t) -> np.ndarray:
         """Costate estimates at times ``t`` (s) by each interval's costate polynomial.
@@ -360,6 +382,21 @@ class OptimalControlSolution:
 
 def _tau(t, a, b):
     return 2.0 * (np.asarray(t, float) - a) / (b - a) - 1.0
+
+
+def _piece_control(p: _Piece, tt: np.ndarray, kind: str, table=None) -> np.ndarray:
+    """Controls of one mesh interval at the times ``tt`` (1-D, inside it), before clipping:
+    its Lagrange polynomial (``table``: its support points on [-1, 1] and their barycentric
+    weights, computed here when None) or its nearest collocation value."""
+    t_start = p.ts[0]
+    if kind == "lagrange":
+        points = _tau(tt, t_start, p.t_end)
+        if table is None:  # validated as lagrange_matrix validates them
+            sup = as_array("support", _tau(p.tc, t_start, p.t_end), ndim=1)
+            table, points = (sup, barycentric_weights(sup)), as_array("points", points, ndim=1)
+        return _lagrange_rows(table[0], table[1], points) @ p.uc
+    k = np.abs(tt[:, None] - p.tc[None, :]).argmin(axis=1)
+    return p.uc[k]
 
 
 def default_guess(problem: OptimalControlProblem) -> Guess:
