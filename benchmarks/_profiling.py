@@ -14,6 +14,7 @@ compilation taken out, an optional ``cProfile`` pass that sums ``tottime`` by li
   function to ``cProfile``: its time is in the ``tottime`` of the function that calls it.
 * :func:`compare` -- what differs between two output directories of one study (``result.json``
   and every CSV, outside the run-time fields the caller names; the PNG file names too).
+* :func:`main` -- the two scripts' command line (``OUT [--cprofile] ...`` or ``--compare A B``).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import csv
 import json
 import os
 import re
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -281,3 +283,25 @@ def run_cli(study: str, argv: list[str], rec: Recorder, cprofile: bool) -> dict[
 
         rep["libraries"], rep["top"] = by_library(pstats.Stats(prof))
     return rep
+
+
+def main(doc: str, profile: Callable[..., dict[str, Any]], pattern: re.Pattern, *,
+         drop: Callable[[dict[str, Any]], dict[str, Any]] | None = None) -> int:
+    """Command line of a profile script: ``--compare A B`` (exit 1 on a difference), or
+    ``OUT [--cprofile] [adcskit run arguments]``: profile into ``OUT/profile.json``."""
+    if len(sys.argv) == 4 and sys.argv[1] == "--compare":
+        diff = compare(sys.argv[2], sys.argv[3], pattern, drop=drop)
+        print("identical outside run-time fields (result.json, every CSV, PNG names)" if not diff
+              else f"differ in: {', '.join(diff)}")
+        return 1 if diff else 0
+    if len(sys.argv) < 2:
+        print(doc)
+        return 2
+    out = sys.argv[1]
+    args = [a for a in sys.argv[2:] if a != "--cprofile"]
+    rep = profile(["--out", out, *args], cprofile="--cprofile" in sys.argv[2:])
+    print_report(rep)
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "profile.json"), "w") as fh:
+        json.dump(rep, fh, indent=1, default=str)
+    return 0

@@ -37,7 +37,6 @@ Usage::
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import re
 import sys
@@ -179,22 +178,7 @@ def profile(argv: list[str], cprofile: bool = False) -> dict[str, Any]:
 
 
 def main() -> int:
-    if len(sys.argv) == 4 and sys.argv[1] == "--compare":
-        diff = _profiling.compare(sys.argv[2], sys.argv[3], _RUNTIME_PATTERN)
-        print("identical outside run-time fields (result.json, every CSV, PNG names)" if not diff
-              else f"differ in: {', '.join(diff)}")
-        return 1 if diff else 0
-    if len(sys.argv) < 2:
-        print(__doc__)
-        return 2
-    out = sys.argv[1]
-    args = [a for a in sys.argv[2:] if a != "--cprofile"]
-    rep = profile(["--out", out, *args], cprofile="--cprofile" in sys.argv[2:])
-    _profiling.print_report(rep)
-    os.makedirs(out, exist_ok=True)
-    with open(os.path.join(out, "profile.json"), "w") as fh:
-        json.dump(rep, fh, indent=1, default=str)
-    return 0
+    return _profiling.main(__doc__, profile, _RUNTIME_PATTERN)
 
 
 if __name__ == "__main__":
