@@ -14,6 +14,8 @@ compilation taken out, an optional ``cProfile`` pass that sums ``tottime`` by li
   function to ``cProfile``: its time is in the ``tottime`` of the function that calls it.
 * :func:`compare` -- what differs between two output directories of one study (``result.json``
   and every CSV, outside the run-time fields the caller names; the PNG file names too).
+* :func:`outermost_compiles` -- ``Dispatcher.compile`` timed per outermost call (all profile
+  scripts use it).
 * :func:`main` -- the two scripts' command line (``OUT [--cprofile] ...`` or ``--compare A B``).
 """
 
@@ -31,6 +33,31 @@ from typing import Any
 
 #: result.json keys that hold run times or machine facts (differ between any two runs)
 RUNTIME_KEYS = ("runtime_s", "adcskit_version", "created", "executor", "host", "python", "platform")
+
+
+def outermost_compiles(compile_fn: Callable[..., Any],
+                       record: Callable[[str, bool, float, float, float], None]) -> Callable[..., Any]:
+    """``numba``'s ``Dispatcher.compile`` wrapped so that each outermost call (a compile that
+    triggers others counts once) reports ``record(name, compiled, cpu_s, wall_s, thread_s)``:
+    ``module.function``, whether it compiled (a cache miss) or loaded from the disk cache, and
+    its process CPU, wall and calling-thread CPU seconds. Shared by every profile script."""
+    depth = [0]
+
+    def wrapped(disp, sig):
+        if depth[0]:
+            return compile_fn(disp, sig)
+        misses = sum(disp._cache_misses.values())
+        depth[0] += 1
+        t0, c0, h0 = time.perf_counter(), time.process_time(), time.thread_time()
+        try:
+            return compile_fn(disp, sig)
+        finally:
+            depth[0] -= 1
+            name = getattr(disp.py_func, "__module__", "?").rsplit(".", 1)[-1] + "." + disp.py_func.__name__
+            record(name, sum(disp._cache_misses.values()) > misses, time.process_time() - c0,
+                   time.perf_counter() - t0, time.thread_time() - h0)
+
+    return wrapped
 
 
 class Recorder:
@@ -101,35 +128,18 @@ class Recorder:
         """Time the outermost ``Dispatcher.compile`` calls: real compiles vs cache loads."""
         import numba.core.dispatcher as nd
 
-        depth = [0]
-        rec = self
+        def record(name: str, compiled: bool, cpu_s: float, wall_s: float, thread_s: float) -> None:
+            self.compile_cpu += cpu_s
+            d = self.compile[self.current]
+            if compiled:
+                d["compiles"] += 1
+                d["compile_cpu_s"] += cpu_s
+                d["compiled"].append(f"{name} {cpu_s:.1f} s")
+            else:
+                d["loads"] += 1
+                d["load_cpu_s"] += cpu_s
 
-        def timed(compile_fn):
-            def wrapped(disp, sig):
-                if depth[0]:
-                    return compile_fn(disp, sig)
-                misses = sum(disp._cache_misses.values())
-                depth[0] += 1
-                c0 = time.process_time()
-                try:
-                    return compile_fn(disp, sig)
-                finally:
-                    depth[0] -= 1
-                    dc = time.process_time() - c0
-                    rec.compile_cpu += dc
-                    d = rec.compile[rec.current]
-                    name = getattr(disp.py_func, "__module__", "?").rsplit(".", 1)[-1] + "." + disp.py_func.__name__
-                    if sum(disp._cache_misses.values()) > misses:
-                        d["compiles"] += 1
-                        d["compile_cpu_s"] += dc
-                        d["compiled"].append(f"{name} {dc:.1f} s")
-                    else:
-                        d["loads"] += 1
-                        d["load_cpu_s"] += dc
-
-            return wrapped
-
-        self.patch(nd.Dispatcher, "compile", timed)
+        self.patch(nd.Dispatcher, "compile", lambda compile_fn: outermost_compiles(compile_fn, record))
 
     def report(self, total_wall: float, total_cpu: float) -> dict[str, Any]:
         rest = {"calls": 1, "wall_s": total_wall - sum(p["wall_s"] for p in self.phases.values()),

@@ -48,6 +48,8 @@ import time
 from typing import Any
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _profiling import outermost_compiles  # noqa: E402
 
 #: result.json keys that hold run times or machine facts (differ between any two runs)
 _RUNTIME_KEYS = ("runtime_s", "adcskit_version", "created", "executor", "host", "python", "platform")
@@ -94,39 +96,27 @@ def profile(argv: list[str]) -> dict[str, Any]:
     seen_sims: set = set()
     envs = {"tables": 0, "distinct": set()}
     stack = ["rest"]
-    depth = [0]
     compile_total = [0.0, 0.0]  # running compile CPU (process, calling thread): taken out of kernel and parts
 
     # ------------------------------------------------------------------ numba compilation
     compile_fn = nd.Dispatcher.compile
 
-    def timed_compile(self, sig):
-        if depth[0]:
-            return compile_fn(self, sig)
-        misses = sum(self._cache_misses.values())
-        depth[0] += 1
-        t0, c0, h0 = time.perf_counter(), time.process_time(), time.thread_time()
-        try:
-            return compile_fn(self, sig)
-        finally:
-            depth[0] -= 1
-            dc, dw = time.process_time() - c0, time.perf_counter() - t0
-            compile_total[0] += dc
-            compile_total[1] += time.thread_time() - h0
-            d = comp[stack[-1]]
-            name = getattr(self.py_func, "__module__", "?").rsplit(".", 1)[-1] + "." + self.py_func.__name__
-            if sum(self._cache_misses.values()) > misses:
-                d["compiled"].append(f"{name} {dc:.1f} s")
-                d["compiles"] += 1
-                d["compile_cpu_s"] += dc
-                d["compile_wall_s"] += dw
-            else:
-                d["loaded"].append(name)
-                d["loads"] += 1
-                d["load_cpu_s"] += dc
-                d["load_wall_s"] += dw
+    def record(name, compiled, dc, dw, dh):
+        compile_total[0] += dc
+        compile_total[1] += dh
+        d = comp[stack[-1]]
+        if compiled:
+            d["compiled"].append(f"{name} {dc:.1f} s")
+            d["compiles"] += 1
+            d["compile_cpu_s"] += dc
+            d["compile_wall_s"] += dw
+        else:
+            d["loaded"].append(name)
+            d["loads"] += 1
+            d["load_cpu_s"] += dc
+            d["load_wall_s"] += dw
 
-    nd.Dispatcher.compile = timed_compile
+    nd.Dispatcher.compile = outermost_compiles(compile_fn, record)
 
     # ------------------------------------------------------------------ kernel calls
     def kernel(fn, n_steps_of):

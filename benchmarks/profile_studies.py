@@ -55,6 +55,8 @@ import time
 from typing import Any
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _profiling import outermost_compiles  # noqa: E402
 
 STUDIES = ("wahba-table1", "wahba-orbit", "model-estimation")
 #: result.json keys that hold run times or machine facts (differ between any two runs)
@@ -161,30 +163,18 @@ class _Profiler:
     def install_compile_timer(self):
         import numba.core.dispatcher as nd
 
+        def record(name: str, compiled: bool, cpu_s: float, wall_s: float, thread_s: float) -> None:
+            d = self.comp[self.stack[-1]]
+            if compiled:
+                d["compiles"] += 1
+                d["compile_cpu_s"] += cpu_s
+                d["compiled"].append(f"{name.rsplit('.', 1)[-1]} {cpu_s:.1f} s")
+            else:
+                d["loads"] += 1
+                d["load_cpu_s"] += cpu_s
+
         compile_fn = nd.Dispatcher.compile
-        depth = [0]
-
-        def timed_compile(disp, sig):
-            if depth[0]:
-                return compile_fn(disp, sig)
-            misses = sum(disp._cache_misses.values())
-            depth[0] += 1
-            c0 = time.process_time()
-            try:
-                return compile_fn(disp, sig)
-            finally:
-                depth[0] -= 1
-                dc = time.process_time() - c0
-                d = self.comp[self.stack[-1]]
-                if sum(disp._cache_misses.values()) > misses:
-                    d["compiles"] += 1
-                    d["compile_cpu_s"] += dc
-                    d["compiled"].append(f"{disp.py_func.__name__} {dc:.1f} s")
-                else:
-                    d["loads"] += 1
-                    d["load_cpu_s"] += dc
-
-        nd.Dispatcher.compile = timed_compile
+        nd.Dispatcher.compile = outermost_compiles(compile_fn, record)
         return lambda: setattr(nd.Dispatcher, "compile", compile_fn)
 
 
