@@ -120,6 +120,11 @@ penalty_readings : tuple of {{"sample", "mean"}}
     Readings of the overshoot penalty, the default first.
 paper_scale : bool
     Set the claim GAs and evaluations to S4's protocol (``PAPER_SCALE``; S4 ran at it).
+ga_store : str
+    Stored robust-GA runs (:mod:`~adcskit.studies.onoff_tuning.ga_store`): ``"auto"`` replays
+    the paper-scale runs shipped with adcskit when ``paper_scale`` is true and their
+    fingerprints match; ``"none"`` runs every GA; a directory is read and written (a long
+    paper-scale run resumes there GA by GA).
 backend : str
     ``"cpu"``, ``"cuda"`` or ``"auto"`` for the batch simulations.
 
@@ -191,6 +196,9 @@ class Config(S4Loop):
     n_seeds: int = field(default=5, metadata=NEUTRAL)
     penalty_readings: tuple[str, ...] = field(default=("sample", "mean"), metadata=protocol("tuning", paper=NOT_PRINTED))
     paper_scale: bool = field(default=False, metadata=protocol("tuning", paper=True))
+    # execution only: a GA read from the store has the fingerprint (every input and a model
+    # probe) of the GA it replaces, so the numbers equal a fresh run's
+    ga_store: str = field(default="auto", metadata=NEUTRAL)
     backend: str = field(default="cpu", metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
@@ -219,6 +227,8 @@ class Config(S4Loop):
         if (not self.penalty_readings or len(set(self.penalty_readings)) != len(self.penalty_readings)
                 or any(p not in ("sample", "mean") for p in self.penalty_readings)):
             raise ValueError(f"penalty_readings must be distinct values of ('sample', 'mean'); got {self.penalty_readings!r}")
+        if not isinstance(self.ga_store, str) or not self.ga_store.strip():
+            raise ValueError(f"ga_store must be 'auto', 'none' or a directory; got {self.ga_store!r}")
         if self.backend not in ("cpu", "cuda", "auto"):
             raise ValueError(f"backend must be 'cpu', 'cuda' or 'auto'; got {self.backend!r}")
         if not isinstance(self.paper_scale, bool):

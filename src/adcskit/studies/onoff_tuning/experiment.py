@@ -33,6 +33,7 @@ from adcskit.control.tuning import (
     tune_robust,
 )
 from adcskit.studies.onoff_tuning.config import Config
+from adcskit.studies.onoff_tuning.ga_store import resolve_store
 from adcskit.studies.onoff_tuning.paper import CASES, PAPER_TABLE4, PAPER_TABLE6, _reorder
 from adcskit.uncertainty.sampling import Gaussian, latin_hypercube
 
@@ -130,6 +131,8 @@ class GARun(Result):
     penalty: float
     generations: int
     converged: bool
+    #: where a stored GA came from (``ga_store``: "backend run of DATE on MACHINE, commit C"); "" = run here
+    stored: str = ""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
@@ -387,16 +390,19 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
     runs: dict[str, Any] = {}
     mc_results: dict[str, dict[str, Any]] = {}
     readings = _readings(config)
+    store = resolve_store(config.ga_store, config.paper_scale)
     for pen, case in (track(readings, f"robust GA, seed {s_index}", total=len(readings))):
         status(f"onoff-tuning: seed {s_index}, robust GA {case} (w2/w1 = {config.ratio(case):g}, penalty on {pen})")
         ci = CASES.index(case)
-        res = tune_robust(
-            config.dists(case), ratio=config.ratio(case), n_samples=ga["n_lhs"], base=base, settings=settings,
-            pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
-            overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
-            rng=kids[1 + ci] if pen == pen0 else kids[11], penalty_on=pen,
-            backend=config.backend,
-        )
+        kw = dict(ratio=config.ratio(case), n_samples=ga["n_lhs"], base=base, settings=settings,
+                  pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol_deg, window=config.ga_window,
+                  bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
+                  penalty_weight=config.penalty_weight_deg_per_pct,
+                  rng=kids[1 + ci] if pen == pen0 else kids[11], penalty_on=pen, backend=config.backend)
+        if store is None:
+            res, src = tune_robust(config.dists(case), **kw), None
+        else:
+            res, src = store.tune(f"s{s_index}_{case}_{pen}", config.dists(case), **kw)
         mc_seed = kids[6 + ci]  # the same evaluation samples for every gain set of this seed and case
         gains = {"robust": res.x}
         if case not in cases:  # the deterministic and S4's gains: once per case
@@ -415,13 +421,21 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
         core = float(res.w1 * res.mean_abs_err_deg + res.w2 * res.std_abs_err_deg)
         cases.setdefault(case, []).append(CaseReading(key=rk, evals=evals, ga=GARun(
             gains=res.x, objective=res.fun, core=core, penalty=res.fun - core, generations=res.nit,
-            converged=bool(res.success))))
+            converged=bool(res.success), stored=_provenance(src))))
         if rk == "robust":
             runs[case] = res
     return SeedRun(seed_index=s_index, det_gains=det_gains,
                    cases={c: CaseRun(ratio=config.ratio(c), readings=tuple(rd)) for c, rd in cases.items()},
                    runs=runs, mc_results={c: (v["det"], v["robust"]) for c, v in mc_results.items()},
                    rate=_rate_contrast(config, s_index, kids[12], det_gains, runs["all"].x, mc_kw), pareto=pareto)
+
+
+def _provenance(src: Mapping[str, Any] | None) -> str:
+    """A stored GA's provenance in words ("" when the GA ran here)."""
+    if not src:
+        return ""
+    commit = f", adcskit {src['commit']}" if src.get("commit") else ""
+    return f"{str(src.get('backend', '?')).upper()} run of {src.get('date', '?')} on {src.get('machine', '?')}{commit}"
 
 
 def _rate_contrast(config: Config, s_index: int, seed: int, det_gains, robust_gains, mc_kw) -> RateContrast:
