@@ -289,3 +289,54 @@ def test_seed_pipelines_on_an_executor_give_the_serial_result():
     a = ot.run(cfg, quick=True, rng=np.random.default_rng(3), executor=SerialExecutor()).to_dict()
     b = ot.run(cfg, quick=True, rng=np.random.default_rng(3), executor=_PicklingExecutor()).to_dict()
     assert a == b
+
+
+def test_ga_store_replays_a_matching_run_bit_for_bit(tmp_path, monkeypatch):
+    """A stored GA (ga_store) is replayed only under the same fingerprint -- every tune_robust
+    input and the model probe -- and gives the numbers of a fresh run; it says so in GARun.stored."""
+    import numpy as np
+
+    from adcskit.studies import onoff_tuning as ot
+    from adcskit.studies._base import to_jsonable
+    from adcskit.studies.onoff_tuning import ga_store
+
+    def seed_run(cfg):
+        ss = np.random.SeedSequence(5).spawn(2)[1]
+        mc_kw = dict(base=cfg.base(), executor=None, task_size=cfg.task_size, backend=cfg.backend)
+        return ot._seed_pipeline(cfg, 1, ss, ot._ga_settings(cfg), cfg.settings(), cfg.base(), (1e-3, cfg.gain_max),
+                                 mc_kw, "kp_kd_ki")
+
+    def numbers(run):
+        return json.dumps(to_jsonable({c: [{"evals": rd.evals, "gains": rd.ga.gains, "obj": rd.ga.objective,
+                                            "gen": rd.ga.generations} for rd in cr.readings]
+                                       for c, cr in run.cases.items()}))
+
+    fresh = seed_run(ot.Config(**TINY))  # ga_store "auto" without paper_scale: no store
+    first = seed_run(ot.Config(**TINY, ga_store=str(tmp_path)))
+    files = sorted(tmp_path.glob("s1_*.json"))
+    assert len(files) == len(ot.experiment._readings(ot.Config(**TINY)))
+    again = seed_run(ot.Config(**TINY, ga_store=str(tmp_path)))
+    assert numbers(fresh) == numbers(first) == numbers(again)
+    assert all(rd.ga.stored == "" for cr in first.cases.values() for rd in cr.readings)
+    assert all(rd.ga.stored.startswith("CPU run of ") for cr in again.cases.values() for rd in cr.readings)
+    # a changed loop model (the probe) or a changed input misses every stored run
+    monkeypatch.setattr(ga_store, "model_probe", lambda base, settings: ["changed model"])
+    other = seed_run(ot.Config(**TINY, ga_store=str(tmp_path)))
+    assert all(rd.ga.stored == "" for cr in other.cases.values() for rd in cr.readings)
+    assert len(list(tmp_path.glob("s1_*.json"))) == 2 * len(files)
+    # a damaged file is ignored and rewritten
+    files[0].write_text("{not json")
+    monkeypatch.undo()
+    seed_run(ot.Config(**TINY, ga_store=str(tmp_path)))
+    assert json.loads(files[0].read_text())["fingerprint"]
+
+
+def test_ga_store_setting():
+    from adcskit.studies import onoff_tuning as ot
+    from adcskit.studies.onoff_tuning.ga_store import PACKAGED, resolve_store
+
+    assert resolve_store("auto", False) is None and resolve_store("none", True) is None
+    packaged = resolve_store("auto", True)
+    assert packaged.directory == PACKAGED and not packaged.writable
+    with pytest.raises(ValueError, match="ga_store"):
+        ot.Config(ga_store=" ")

@@ -16,7 +16,7 @@ import numpy as np
 from adcskit.studies._base import Check, protocol_keys
 from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec, decide_declared
 from adcskit.studies.onoff_tuning.config import Config
-from adcskit.studies.onoff_tuning.experiment import Measurements
+from adcskit.studies.onoff_tuning.experiment import Measurements, stored_ga
 from adcskit.studies.onoff_tuning.paper import CASES, CLAIM_FIGURES
 
 __all__ = ["CHECKS", "PROTOCOL_KEYS", "R_T4", "R_PEN", "TYPICALLY", "claims", "findings", "checks", "mean_ratios", "mean_ratio_table"]
@@ -75,6 +75,14 @@ def mean_ratio_table(config: Config, m: Measurements) -> dict[str, dict[str, lis
     return {short[k]: v for k, v in mean_ratios(config, m).items()}
 
 
+def _ga_source(m: Measurements) -> str:
+    """``"; GA results: N of M replayed from <runs>"`` when a GA store supplied some ("" otherwise)."""
+    st = stored_ga(m)
+    if not st["n_stored"]:
+        return ""
+    return f"; robust GA results: {st['n_stored']} of {st['n_runs']} replayed from the {'; '.join(st['sources'])}"
+
+
 def _robust_std_claim(config: Config, m: Measurements, case: str) -> Claim:
     runs = {k: [{"r": v} for v in vals] for k, vals in _ratio_runs(config, m, case, "std").items()}
     r_def = _default_reading(config)
@@ -88,7 +96,7 @@ def _robust_std_claim(config: Config, m: Measurements, case: str) -> Claim:
                  f"of the deterministic gains on the same {m.ga['n_mc']} fresh LHS samples; holds below 1",
         value=_r, threshold=1.0, better="below", unit="-",
         readings=tuple(k for k in runs if k != r_def), protocol_keys=PROTOCOL_KEYS,
-        describe=lambda r: "robust/deterministic per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
+        describe=lambda r: "robust/deterministic per seed: " + ", ".join(f"{v:.3f}" for v in r.values) + _ga_source(m),
     ).evaluate(runs, default=r_def)
 
 
@@ -104,7 +112,7 @@ def _typical_mean_claim(config: Config, m: Measurements) -> Claim:
         by_case = ratios[r.reading]
         return ("cases with the higher robust mean per seed: " + ", ".join(f"{v:g}" for v in r.values)
                 + "; robust/deterministic mean per case and seed: "
-                + "; ".join(f"{c} " + ", ".join(f"{v:.3f}" for v in by_case[c]) for c in CASES))
+                + "; ".join(f"{c} " + ", ".join(f"{v:.3f}" for v in by_case[c]) for c in CASES) + _ga_source(m))
 
     return ClaimSpec(
         id="robust-mean-higher-typically",

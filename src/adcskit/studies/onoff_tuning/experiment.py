@@ -38,7 +38,7 @@ from adcskit.studies.onoff_tuning.paper import CASES, PAPER_TABLE4, PAPER_TABLE6
 from adcskit.uncertainty.sampling import Gaussian, latin_hypercube
 
 __all__ = ["Measurements", "SeedRun", "CaseRun", "CaseReading", "GainEval", "GARun", "RateContrast",
-           "RobustCase", "OrderRow", "SweepRow", "StdRow", "RateRow", "StepTrace", "measure"]
+           "RobustCase", "OrderRow", "SweepRow", "StdRow", "RateRow", "StepTrace", "measure", "stored_ga"]
 
 
 def row(rec: Any) -> dict[str, Any]:
@@ -273,6 +273,21 @@ class Measurements(Result):
     def case_flats(self, case: str) -> list[dict[str, Any]]:
         """Every seed's per-seed row of ``case``."""
         return [s.flat(case) for s in self.seeds]
+
+
+def stored_ga(m: Measurements) -> dict[str, Any]:
+    """How many claim GAs were replayed from a GA store (``ga_store``) and from which runs.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> rd = lambda src: NS(ga=NS(stored=src))
+    >>> seed = NS(cases={"all": NS(readings=(rd("CPU run of D on M"), rd("")))})
+    >>> stored_ga(NS(seeds=(seed,)))
+    {'n_stored': 1, 'n_runs': 2, 'sources': ['CPU run of D on M']}
+    """
+    srcs = [rd.ga.stored for so in m.seeds for case in so.cases.values() for rd in case.readings]
+    return {"n_stored": sum(bool(s) for s in srcs), "n_runs": len(srcs), "sources": sorted({s for s in srcs if s})}
 
 
 def _seeds(rng: np.random.Generator, n: int) -> list[int]:

@@ -14,10 +14,10 @@ import numpy as np
 
 from adcskit.studies._base import Comparison
 from adcskit.studies.onoff_tuning.config import Config
-from adcskit.studies.onoff_tuning.experiment import Measurements, row
+from adcskit.studies.onoff_tuning.experiment import Measurements, row, stored_ga
 from adcskit.studies.onoff_tuning.paper import CASES, PAPER_TABLE4, PAPER_TABLE6, _reorder
 
-__all__ = ["comparison", "summary", "measured", "differences", "tables", "_front_vs_paper", "_front_note"]
+__all__ = ["comparison", "summary", "measured", "stored_note", "differences", "tables", "_front_vs_paper", "_front_note"]
 
 
 def _front_vs_paper(F: np.ndarray, order_rows: Sequence[Mapping[str, Any]], order: str) -> dict[str, dict[str, Any]]:
@@ -93,6 +93,16 @@ def comparison(config: Config, m: Measurements) -> list[Comparison]:
     return out
 
 
+def stored_note(m: Measurements) -> str:
+    """One sentence on replayed GA runs ("" when every GA ran here)."""
+    st = stored_ga(m)
+    if not st["n_stored"]:
+        return ""
+    return (f"{st['n_stored']} of the {st['n_runs']} claim GAs replayed from stored runs with the same fingerprint "
+            f"(every input and a model probe; ga_store): {'; '.join(st['sources'])}; their evaluations and every "
+            "other number were computed in this run. ")
+
+
 def summary(config: Config, m: Measurements, claims, quick: bool) -> str:
     """The result's summary paragraph."""
     pareto, ga = m.pareto, m.ga
@@ -109,6 +119,7 @@ def summary(config: Config, m: Measurements, claims, quick: bool) -> str:
         + f"{config.n_seeds} independent pipeline seeds (NSGA-II, GA training draw and seed, fresh "
         f"{ga['n_mc']}-run evaluation); robust GA population {ga['pop']}, cap {ga['max_gen']} generations, "
         f"{ga['n_lhs']} LHS samples{' (paper-scale)' if config.paper_scale else ''}. "
+        + stored_note(m)
         + "Verdicts: " + "; ".join(f"{c.id}: {c.outcome}" for c in claims) + ". "
         + f"All four uncertainties (w2/w1 = {config.ratio('all'):g}), mean over seeds [range]: std robust "
         f"{_fmt('all', 'std_robust')}° vs det {_fmt('all', 'std_det')}°, mean robust {_fmt('all', 'mean_robust')}° "
@@ -173,6 +184,7 @@ def measured(m: Measurements) -> dict[str, Any]:
         "std_sweep": [row(r) for r in m.std_rows],
         "command_rate": [row(r) for r in m.rate_rows],
         "ga_histories": {c: m.robust_runs[c].history for c in CASES},
+        "stored_ga": stored_ga(m),
     }
 
 
