@@ -414,10 +414,7 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
                   bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
                   penalty_weight=config.penalty_weight_deg_per_pct,
                   rng=kids[1 + ci] if pen == pen0 else kids[11], penalty_on=pen, backend=config.backend)
-        if store is None:
-            res, src = tune_robust(config.dists(case), **kw), None
-        else:
-            res, src = store.tune(f"s{s_index}_{case}_{pen}", config.dists(case), **kw)
+        res, src = _tune(store, f"s{s_index}_{case}_{pen}", config.dists(case), **kw)
         mc_seed = kids[6 + ci]  # the same evaluation samples for every gain set of this seed and case
         gains = {"robust": res.x}
         if case not in cases:  # the deterministic and S4's gains: once per case
@@ -443,6 +440,13 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
                    cases={c: CaseRun(ratio=config.ratio(c), readings=tuple(rd)) for c, rd in cases.items()},
                    runs=runs, mc_results={c: (v["det"], v["robust"]) for c, v in mc_results.items()},
                    rate=_rate_contrast(config, s_index, kids[12], det_gains, runs["all"].x, mc_kw), pareto=pareto)
+
+
+def _tune(store, label: str, dists, **kw):
+    """``tune_robust(dists, **kw)`` and None, or through ``store`` (a stored run and its provenance)."""
+    if store is None:
+        return tune_robust(dists, **kw), None
+    return store.tune(label, dists, **kw)
 
 
 def _provenance(src: Mapping[str, Any] | None) -> str:
@@ -528,10 +532,11 @@ def _ratio_sweep(config: Config, rng, base, settings, bounds, mc_kw, robust_all)
             res = robust_all
         else:
             status(f"onoff-tuning: ratio sweep w2/w1 = {r:g}")
-            res = tune_robust(
-                config.dists("all"), ratio=r, n_samples=config.n_lhs, base=base, settings=settings,
-                pop_size=config.ga_pop, max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window,
-                bounds=bounds, overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
+            res, _ = _tune(  # at paper scale 1000 LHS samples per candidate: stored like the claim GAs
+                resolve_store(config.ga_store, config.paper_scale), f"sweep_all_{r:g}", config.dists("all"), ratio=r,
+                n_samples=config.n_lhs, base=base, settings=settings, pop_size=config.ga_pop,
+                max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
+                overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
                 rng=_seeds(rng, 1)[0], backend=config.backend,
             )
         ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=_seeds(rng, 1)[0],

@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import hashlib
+import inspect
 import json
 import os
 import platform
@@ -181,7 +182,10 @@ class GAStore:
         ``label`` names the file (e.g. ``s0_all_sample``); the fingerprint decides the match.
         """
         backend = kwargs.pop("backend", "cpu")
-        inputs = {"dists": dict(dists), **kwargs}
+        bound = inspect.signature(tune_robust).bind(dists, **kwargs)
+        bound.apply_defaults()  # every input explicit: a changed default changes the fingerprint
+        inputs = {k: v for k, v in bound.arguments.items() if k not in ("backend", "time_estimate")}
+        inputs["dists"] = dict(dists)
         fp = fingerprint(inputs, self._probe_of(kwargs.get("base"), kwargs.get("settings")))
         hit = self._find(fp)
         if hit is not None:
