@@ -356,3 +356,22 @@ def test_kernels_pending_reads_the_numba_caches():
 
     n = _kernels_pending()
     assert isinstance(n, int) and n >= 0
+
+
+def test_run_study_records_and_marks_the_config_a_study_resolves(fake, monkeypatch):
+    """Study.resolve(config, seed) decides settings before the run (onoff-tuning: S4's protocol
+    when every paper-scale GA is stored); the runner runs, records and marks that config."""
+    from dataclasses import replace
+
+    import fake_study
+
+    seen = []
+
+    def resolve(cfg, seed):
+        seen.append(seed)
+        return replace(cfg, n_tasks=5)
+
+    monkeypatch.setattr(fake_study, "STUDY", replace(fake_study.STUDY, resolve=resolve))
+    result = run_study(fake, seed=4, out=None)
+    assert seen == [4] and result.config["n_tasks"] == 5 and len(result.measured["means"]) == 5
+    assert result.claims[0].protocol == "custom settings"  # 5 tasks against the paper's 8

@@ -340,3 +340,32 @@ def test_ga_store_setting():
     assert packaged.directory == PACKAGED and not packaged.writable
     with pytest.raises(ValueError, match="ga_store"):
         ot.Config(ga_store=" ")
+
+
+def test_full_run_takes_s4s_protocol_only_when_every_claim_ga_is_stored(monkeypatch, tmp_path):
+    import numpy as np
+
+    from adcskit.studies import onoff_tuning as ot
+    from adcskit.studies.onoff_tuning import ga_store
+
+    cfg = ot.Config(ga_store=str(tmp_path))
+    assert ot.resolve_paper_scale(cfg, 0) is cfg  # nothing stored: our reduced protocol
+    asked = []
+    monkeypatch.setattr(ga_store.GAStore, "has", lambda self, dists, **kw: asked.append(kw) or True)
+    paper = ot.resolve_paper_scale(cfg, 0)
+    assert paper.paper_scale and (paper.ga_pop, paper.ga_max_gen, paper.n_lhs, paper.n_mc) == (70, 1000, 1000, 10_000)
+    # 5 seeds x (5 Table 6 cases + the all-four case under the E[overshoot] penalty), each its own pymoo seed
+    assert len(asked) == 30 and len({kw["rng"] for kw in asked}) == 30
+    assert {kw["n_samples"] for kw in asked} == {1000} and {kw["max_gen"] for kw in asked} == {1000}
+    for keep in (dict(paper_scale_from_store=False), dict(ga_max_gen=50), TINY):
+        c = ot.Config(**{"ga_store": str(tmp_path), **keep})
+        assert ot.resolve_paper_scale(c, 0) is c, keep
+    monkeypatch.setattr(ga_store.GAStore, "has", lambda self, dists, **kw: kw["rng"] != asked[7]["rng"])
+    assert ot.resolve_paper_scale(cfg, 0) is cfg  # one GA missing
+    # the fingerprints the check asks for are those the pipeline stores (one code path: claim_gas)
+    monkeypatch.undo()
+    tiny = ot.Config(**TINY, ga_store=str(tmp_path / "tiny"))
+    ot.run(tiny, quick=True, rng=np.random.default_rng(3))
+    store = ga_store.GAStore(tmp_path / "tiny", writable=False)
+    assert ot.experiment.stored_claim_gas(tiny, 3, store) == (12, 12)
+    assert ot.experiment.stored_claim_gas(tiny, 4, store) == (0, 12)

@@ -279,6 +279,10 @@ class Study:
         Config overrides for ``--quick``.
     doc : str
         Path of the study's documentation page in the repository.
+    resolve : callable or None
+        ``resolve(config, seed) -> config``: settings decided before the run from its root seed
+        and stored data (onoff-tuning: S4's protocol when every paper-scale GA is stored); the
+        runner records and marks the protocol of the config it returns.
 
     Notes
     -----
@@ -300,6 +304,7 @@ class Study:
     run: Callable[..., StudyResult]
     quick: Mapping[str, Any] = field(default_factory=dict)
     doc: str = ""
+    resolve: Callable[[Any, int], Any] | None = None
 
     @property
     def neutral_keys(self) -> tuple[str, ...]:

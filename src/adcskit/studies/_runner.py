@@ -304,6 +304,8 @@ def run_study(
     seed = check_int("seed", seed, minimum=0)
     study = get_study(name)
     cfg = resolve_config(name, config, quick=quick)
+    if study.resolve is not None:
+        cfg = study.resolve(cfg, seed)
     owns = not isinstance(executor, Executor)
     ex = make_executor(executor)
     try:

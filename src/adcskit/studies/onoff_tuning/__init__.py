@@ -22,22 +22,55 @@ S4, eqs. (9)-(10), Tables 3-6, Figs. 9-21.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+from adcskit._progress import status
 from adcskit._validation import as_rng
 from adcskit.studies._base import Study, StudyResult
 from adcskit.studies.onoff_tuning import claims as _claims
 from adcskit.studies.onoff_tuning import figures as _figures
 from adcskit.studies.onoff_tuning import report as _report
-from adcskit.studies.onoff_tuning.config import Config
+from adcskit.studies.onoff_tuning.config import _PAPER_SCALE_KEYS, Config
 from adcskit.studies.onoff_tuning.experiment import (  # noqa: F401 (tests)
     _ga_settings,
     _seed_pipeline,
     _seed_task,
     measure,
+    stored_claim_gas,
 )
+from adcskit.studies.onoff_tuning.ga_store import resolve_store
 from adcskit.studies.onoff_tuning.paper import CASES, PAPER, PAPER_TABLE4, PAPER_TABLE6, _reorder  # noqa: F401
 from adcskit.studies.onoff_tuning.report import _front_note, _front_vs_paper  # noqa: F401 (tests)
 
-__all__ = ["Config", "run", "STUDY", "PAPER_TABLE4", "PAPER_TABLE6"]
+__all__ = ["Config", "run", "resolve_paper_scale", "STUDY", "PAPER_TABLE4", "PAPER_TABLE6"]
+
+
+def resolve_paper_scale(config: Config, seed: int) -> Config:
+    """The config a run with root seed ``seed`` uses: S4's protocol (``paper_scale=True``) when
+    ``paper_scale_from_store`` is set, ``paper_scale`` is false, the GA sizes are ours and the GA
+    store (``ga_store``; ``"auto"``: the runs shipped with adcskit) holds every claim GA of that
+    paper-scale run; else ``config`` unchanged.
+
+    The study's claims are then decided at S4's protocol from stored GA runs (their evaluations,
+    10 000 runs per gain set, and everything else computed in the run), in minutes instead of
+    hours; without a complete store the run is our reduced protocol, as before.
+    """
+    if not config.paper_scale_from_store or config.paper_scale:
+        return config
+    ours = Config()
+    if any(getattr(config, k) != getattr(ours, k) for k in _PAPER_SCALE_KEYS):
+        return config  # the user chose GA sizes: keep them
+    paper = replace(config, paper_scale=True)
+    store = resolve_store(paper.ga_store, True)
+    if store is None:
+        return config
+    n_stored, n_all = stored_claim_gas(paper, seed, store)
+    if n_stored < n_all:
+        status(f"onoff-tuning: {n_stored} of the {n_all} paper-scale claim GAs are stored ({store.directory}); "
+               "running our reduced protocol")
+        return config
+    status(f"onoff-tuning: all {n_all} paper-scale claim GAs stored ({store.directory}): S4's protocol, GAs replayed")
+    return paper
 
 
 def run(config: Config, *, quick: bool = False, rng=None, executor=None) -> StudyResult:
@@ -67,6 +100,7 @@ STUDY = Study(
     paper="S4 — Bohlouri & Jalali-Naini, robust optimisation of on-off thruster attitude control",
     config_cls=Config,
     run=run,
+    resolve=resolve_paper_scale,
     quick={
         "n_seeds": 2,
         "nsga_pop": 32,

@@ -120,6 +120,12 @@ penalty_readings : tuple of {{"sample", "mean"}}
     Readings of the overshoot penalty, the default first.
 paper_scale : bool
     Set the claim GAs and evaluations to S4's protocol (``PAPER_SCALE``; S4 ran at it).
+paper_scale_from_store : bool
+    Before a run (:func:`~adcskit.studies.onoff_tuning.resolve_paper_scale`): when
+    ``paper_scale`` is false, the GA sizes are ours and the packaged store holds every claim GA
+    of the same run at S4's protocol (same seed, fingerprints matching), run at S4's protocol
+    instead -- its claims then read "paper protocol" and say which stored run they replay.
+    False: always our GA sizes.
 ga_store : str
     Stored robust-GA runs (:mod:`~adcskit.studies.onoff_tuning.ga_store`): ``"auto"`` replays
     the paper-scale runs shipped with adcskit when ``paper_scale`` is true and their
@@ -199,6 +205,8 @@ class Config(S4Loop):
     # execution only: a GA read from the store has the fingerprint (every input and a model
     # probe) of the GA it replaces, so the numbers equal a fresh run's
     ga_store: str = field(default="auto", metadata=NEUTRAL)
+    # the full run at S4's protocol when every claim GA of it is stored (see resolve_paper_scale)
+    paper_scale_from_store: bool = field(default=True, metadata=NEUTRAL)
     backend: str = field(default="cpu", metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
@@ -231,6 +239,8 @@ class Config(S4Loop):
             raise ValueError(f"ga_store must be 'auto', 'none' or a directory; got {self.ga_store!r}")
         if self.backend not in ("cpu", "cuda", "auto"):
             raise ValueError(f"backend must be 'cpu', 'cuda' or 'auto'; got {self.backend!r}")
+        if not isinstance(self.paper_scale_from_store, bool):
+            raise ValueError(f"paper_scale_from_store must be true or false; got {self.paper_scale_from_store!r}")
         if not isinstance(self.paper_scale, bool):
             raise ValueError(f"paper_scale must be true or false; got {self.paper_scale!r}")
         if self.paper_scale:  # S4's protocol in the keys themselves, so the resolved config says what ran

@@ -14,6 +14,7 @@ S4, eqs. (9)-(10), Tables 3-6, Figs. 9-21.
 
 from __future__ import annotations
 
+import copy
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
@@ -388,12 +389,59 @@ def _readings(config: Config) -> list[tuple[str, str]]:
     return readings
 
 
+def claim_gas(config: Config, s_index: int, kids: list[int], ga: Mapping[str, Any], settings, base,
+              bounds) -> list[tuple[str, str, str, dict[str, Any]]]:
+    """``(label, penalty reading, case, tune_robust keywords)`` of every claim GA of one seed, in run order
+    (``kids``: the seed's 16 child seeds; the GA of the default reading uses child ``1 + case index``, the
+    other reading child 11)."""
+    pen0 = config.penalty_readings[0]
+    out = []
+    for pen, case in _readings(config):
+        ci = CASES.index(case)
+        kw = dict(ratio=config.ratio(case), n_samples=ga["n_lhs"], base=base, settings=settings,
+                  pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol_deg, window=config.ga_window,
+                  bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
+                  penalty_weight=config.penalty_weight_deg_per_pct,
+                  rng=kids[1 + ci] if pen == pen0 else kids[11], penalty_on=pen, backend=config.backend)
+        out.append((f"s{s_index}_{case}_{pen}", pen, case, kw))
+    return out
+
+
+def _seed_seqs(config: Config, rng: np.random.Generator) -> list[np.random.SeedSequence]:
+    """The pipelines' independent seed sequences (the first draw of the study's random stream)."""
+    return np.random.SeedSequence(int(rng.integers(2**63))).spawn(config.n_seeds)
+
+
+def _seed0_nsga(seed_seqs: list[np.random.SeedSequence]) -> int:
+    """Seed 0's NSGA-II seed, run before the pipelines: it spawns 16 children of ``seed_seqs[0]``, so
+    that pipeline's own children (:func:`_kids`) are the next 16."""
+    return int(seed_seqs[0].spawn(16)[0].generate_state(1)[0])
+
+
+def _kids(ss: np.random.SeedSequence) -> list[int]:
+    return [int(k.generate_state(1)[0]) for k in ss.spawn(16)]
+
+
+def stored_claim_gas(config: Config, seed: int, store) -> tuple[int, int]:
+    """(stored, all) claim GAs of a run of ``config`` with root seed ``seed`` that ``store`` holds."""
+    return _count_stored(config, _seed_seqs(config, np.random.default_rng(seed)), store)
+
+
+def _count_stored(config: Config, seed_seqs: list[np.random.SeedSequence], store) -> tuple[int, int]:
+    seed_seqs = copy.deepcopy(seed_seqs)  # spawning advances them
+    settings, base, ga = config.settings(), config.base(), _ga_settings(config)
+    bounds = (1e-3, config.gain_max)
+    _seed0_nsga(seed_seqs)  # as in measure(): before the pipelines
+    jobs = [job for i, ss in enumerate(seed_seqs) for job in claim_gas(config, i, _kids(ss), ga, settings, base, bounds)]
+    return sum(store.has(config.dists(case), **kw) for _, _, case, kw in jobs), len(jobs)
+
+
 def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], settings, base, bounds, mc_kw,
                    order: str, pareto=None) -> SeedRun:
     """One independent repetition of the whole pipeline: NSGA-II, robust GA per case (own LHS
     training draw and pymoo seed), evaluation of deterministic, robust and S4's gains on the
     same fresh samples, the E[overshoot]-penalty reading and the command-rate contrast."""
-    kids = [int(k.generate_state(1)[0]) for k in ss.spawn(16)]
+    kids = _kids(ss)
     if pareto is None:
         pareto, det_gains, _, _ = _deterministic(config, base, settings, bounds, kids[0])
     else:
@@ -404,17 +452,12 @@ def _seed_pipeline(config: Config, s_index: int, ss, ga: dict[str, Any], setting
     cases: dict[str, list[CaseReading]] = {}
     runs: dict[str, Any] = {}
     mc_results: dict[str, dict[str, Any]] = {}
-    readings = _readings(config)
     store = resolve_store(config.ga_store, config.paper_scale)
-    for pen, case in (track(readings, f"robust GA, seed {s_index}", total=len(readings))):
+    jobs = claim_gas(config, s_index, kids, ga, settings, base, bounds)
+    for label, pen, case, kw in track(jobs, f"robust GA, seed {s_index}", total=len(jobs)):
         status(f"onoff-tuning: seed {s_index}, robust GA {case} (w2/w1 = {config.ratio(case):g}, penalty on {pen})")
         ci = CASES.index(case)
-        kw = dict(ratio=config.ratio(case), n_samples=ga["n_lhs"], base=base, settings=settings,
-                  pop_size=ga["pop"], max_gen=ga["max_gen"], tol=config.ga_tol_deg, window=config.ga_window,
-                  bounds=bounds, overshoot_max_pct=config.overshoot_max_pct,
-                  penalty_weight=config.penalty_weight_deg_per_pct,
-                  rng=kids[1 + ci] if pen == pen0 else kids[11], penalty_on=pen, backend=config.backend)
-        res, src = _tune(store, f"s{s_index}_{case}_{pen}", config.dists(case), **kw)
+        res, src = _tune(store, label, config.dists(case), **kw)
         mc_seed = kids[6 + ci]  # the same evaluation samples for every gain set of this seed and case
         gains = {"robust": res.x}
         if case not in cases:  # the deterministic and S4's gains: once per case
@@ -612,9 +655,15 @@ def measure(config: Config, rng: np.random.Generator, executor=None) -> Measurem
     bounds = (1e-3, config.gain_max)
     mc_kw = dict(base=base, executor=executor, task_size=config.task_size, backend=config.backend)
     ga = _ga_settings(config)
-    seed_seqs = np.random.SeedSequence(int(rng.integers(2**63))).spawn(config.n_seeds)
+    seed_seqs = _seed_seqs(config, rng)
     if config.paper_scale:
-        _, _, est = _estimate(config, ga, settings)
+        store = resolve_store(config.ga_store, True)
+        n_stored, n_all = _count_stored(config, seed_seqs, store) if store is not None else (0, 0)
+        if n_all and n_stored == n_all:
+            est = f"all {n_all} claim GAs replayed from {store.directory}, evaluations run here"
+        else:
+            est = _estimate(config, ga, settings)[2] + (f" ({n_stored} of them stored in {store.directory})"
+                                                        if store is not None else "")
         msg = (f"onoff-tuning paper-scale: population {ga['pop']}, cap {ga['max_gen']} generations, {ga['n_lhs']} "
                f"LHS samples per candidate, {ga['n_mc']}-run evaluations, {config.n_seeds} seeds: {est}")
         status(msg)
@@ -623,7 +672,7 @@ def measure(config: Config, rng: np.random.Generator, executor=None) -> Measurem
         print(msg, file=sys.stderr, flush=True)
 
     status("onoff-tuning: NSGA-II Pareto front")  # 1. deterministic front (eq. 9), seed 0 of the pipeline
-    seed0_nsga = int(seed_seqs[0].spawn(16)[0].generate_state(1)[0])
+    seed0_nsga = _seed0_nsga(seed_seqs)
     pareto, det_gains, minfuel_gains, minfuel_settled = _deterministic(config, base, settings, bounds, seed0_nsga)
     status("onoff-tuning: printed gain order")  # 2. both readings of Tables 4 and 6
     order_rows, feasible, consistent_order = _gain_order(config, base, settings)

@@ -175,6 +175,18 @@ class GAStore:
                 return data
         return None
 
+    def _fingerprint(self, dists, kwargs: dict[str, Any]) -> str:
+        kwargs = {k: v for k, v in kwargs.items() if k not in ("backend", "time_estimate")}
+        bound = inspect.signature(tune_robust).bind(dists, **kwargs)
+        bound.apply_defaults()  # every input explicit: a changed default changes the fingerprint
+        inputs = {k: v for k, v in bound.arguments.items() if k not in ("backend", "time_estimate")}
+        inputs["dists"] = dict(dists)
+        return fingerprint(inputs, self._probe_of(inputs["base"], inputs["settings"]))
+
+    def has(self, dists, **kwargs: Any) -> bool:
+        """Whether the store holds the run :meth:`tune` would replay for these arguments."""
+        return self._find(self._fingerprint(dists, kwargs)) is not None
+
     def tune(self, label: str, dists, **kwargs: Any) -> tuple[RobustTuningResult, dict[str, Any] | None]:
         """:func:`~adcskit.control.tuning.tune_robust` ``(dists, **kwargs)``, or its stored result.
 
@@ -182,11 +194,7 @@ class GAStore:
         ``label`` names the file (e.g. ``s0_all_sample``); the fingerprint decides the match.
         """
         backend = kwargs.pop("backend", "cpu")
-        bound = inspect.signature(tune_robust).bind(dists, **kwargs)
-        bound.apply_defaults()  # every input explicit: a changed default changes the fingerprint
-        inputs = {k: v for k, v in bound.arguments.items() if k not in ("backend", "time_estimate")}
-        inputs["dists"] = dict(dists)
-        fp = fingerprint(inputs, self._probe_of(kwargs.get("base"), kwargs.get("settings")))
+        fp = self._fingerprint(dists, kwargs)
         hit = self._find(fp)
         if hit is not None:
             return _result_from(hit["result"]), {"label": label, **hit["provenance"]}
