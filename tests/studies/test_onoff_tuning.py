@@ -99,7 +99,9 @@ class _Seeds:
     """Per-seed, per-case rows as :class:`Measurements` exposes them (``case_flats``, ``seeds``)."""
 
     def __init__(self, mean_ratio, n_seeds=5):
-        self.seeds = [None] * n_seeds
+        from types import SimpleNamespace
+
+        self.seeds = [SimpleNamespace(cases={})] * n_seeds  # no GA runs: nothing replayed from a store
         self.ga = {"n_mc": 10}
         self._r = mean_ratio
 
