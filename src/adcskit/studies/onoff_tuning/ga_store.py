@@ -217,6 +217,7 @@ class GAStore:
             with os.fdopen(fd, "w", encoding="utf-8") as fh:
                 json.dump(data, fh, indent=1, allow_nan=False)
                 fh.write("\n")
+            os.chmod(tmp, 0o644)  # mkstemp's 0600 would keep a shared store private
             os.replace(tmp, path)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
