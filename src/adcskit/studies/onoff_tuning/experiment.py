@@ -497,7 +497,8 @@ def _provenance(src: Mapping[str, Any] | None) -> str:
     if not src:
         return ""
     commit = f", adcskit {src['commit']}" if src.get("commit") else ""
-    return f"{str(src.get('backend', '?')).upper()} run of {src.get('date', '?')} on {src.get('machine', '?')}{commit}"
+    day = str(src.get("date", "?"))[:10]  # one line per run of many GAs, not per GA
+    return f"{str(src.get('backend', '?')).upper()} run of {day} on {src.get('machine', '?')}{commit}"
 
 
 def _rate_contrast(config: Config, s_index: int, seed: int, det_gains, robust_gains, mc_kw) -> RateContrast:
