@@ -371,3 +371,30 @@ def test_full_run_takes_s4s_protocol_only_when_every_claim_ga_is_stored(monkeypa
     store = ga_store.GAStore(tmp_path / "tiny", writable=False)
     assert ot.experiment.stored_claim_gas(tiny, 3, store) == (12, 12)
     assert ot.experiment.stored_claim_gas(tiny, 4, store) == (0, 12)
+
+
+def test_ga_store_that_cannot_be_written_is_said_before_the_run(tmp_path):
+    from adcskit.errors import ConfigError
+    from adcskit.studies.onoff_tuning.ga_store import resolve_store
+
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(ConfigError, match=r"ga_store must be .* writable directory; got '.*file/sub'"):
+        resolve_store(str(blocker / "sub"), True)
+
+
+def test_ga_store_write_failure_warns_and_keeps_the_result(tmp_path, monkeypatch):
+    from adcskit.errors import AdcskitWarning
+    from adcskit.studies import onoff_tuning as ot
+    from adcskit.studies.onoff_tuning.ga_store import GAStore
+
+    def full_disk(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    store = GAStore(tmp_path, writable=True)
+    monkeypatch.setattr(store, "_write", full_disk)
+    c = ot.Config(**TINY)
+    with pytest.warns(AdcskitWarning, match="could not keep GA run 's0_delay_sample'.*No space left"):
+        res, src = store.tune("s0_delay_sample", c.dists("delay"), ratio=10.0, n_samples=2, base=c.base(),
+                              settings=c.settings(), pop_size=4, max_gen=1, rng=7)
+    assert src is None and res.x.shape == (3,)

@@ -33,6 +33,7 @@ import platform
 import subprocess
 import tempfile
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +41,7 @@ import numpy as np
 
 from adcskit._results import to_jsonable
 from adcskit.control.tuning import RobustTuningResult, evaluate_gains, tune_robust
+from adcskit.errors import AdcskitWarning, ConfigError
 
 __all__ = ["PACKAGED", "GAStore", "model_probe", "resolve_store"]
 
@@ -202,7 +204,11 @@ class GAStore:
         res = tune_robust(dists, backend=backend, **kwargs)
         wall = time.perf_counter() - t0
         if self.writable:
-            self._write(label, fp, res, wall)
+            try:
+                self._write(label, fp, res, wall)
+            except OSError as exc:  # the result stands; only its copy for later runs is lost
+                warnings.warn(f"ga_store: could not keep GA run {label!r} in {str(self.directory)!r} "
+                              f"({exc.strerror or exc}); it will run again next time", AdcskitWarning, stacklevel=2)
         return res, None
 
     def _write(self, label: str, fp: str, res: RobustTuningResult, wall_s: float) -> None:
@@ -232,4 +238,12 @@ def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
         return None
     if spec == "auto":
         return GAStore(PACKAGED, writable=False)
-    return GAStore(spec, writable=True)
+    path = Path(spec).expanduser()
+    try:  # checked before hours of GA runs, not after the first one
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r} "
+                          f"({exc.strerror or exc})") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r} (not writable)")
+    return GAStore(path, writable=True)
