@@ -571,13 +571,14 @@ def _ratio_sweep(config: Config, rng, base, settings, bounds, mc_kw, robust_all)
     """Weight-ratio sweep, all four uncertainties (Figs 12-14); the Table 6 ratio reuses seed 0's GA."""
     rows = []
     ratios = sorted(set(config.sweep_ratios) | {config.ratio_all})
+    store = resolve_store(config.ga_store, config.paper_scale)  # at paper scale 1000 LHS samples per candidate
     for r in track(ratios, "ratio sweep", total=len(ratios)):
         if r == config.ratio_all:
             res = robust_all
         else:
             status(f"onoff-tuning: ratio sweep w2/w1 = {r:g}")
-            res, _ = _tune(  # at paper scale 1000 LHS samples per candidate: stored like the claim GAs
-                resolve_store(config.ga_store, config.paper_scale), f"sweep_all_{r:g}", config.dists("all"), ratio=r,
+            res, _ = _tune(  # stored like the claim GAs
+                store, f"sweep_all_{r:g}", config.dists("all"), ratio=r,
                 n_samples=config.n_lhs, base=base, settings=settings, pop_size=config.ga_pop,
                 max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
                 overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,

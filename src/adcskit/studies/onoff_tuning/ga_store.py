@@ -31,7 +31,6 @@ import json
 import os
 import platform
 import subprocess
-import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -39,9 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from adcskit._results import to_jsonable
 from adcskit.control.tuning import RobustTuningResult, evaluate_gains, tune_robust
 from adcskit.errors import AdcskitWarning, ConfigError
+from adcskit.studies._runner import write_json_atomic
 
 __all__ = ["PACKAGED", "GAStore", "model_probe", "resolve_store"]
 
@@ -116,19 +115,9 @@ def _machine() -> str:
 
 
 def _result_from(d: dict[str, Any]) -> RobustTuningResult:
-    return RobustTuningResult(
-        x=np.array(d["x"], dtype=float), fun=float(d["fun"]), mean_abs_err_deg=float(d["mean_abs_err_deg"]),
-        std_abs_err_deg=float(d["std_abs_err_deg"]), max_overshoot_pct=float(d["max_overshoot_pct"]),
-        success=bool(d["success"]), status=int(d["status"]), message=str(d["message"]), nit=int(d["nit"]),
-        nfev=int(d["nfev"]), history=np.array(d["history"], dtype=float), w1=float(d["w1"]), w2=float(d["w2"]),
-        backend=str(d["backend"]))
-
-
-def _result_dict(r: RobustTuningResult) -> dict[str, Any]:
-    d = {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
-    d["x"] = [float(v) for v in np.asarray(r.x, float)]
-    d["history"] = [float(v) for v in np.asarray(r.history, float)]
-    return to_jsonable(d)
+    """The stored ``RobustTuningResult.to_dict()`` back as the result (floats exact: JSON keeps repr)."""
+    return RobustTuningResult(**{**d, "x": np.array(d["x"], dtype=float),
+                                 "history": np.array(d["history"], dtype=float)})
 
 
 class GAStore:
@@ -178,7 +167,6 @@ class GAStore:
         return None
 
     def _fingerprint(self, dists, kwargs: dict[str, Any]) -> str:
-        kwargs = {k: v for k, v in kwargs.items() if k not in ("backend", "time_estimate")}
         bound = inspect.signature(tune_robust).bind(dists, **kwargs)
         bound.apply_defaults()  # every input explicit: a changed default changes the fingerprint
         inputs = {k: v for k, v in bound.arguments.items() if k not in ("backend", "time_estimate")}
@@ -212,22 +200,13 @@ class GAStore:
         return res, None
 
     def _write(self, label: str, fp: str, res: RobustTuningResult, wall_s: float) -> None:
-        self.directory.mkdir(parents=True, exist_ok=True)
-        data = {"format": _FORMAT, "label": label, "fingerprint": fp, "result": _result_dict(res),
+        data = {"format": _FORMAT, "label": label, "fingerprint": fp, "result": res.to_dict(),
                 "provenance": {"date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
                                "backend": res.backend, "machine": _machine(), "commit": _commit(),
                                "wall_s": round(wall_s, 1)}}
         path = self.directory / f"{label}_{fp[:16]}.json"
-        fd, tmp = tempfile.mkstemp(dir=self.directory, prefix=f".{path.name}.", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                json.dump(data, fh, indent=1, allow_nan=False)
-                fh.write("\n")
-            os.chmod(tmp, 0o644)  # mkstemp's 0600 would keep a shared store private
-            os.replace(tmp, path)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        write_json_atomic(path, data)
+        os.chmod(path, 0o644)  # mkstemp's 0600 would keep a shared store private
 
 
 def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
