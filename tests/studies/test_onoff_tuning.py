@@ -342,6 +342,9 @@ def test_ga_store_setting():
     assert packaged.directory == PACKAGED and not packaged.writable
     with pytest.raises(ValueError, match="ga_store"):
         ot.Config(ga_store=" ")
+    for bad in (3, None, ""):
+        with pytest.raises(ValueError, match="ga_store must be"):
+            resolve_store(bad, True)
 
 
 def test_full_run_takes_s4s_protocol_only_when_every_claim_ga_is_stored(monkeypatch, tmp_path):

@@ -213,6 +213,8 @@ def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
     """The store a config's ``ga_store`` names: ``"auto"`` = the packaged snapshot, read only,
     when ``paper_scale`` is true (else none); ``"none"`` = none; a path = that directory, read
     and written."""
+    if not isinstance(spec, str) or not spec.strip():
+        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r}")
     if spec == "none" or (spec == "auto" and not paper_scale):
         return None
     if spec == "auto":
