@@ -126,3 +126,16 @@ def test_jobs_must_be_positive(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["reproduce", "--jobs", "0"])
     assert exc.value.code == 2 and "jobs must be a positive integer" in capsys.readouterr().err
+
+
+def test_cli_lets_idle_openmp_threads_sleep_unless_the_user_chose(monkeypatch):
+    """``OMP_WAIT_POLICY=PASSIVE`` from the CLI (inherited by --jobs workers); a user's value stays."""
+    import os
+
+    monkeypatch.setenv("OMP_WAIT_POLICY", "placeholder")  # restored at teardown, whatever main does
+    monkeypatch.delenv("OMP_WAIT_POLICY")
+    assert main(["list", "--quiet"]) == 0
+    assert os.environ["OMP_WAIT_POLICY"] == "PASSIVE"
+    monkeypatch.setenv("OMP_WAIT_POLICY", "ACTIVE")
+    assert main(["list", "--quiet"]) == 0
+    assert os.environ["OMP_WAIT_POLICY"] == "ACTIVE"

@@ -545,12 +545,26 @@ def _cmd_run_or_reproduce(args: argparse.Namespace) -> int:
     return EXIT_FAILED if failures else EXIT_OK
 
 
+def _quiet_openmp_waits() -> None:
+    """Idle OpenMP threads sleep instead of spinning, unless the user set ``OMP_WAIT_POLICY``.
+
+    numba's ``prange`` kernels run on GNU OpenMP, whose idle threads spin (≈ 3e5 iterations)
+    after every parallel region before they sleep. A study calls short kernels thousands of
+    times (a GA generation, a Monte-Carlo task), and under ``reproduce --jobs N`` the spinning
+    threads take the cores from the study beside them. Must run before the first parallel
+    kernel loads OpenMP; ``spawn`` workers (``--jobs``, ``processes``, ``dask-local``) inherit
+    it. It changes no result, only CPU time (docs/benchmarks.md, "OpenMP threads that sleep").
+    """
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``adcskit`` console script."""
     if argv is not None and (isinstance(argv, str | bytes) or not all(isinstance(a, str) for a in argv)):
         raise InputTypeError(f"argv must be None or a list of strings; got {argv!r}")
     parser = build_parser()
     args = parser.parse_args(argv)
+    _quiet_openmp_waits()
     try:
         if args.command == "list":
             return _cmd_list(args.quiet)
