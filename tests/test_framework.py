@@ -375,3 +375,23 @@ def test_run_study_records_and_marks_the_config_a_study_resolves(fake, monkeypat
     result = run_study(fake, seed=4, out=None)
     assert seen == [4] and result.config["n_tasks"] == 5 and len(result.measured["means"]) == 5
     assert result.claims[0].protocol == "custom settings"  # 5 tasks against the paper's 8
+
+
+def test_written_results_follow_the_umask_not_mkstemps_private_modes(tmp_path):
+    """result.json and the study directory are created like any file (0o666 / 0o777 less the
+    umask), so a shared results directory stays readable; the CSVs always were."""
+    import os
+    import stat
+
+    from adcskit.studies import StudyResult, write_json_atomic, write_result
+
+    mask = os.umask(0o022)
+    try:
+        d = write_result(StudyResult(study="demo", tables={"t": [{"a": 1}]}), tmp_path)
+        write_json_atomic(tmp_path / "errors.json", {})
+    finally:
+        os.umask(mask)
+    assert stat.S_IMODE(d.stat().st_mode) == 0o755
+    for f in (d / "result.json", d / "t.csv", tmp_path / "errors.json"):
+        assert stat.S_IMODE(f.stat().st_mode) == 0o644
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "errors.json"]  # no temporary left

@@ -13,8 +13,8 @@ import io
 import json
 import os
 import shutil
-import tempfile
 import time
+import uuid
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -168,6 +168,11 @@ def _mark_comparable(claims, changes: Mapping[str, Any], neutral: tuple[str, ...
     return tuple(out)
 
 
+def _temp_name(name: str) -> str:
+    """A hidden, unique sibling name for writing ``name`` before an atomic rename."""
+    return f".{name}.{uuid.uuid4().hex}.tmp"
+
+
 def write_json_atomic(path: Path, data: Any) -> None:
     """Write ``data`` as JSON to ``path`` via a temporary file and an atomic rename.
 
@@ -192,7 +197,9 @@ def write_json_atomic(path: Path, data: Any) -> None:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    tmp = path.parent / _temp_name(path.name)
+    # created like any file (0o666 less the umask), not mkstemp's private 0o600
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             json.dump(to_jsonable(data), fh, indent=2, allow_nan=False)
@@ -239,7 +246,8 @@ def write_result(result: StudyResult, out: str | Path) -> Path:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     final = out / result.study
-    tmp = Path(tempfile.mkdtemp(dir=out, prefix=f".{result.study}.", suffix=".tmp"))
+    tmp = out / _temp_name(result.study)
+    tmp.mkdir()  # 0o777 less the umask, like the directory it replaces (not mkdtemp's 0o700)
     try:
         for stem, fig in result.figures.items():
             fig.savefig(tmp / f"{stem}.png", dpi=FIGURE_DPI)

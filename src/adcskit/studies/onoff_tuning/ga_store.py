@@ -206,7 +206,6 @@ class GAStore:
                                "wall_s": round(wall_s, 1)}}
         path = self.directory / f"{label}_{fp[:16]}.json"
         write_json_atomic(path, data)
-        os.chmod(path, 0o644)  # mkstemp's 0600 would keep a shared store private
 
 
 def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
