@@ -212,8 +212,9 @@ def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
     """The store a config's ``ga_store`` names: ``"auto"`` = the packaged snapshot, read only,
     when ``paper_scale`` is true (else none); ``"none"`` = none; a path = that directory, read
     and written."""
+    allowed = f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r}"
     if not isinstance(spec, str) or not spec.strip():
-        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r}")
+        raise ConfigError(allowed)
     if spec == "none" or (spec == "auto" and not paper_scale):
         return None
     if spec == "auto":
@@ -222,8 +223,7 @@ def resolve_store(spec: str, paper_scale: bool) -> GAStore | None:
     try:  # checked before hours of GA runs, not after the first one
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r} "
-                          f"({exc.strerror or exc})") from None
+        raise ConfigError(f"{allowed} ({exc.strerror or exc})") from None
     if not os.access(path, os.W_OK | os.X_OK):
-        raise ConfigError(f"ga_store must be 'auto', 'none' or a writable directory; got {spec!r} (not writable)")
+        raise ConfigError(f"{allowed} (not writable)")
     return GAStore(path, writable=True)
