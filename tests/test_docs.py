@@ -7,6 +7,7 @@ blocks in order in one namespace, as a reader would.
 from __future__ import annotations
 
 import re
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -16,8 +17,16 @@ BLOCKS = re.findall(r"```python\n(.*?)```", GUIDE.read_text(encoding="utf-8"), f
 
 
 @pytest.mark.parametrize("code", BLOCKS, ids=[f"block{i}" for i in range(len(BLOCKS))])
-def test_user_guide_block_runs(code, capsys):
+def test_user_guide_block_runs(code, capsys, tmp_path, monkeypatch):
+    _temporary_files_under(tmp_path, monkeypatch)
     exec(compile(code, str(GUIDE), "exec"), {"__name__": "__docs__"})
+
+
+def _temporary_files_under(tmp_path, monkeypatch):
+    """Point ``tempfile`` at pytest's ``tmp_path``: a block that makes a working directory as a
+    reader would (``tempfile.mkdtemp``, signoff.md's 5 MB of netCDF and figures) leaves
+    nothing in the system's temporary directory after the run."""
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
 
 
 DOCS = GUIDE.parent
@@ -27,7 +36,8 @@ CHAPTERS = ["signoff.md"]
 
 @pytest.mark.compile
 @pytest.mark.parametrize("chapter", CHAPTERS)
-def test_tutorial_chapter_runs_in_order(chapter, capsys):
+def test_tutorial_chapter_runs_in_order(chapter, capsys, tmp_path, monkeypatch):
+    _temporary_files_under(tmp_path, monkeypatch)
     if chapter == "signoff.md":
         pytest.importorskip("xarray")
     path = DOCS / chapter
