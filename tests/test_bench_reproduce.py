@@ -1,0 +1,49 @@
+"""``benchmarks/bench_reproduce.py``: the ratio it prints for issue 24's full-reproduction goal.
+
+No reproduction is run here (< 1 s): the pairing of runs into candidate / baseline ratios and
+their median is what the benchmark's verdict rests on (docs/benchmarks.md, "Full reproduction").
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+_SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_reproduce.py"
+
+
+@pytest.fixture(scope="module")
+def br():
+    spec = importlib.util.spec_from_file_location("bench_reproduce", _SCRIPT)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _run(pair, side, wall):
+    return {"pair": pair, "side": side, "wall_s": wall}
+
+
+def test_ratio_is_per_pair_whatever_the_order_and_the_median_of_pairs(br):
+    # docs/benchmarks.md, "Full reproduction" (2026-12-02): 438.6 s after 875.2 s, 492.4 s before
+    # 1027.9 s, 521.5 s before 957.2 s -> 0.501, 0.479, 0.545; median 0.501
+    runs = [_run(1, "baseline", 875.2), _run(1, "candidate", 438.6),
+            _run(2, "candidate", 492.4), _run(2, "baseline", 1027.9),
+            _run(3, "baseline", 957.2), _run(3, "candidate", 521.5)]
+    s = br._summary(runs)
+    assert s["wall_ratio_per_pair"] == [0.501, 0.479, 0.545]
+    assert s["wall_ratio_median"] == 0.501
+
+
+def test_an_unfinished_pair_gives_no_ratio(br):
+    s = br._summary([_run(1, "baseline", 900.0), _run(1, "candidate", 450.0), _run(2, "candidate", 470.0)])
+    assert s["wall_ratio_per_pair"] == [0.5]
+    assert br._summary([_run(1, "candidate", 470.0)])["wall_ratio_median"] is None
+
+
+def test_pairs_must_be_positive(br, capsys):
+    with pytest.raises(SystemExit):
+        br.main(["--pairs", "0"])
+    assert "--pairs must be >= 1; got 0" in capsys.readouterr().err
