@@ -92,6 +92,17 @@ def run_once(adcskit: pathlib.Path, out: pathlib.Path, quick: bool, jobs: int | 
             "started_utc": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(time.time() - wall))}
 
 
+def _cpu_name() -> str:
+    """The CPU's model name (``/proc/cpuinfo`` on Linux), else what ``platform`` knows."""
+    try:
+        for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def _summary(runs: list[dict]) -> dict:
     ratios = []
     for p in sorted({r["pair"] for r in runs}):
@@ -125,8 +136,8 @@ def main(argv: list[str] | None = None) -> int:
     exe = {side: checkout(rev, work / f"{side}-src") for side, rev in revs.items()}
     jobs = {"baseline": a.jobs if has_jobs(exe["baseline"]) and a.jobs is not None else None,
             "candidate": a.jobs}
-    report = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
-                         f"{platform.platform()}", "commits": revs, "quick": a.quick, "runs": []}
+    report = {"machine": f"{_cpu_name()}, {os.cpu_count()} CPUs, {platform.platform()}",
+              "commits": revs, "quick": a.quick, "runs": []}
     for p in range(1, a.pairs + 1):
         order = ("baseline", "candidate") if p % 2 else ("candidate", "baseline")
         for side in order:
