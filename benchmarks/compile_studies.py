@@ -23,8 +23,9 @@ import time
 os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="numba-cold-")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _profiling import outermost_compiles  # noqa: E402
 from numba.core.dispatcher import Dispatcher  # noqa: E402
+
+from _profiling import outermost_compiles  # noqa: E402
 
 _ROWS: dict[str, list] = collections.defaultdict(lambda: [0, 0.0])
 

@@ -15,6 +15,7 @@ The fast lane for day-to-day work is ``pytest -m "not slow and not study and not
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import sys
 from pathlib import Path
@@ -51,6 +52,29 @@ def dask_local2():
             os.environ["PYTHONPATH"] = old
     with ex:
         yield ex
+
+
+@pytest.fixture(scope="session")
+def benchmark_script():
+    """``benchmark_script("bench_x")`` -> the module ``benchmarks/bench_x.py``, loaded once per
+    session by path (benchmarks are scripts, not a package) and registered under its name; the
+    ``sys.path`` entries a script puts first (``benchmarks/``, ``src``) are taken back."""
+    loaded = {}
+
+    def load(name: str):
+        if name not in loaded:
+            spec = importlib.util.spec_from_file_location(name, TESTS.parent / "benchmarks" / f"{name}.py")
+            mod = importlib.util.module_from_spec(spec)
+            sys.modules.setdefault(name, mod)
+            saved = list(sys.path)
+            try:
+                spec.loader.exec_module(mod)
+            finally:
+                sys.path[:] = saved
+            loaded[name] = mod
+        return loaded[name]
+
+    return load
 
 
 _TESTS = Path(__file__).resolve().parent

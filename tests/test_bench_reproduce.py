@@ -6,20 +6,12 @@ their median is what the benchmark's verdict rests on (docs/benchmarks.md, "Full
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import pytest
-
-_SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_reproduce.py"
 
 
 @pytest.fixture(scope="module")
-def br():
-    spec = importlib.util.spec_from_file_location("bench_reproduce", _SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def br(benchmark_script):
+    return benchmark_script("bench_reproduce")
 
 
 def _run(pair, side, wall):

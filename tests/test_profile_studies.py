@@ -9,21 +9,15 @@ loaded machine can move) and fail on any other difference. No study is run here 
 from __future__ import annotations
 
 import copy
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-_SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "profile_studies.py"
-
 
 @pytest.fixture(scope="module")
-def ps():
-    spec = importlib.util.spec_from_file_location("profile_studies", _SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def ps(benchmark_script):
+    return benchmark_script("profile_studies")
 
 
 # the shape of wahba-table1's result.json (quick run), cut to the fields the comparison treats

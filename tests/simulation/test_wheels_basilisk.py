@@ -7,10 +7,6 @@ Skipped when Basilisk (``bsk``, ``pip install 'adcskit[validate]'``) is not inst
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -18,20 +14,11 @@ pytest.importorskip("Basilisk")
 
 pytestmark = pytest.mark.compile
 
-_BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_basilisk_mtb.py"
 
 
 @pytest.fixture(scope="module")
-def bench():
-    spec = importlib.util.spec_from_file_location("bench_basilisk_mtb", _BENCH)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("bench_basilisk_mtb", mod)
-    saved = list(sys.path)
-    try:  # the bench puts benchmarks/ and benchmarks/../src first on sys.path: not for the tests after it
-        spec.loader.exec_module(mod)
-    finally:
-        sys.path[:] = saved
-    return mod
+def bench(benchmark_script):
+    return benchmark_script("bench_basilisk_mtb")
 
 
 def test_open_loop_dipole_agrees_with_basilisk_mtb_effector(bench):
