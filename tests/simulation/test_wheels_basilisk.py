@@ -15,7 +15,6 @@ pytest.importorskip("Basilisk")
 pytestmark = pytest.mark.compile
 
 
-
 @pytest.fixture(scope="module")
 def bench(benchmark_script):
     return benchmark_script("bench_basilisk_mtb")
