@@ -27,6 +27,13 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
    CPU-second of the process (``time.process_time``: all threads); the ratios printed are
    medians over the repeats, measured in this one run: full chain per CPU-second (Basilisk is
    one thread) and per wall second (our kernel uses every core, Basilisk one).
+
+   Two more per-core ratios compare like with like, because a CPU's clock and shared caches
+   make one busy core faster than each of several (the 2-vCPU Xeon of 2026-12-02: our kernel
+   ran ~20 % fewer sample-steps per CPU-second on two threads than on one): **one thread
+   each** (ours with ``numba.set_num_threads(1)``, the other cores idle, as for Basilisk) and
+   **every core busy** (ours on all threads; Basilisk one process per core, started together
+   behind a barrier, counted as the sum of their steps over the sum of their CPU-seconds).
 """
 
 from __future__ import annotations
@@ -34,9 +41,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import multiprocessing
 import os
 import platform
 import time
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
@@ -241,15 +250,18 @@ def closed_loop(t_final: float, n_samples: int, with_basilisk: bool = True) -> d
     return _ours(t_final, n_samples, layout, K, Pg, axis, ang0, steps, bsk)
 
 
-def bsk_speed(t_final: float, min_cpu_s: float) -> dict:
+def bsk_speed(t_final: float, min_cpu_s: float, barrier=None) -> dict:
     """Basilisk's closed loop (the chain of :func:`closed_loop`) continued in ``t_final``
-    chunks until it has used ``min_cpu_s`` CPU-seconds: (steps, wall s, CPU s)."""
+    chunks until it has used ``min_cpu_s`` CPU-seconds: (steps, wall s, CPU s). With a
+    ``barrier``, timing starts once every party has finished its set-up."""
     layout = _layout().replace(t_min=3e-3)
     axis = np.array([1.0, 1.0, 0.5]) / np.linalg.norm([1.0, 1.0, 0.5])
     sigma0 = axis * math.tan(math.radians(10.0) / 4)
     b = _bsk_setup(layout, sigma0, (0.0, 0.0, 0.0), closed=True, gains=(120.0, 400.0))
     sim, macros = b["sim"], b["macros"]
     sim.InitializeSimulation()
+    if barrier is not None:
+        barrier.wait()
     wall = cpu = 0.0
     m = 0
     while cpu < min_cpu_s:
@@ -263,6 +275,35 @@ def bsk_speed(t_final: float, min_cpu_s: float) -> dict:
     steps = m * int(round(t_final / DT))
     return {"steps": steps, "wall_s": wall, "cpu_s": cpu, "sample_steps_per_s": steps / wall,
             "sample_steps_per_cpu_s": steps / cpu}
+
+
+_BARRIER = None
+
+
+def _bsk_worker_init(barrier) -> None:
+    global _BARRIER
+    _BARRIER = barrier
+
+
+def _bsk_speed_synced(t_final: float, min_cpu_s: float) -> dict:
+    """:func:`bsk_speed` in a pool worker: set up, then wait for every worker before timing."""
+    return bsk_speed(t_final, min_cpu_s, barrier=_BARRIER)
+
+
+def bsk_speed_all_cores(t_final: float, min_cpu_s: float, n_proc: int) -> dict:
+    """Basilisk with every core busy: ``n_proc`` processes run :func:`bsk_speed` together (a
+    barrier after their set-up); sample-steps per CPU-second = the sum of their steps over the
+    sum of their CPU-seconds, per wall second = the sum of their steps over the longest wall."""
+    ctx = multiprocessing.get_context("spawn")
+    barrier = ctx.Manager().Barrier(n_proc)
+    with ProcessPoolExecutor(n_proc, mp_context=ctx, initializer=_bsk_worker_init,
+                             initargs=(barrier,)) as pool:
+        parts = list(pool.map(_bsk_speed_synced, [t_final] * n_proc, [min_cpu_s] * n_proc))
+    steps = sum(p["steps"] for p in parts)
+    cpu = sum(p["cpu_s"] for p in parts)
+    wall = max(p["wall_s"] for p in parts)
+    return {"processes": n_proc, "parts": parts, "steps": steps, "wall_s": wall, "cpu_s": cpu,
+            "sample_steps_per_s": steps / wall, "sample_steps_per_cpu_s": steps / cpu}
 
 
 def _speed_scenarios(t_final: float):
@@ -285,12 +326,21 @@ def _speed_scenarios(t_final: float):
     return same, full
 
 
-def _ours_speed(sc: Scenario, n_samples: int, seed: int) -> dict:
-    t0 = time.perf_counter()
-    c0 = time.process_time()
-    res = simulate(sc, n_samples, rng=seed)
-    wall = time.perf_counter() - t0
-    cpu = time.process_time() - c0  # all threads of this process
+def _ours_speed(sc: Scenario, n_samples: int, seed: int, threads: int | None = None) -> dict:
+    """One timed kernel call; ``threads``: numba's thread count for it (default: all)."""
+    import numba
+
+    before = numba.get_num_threads()
+    if threads is not None:
+        numba.set_num_threads(threads)
+    try:
+        t0 = time.perf_counter()
+        c0 = time.process_time()
+        res = simulate(sc, n_samples, rng=seed)
+        wall = time.perf_counter() - t0
+        cpu = time.process_time() - c0  # all threads of this process
+    finally:
+        numba.set_num_threads(before)
     ss = n_samples * res.n_steps
     return {"wall_s": wall, "cpu_s": cpu, "sample_steps_per_s": ss / wall, "sample_steps_per_cpu_s": ss / cpu}
 
@@ -300,20 +350,33 @@ def speed(t_final: float, n_samples: int, repeats: int, bsk_cpu_s: float, with_b
     same, full = _speed_scenarios(t_final)
     simulate(same, min(n_samples, 64), rng=0)  # compile / warm
     simulate(full, min(n_samples, 64), rng=0)
-    runs = {"basilisk": [], "same": [], "full": []}
+    n_cores = os.cpu_count() or 1
+    runs = {"basilisk": [], "basilisk_all_cores": [], "same": [], "full": [], "full_one_thread": []}
     for r in range(repeats):
         if with_basilisk:
             runs["basilisk"].append(bsk_speed(t_final, bsk_cpu_s))
+            if n_cores > 1:
+                runs["basilisk_all_cores"].append(bsk_speed_all_cores(t_final, bsk_cpu_s, n_cores))
         runs["same"].append(_ours_speed(same, n_samples, 10 + r))
         runs["full"].append(_ours_speed(full, n_samples, 20 + r))
+        runs["full_one_thread"].append(_ours_speed(full, n_samples, 20 + r, threads=1))
     med = {k: {q: float(np.median([x[q] for x in v])) for q in ("sample_steps_per_s", "sample_steps_per_cpu_s")}
            for k, v in runs.items() if v}
-    out = {"repeats": repeats, "n_samples": n_samples, "t_final_s": t_final, "runs": runs, "median": med}
+    out = {"repeats": repeats, "n_samples": n_samples, "t_final_s": t_final, "cores": n_cores, "runs": runs,
+           "median": med}
     if with_basilisk:
         b = med["basilisk"]
         for k in ("same", "full"):
             out[f"ratio_{k}_per_cpu_s"] = med[k]["sample_steps_per_cpu_s"] / b["sample_steps_per_cpu_s"]
             out[f"ratio_{k}_wall"] = med[k]["sample_steps_per_s"] / b["sample_steps_per_s"]
+        # like with like: one thread each; every core busy on both sides
+        out["ratio_full_one_thread_each"] = (med["full_one_thread"]["sample_steps_per_cpu_s"]
+                                             / b["sample_steps_per_cpu_s"])
+        if "basilisk_all_cores" in med:
+            ba = med["basilisk_all_cores"]
+            out["ratio_full_all_cores_busy_per_cpu_s"] = (med["full"]["sample_steps_per_cpu_s"]
+                                                          / ba["sample_steps_per_cpu_s"])
+            out["ratio_full_all_cores_busy_wall"] = med["full"]["sample_steps_per_s"] / ba["sample_steps_per_s"]
     return out
 
 
@@ -418,9 +481,19 @@ def _print_speed(sp: dict, n: int) -> None:
                  if f"ratio_{k}_wall" in sp else "")
         print(f"  {label}: {m['sample_steps_per_s']:.3g} sample-steps/s wall, "
               f"{m['sample_steps_per_cpu_s']:.3g} per CPU-second{ratio}")
-    for k in ("basilisk", "same", "full"):
-        if sp["runs"][k]:
-            print(f"    {k:8s} per CPU-second by repeat: "
+    m1 = med["full_one_thread"]
+    print(f"  adcskit full chain, one thread: {m1['sample_steps_per_cpu_s']:.3g} per CPU-second"
+          + (f"; ratio {sp['ratio_full_one_thread_each']:.0f}x per core, one thread each (like with like)"
+             if "ratio_full_one_thread_each" in sp else ""))
+    if "basilisk_all_cores" in med:
+        ba = med["basilisk_all_cores"]
+        print(f"  Basilisk, every core busy ({sp['cores']} processes): {ba['sample_steps_per_cpu_s']:.3g} per "
+              f"CPU-second, {ba['sample_steps_per_s']:.3g} wall; full chain on every core: ratio "
+              f"{sp['ratio_full_all_cores_busy_per_cpu_s']:.0f}x per CPU-second, "
+              f"{sp['ratio_full_all_cores_busy_wall']:.0f}x wall (like with like)")
+    for k in ("basilisk", "basilisk_all_cores", "same", "full", "full_one_thread"):
+        if sp["runs"].get(k):
+            print(f"    {k:18s} per CPU-second by repeat: "
                   + ", ".join(f"{r['sample_steps_per_cpu_s']:.3g}" for r in sp["runs"][k]))
 
 
