@@ -30,7 +30,7 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
 
    Two more per-core ratios compare like with like, because a CPU's clock and shared caches
    make one busy core faster than each of several (the 2-vCPU Xeon of 2026-12-02: our kernel
-   ran ~20 % fewer sample-steps per CPU-second on two threads than on one): **one thread
+   ran 13 % fewer sample-steps per CPU-second on two threads than on one, medians of 7): **one thread
    each** (ours with ``numba.set_num_threads(1)``, the other cores idle, as for Basilisk) and
    **every core busy** (ours on all threads; Basilisk one process per core, started together
    behind a barrier, counted as the sum of their steps over the sum of their CPU-seconds).
