@@ -8,12 +8,13 @@ repository into its own directory with its own venv (``python -m venv --system-s
 an empty numba cache for every run (a new ``NUMBA_CACHE_DIR``, so every run compiles its
 kernels as a first run does), then ``adcskit reproduce`` (the candidate with its default
 ``--jobs``, the baseline as it is: it has no ``--jobs``). The runs alternate in pairs, the order
-swapped every pair (baseline first in pair 1, candidate first in pair 2, ...), because the
+swapped every pair (baseline first in pair 1 unless ``--first candidate``, then the other way round, ...), because the
 project's VM drifts by up to 20 % within an hour: the ratio to read is each pair's, and their
 median.
 
 Printed per run: wall, CPU (user + system of the ``adcskit`` process and its workers), CPU
-share, exit status, ``errors.json``, the per-study ``runtime_s``; then each pair's wall ratio
+share, exit status, ``errors.json``, the per-study ``runtime_s`` and, for a ``--jobs`` run, the
+per-study CPU seconds of its summary; then each pair's wall ratio
 (candidate / baseline) and the median. ``--json`` writes all of it after every run (an
 interrupted run keeps the finished ones). Uncommitted changes are not measured: the candidate
 is a commit (default ``HEAD``).
@@ -31,6 +32,7 @@ import json
 import os
 import pathlib
 import platform
+import re
 import resource
 import shutil
 import statistics
@@ -78,11 +80,14 @@ def run_once(adcskit: pathlib.Path, out: pathlib.Path, quick: bool, jobs: int | 
     studies = {}
     for res in sorted(out.glob("*/result.json")):
         studies[res.parent.name] = round(float(json.loads(res.read_text()).get("runtime_s", float("nan"))), 1)
+    # per-study CPU: the --jobs summary's "  STUDY  done in W s (C CPU-s)" lines (since issue 24)
+    studies_cpu = {m.group(1): float(m.group(2)) for m in
+                   re.finditer(r"^\s+(\S+)\s+done in [\d.]+ s \(([\d.]+) CPU-s\)$", log.read_text(), re.M)}
     errors = out / "errors.json"
     return {"command": " ".join(cmd), "exit": rc, "wall_s": round(wall, 1), "cpu_s": round(cpu, 1),
             "cpu_share_pct": round(100.0 * cpu / wall, 1),
             "errors": json.loads(errors.read_text()) if errors.exists() else None,
-            "studies_runtime_s": studies, "log": str(log),
+            "studies_runtime_s": studies, "studies_cpu_s": studies_cpu, "log": str(log),
             "started_utc": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(time.time() - wall))}
 
 
@@ -113,6 +118,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--baseline", default=BASELINE, help=f"baseline commit (default {BASELINE})")
     ap.add_argument("--candidate", default="HEAD", help="candidate commit (default HEAD)")
     ap.add_argument("--pairs", type=int, default=1, help="baseline/candidate pairs, order swapped each pair")
+    ap.add_argument("--first", choices=("baseline", "candidate"), default="baseline",
+                    help="which side runs first in pair 1 (then alternating; default baseline)")
     ap.add_argument("--jobs", type=int, default=None, help="candidate's --jobs (default: its own default)")
     ap.add_argument("--quick", action="store_true", help="the quick reproduction instead of the full one")
     ap.add_argument("--workdir", default=None, help="where the checkouts and outputs go (default: a new temporary directory)")
@@ -132,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
     report = {"machine": f"{_cpu_name()}, {os.cpu_count()} CPUs, {platform.platform()}",
               "commits": revs, "quick": a.quick, "runs": []}
     for p in range(1, a.pairs + 1):
-        order = ("baseline", "candidate") if p % 2 else ("candidate", "baseline")
+        order = ("baseline", "candidate") if (p % 2) == (a.first == "baseline") else ("candidate", "baseline")
         for side in order:
             out = work / f"out-{side}-{p}"
             shutil.rmtree(out, ignore_errors=True)
@@ -142,7 +149,9 @@ def main(argv: list[str] | None = None) -> int:
             report["runs"].append(r)
             print(f"pair {p}: {side} {revs[side]}: wall {r['wall_s']:.1f} s, CPU {r['cpu_s']:.1f} s "
                   f"({r['cpu_share_pct']:.0f} %), exit {r['exit']}, errors {r['errors']}", flush=True)
-            print("    " + ", ".join(f"{k} {v}" for k, v in r["studies_runtime_s"].items()), flush=True)
+            print("    wall: " + ", ".join(f"{k} {v}" for k, v in r["studies_runtime_s"].items()), flush=True)
+            if r["studies_cpu_s"]:
+                print("    CPU:  " + ", ".join(f"{k} {v}" for k, v in r["studies_cpu_s"].items()), flush=True)
             report.update(_summary(report["runs"]))
             if a.json:
                 tmp = pathlib.Path(a.json + ".tmp")

@@ -39,3 +39,31 @@ def test_pairs_must_be_positive(br, capsys):
     with pytest.raises(SystemExit):
         br.main(["--pairs", "0"])
     assert "--pairs must be >= 1; got 0" in capsys.readouterr().err
+
+
+def test_per_study_cpu_comes_from_the_jobs_summary(br, tmp_path, monkeypatch):
+    # the summary lines of `adcskit reproduce --jobs N` (src/adcskit/cli.py, _run_parallel)
+    log = tmp_path / "run.log"
+    exe = tmp_path / "venv" / "bin" / "adcskit"
+    exe.parent.mkdir(parents=True)
+
+    def fake_run(cmd, cwd, env, stdout, stderr):
+        stdout.write("summary (2 studies at once, 9.0 s wall; logs in X):\n"
+                     "  wahba-table1  done in 623.3 s (700.2 CPU-s)\n"
+                     "  onoff-schmitt  done in 7.0 s (6.9 CPU-s)\n"
+                     "  rendezvous  failed after 1.0 s (0.5 CPU-s)\n")
+        return type("R", (), {"returncode": 0})()
+
+    monkeypatch.setattr(br.subprocess, "run", fake_run)
+    r = br.run_once(exe, tmp_path / "out", quick=True, jobs=2, log=log)
+    assert r["studies_cpu_s"] == {"wahba-table1": 700.2, "onoff-schmitt": 6.9}
+
+
+def test_first_candidate_swaps_every_pair(br, tmp_path, monkeypatch):
+    order = []
+    monkeypatch.setattr(br, "checkout", lambda rev, where: where / ".venv" / "bin" / "adcskit")
+    monkeypatch.setattr(br, "run_once", lambda exe, out, quick, jobs, log: order.append(exe.parts[-4]) or
+                        {"wall_s": 1.0, "cpu_s": 1.0, "cpu_share_pct": 100.0, "exit": 0, "errors": {},
+                         "studies_runtime_s": {}, "studies_cpu_s": {}})
+    assert br.main(["--pairs", "2", "--first", "candidate", "--quick", "--workdir", str(tmp_path)]) == 0
+    assert order == ["candidate-src", "baseline-src", "baseline-src", "candidate-src"]

@@ -8,6 +8,7 @@ workers get the registry entries from the parent. Each test starts one small pro
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -69,6 +70,8 @@ def test_jobs_2_equals_serial_including_a_failing_study(fakes, tmp_path, capsys)
     out = capsys.readouterr()
     summary = [ln for ln in out.out[out.out.index("summary (2 studies at once"):].splitlines() if ln.startswith("  ")]
     assert [ln.split()[0] for ln in summary] == ["fake", "fake-b", "fake-boom"]
+    # wall and CPU seconds of each study's worker (issue 24: per-study CPU beside the wall time)
+    assert re.fullmatch(r"\s+fake\s+done in \d+\.\d s \(\d+\.\d CPU-s\)", summary[0])
     assert "failed" in summary[2] and "study fake-boom failed: RuntimeError: boom" in out.err
 
 

@@ -258,10 +258,23 @@ def _job_init(cancel) -> None:
     signal.signal(signal.SIGINT, _on_sigint)
 
 
+def _cpu_s() -> float:
+    """User + system CPU seconds of this process (all threads) and its reaped children."""
+    try:
+        import resource
+    except ImportError:  # not on POSIX: this process only
+        return time.process_time()
+    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: str):
     """Worker: run study ``name`` with its console output in ``log_path``.
 
-    Returns ``(name, line, failure, wall_s)``; ``line`` None means cancelled before the start.
+    Returns ``(name, line, failure, wall_s, cpu_s)``; ``line`` None means cancelled before the
+    start. ``cpu_s`` is the CPU time (user + system, every thread) of this worker process and of
+    the child processes it reaped during the study (a ``processes`` executor's workers); a
+    shared Dask cluster's workers are not counted.
     ``info`` is the parent's registry entry, so a study registered at run time (a test's fake
     study) is found in the fresh worker too.
     """
@@ -269,14 +282,14 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
     _RUNNING = True  # first, then the flag: a Ctrl-C between the two still stops this study
     try:
         if _CANCEL is not None and _CANCEL.is_set():
-            return name, None, None, 0.0
+            return name, None, None, 0.0, 0.0
         from adcskit._progress import progress_session
         from adcskit.studies import STUDIES
         from adcskit.uncertainty.executor import make_executor
 
         if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
             STUDIES[name] = info
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), _cpu_s()
         with (
             open(log_path, "w", encoding="utf-8") as log,
             contextlib.redirect_stdout(log),
@@ -290,7 +303,7 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
                 _RUNNING = False  # the study is over: a Ctrl-C from now on does not undo it
                 executor.close()
             print(line if failure is None else f"study {name} failed: {failure['traceback']}")
-        return name, line, failure, time.perf_counter() - t0
+        return name, line, failure, time.perf_counter() - t0, _cpu_s() - c0
     finally:
         _RUNNING = False
 
@@ -322,7 +335,8 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
                   failures: dict[str, dict], done: list[str]) -> bool:
     """Run ``names`` on ``jobs`` worker processes, longest expected first; True if interrupted.
 
-    One line per study as it finishes, then a summary in ``names`` order; each study's
+    One line per study as it finishes, then a summary in ``names`` order (each study's wall and
+    CPU seconds: a study's CPU against its wall says how much of the cores it had); each study's
     console output is in ``OUT/logs/STUDY.log``. Ctrl-C cancels the studies not started,
     interrupts the running ones (their previous results stay, see :func:`write_result`) and
     keeps every study already written.
@@ -358,17 +372,17 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
             outcome[name] = "failed"
             _err(f"study {name} failed: {failures[name]['message']}")
             return
-        _, line, failure, wall = fut.result()
+        _, line, failure, wall, cpu = fut.result()
         if line is None:
             outcome[name] = "cancelled"
         elif failure is None:
             done.append(name)
-            outcome[name] = f"done in {wall:.1f} s"
+            outcome[name] = f"done in {wall:.1f} s ({cpu:.1f} CPU-s)"
             if not args.quiet:
                 status(line)
         else:
             failures[name] = failure
-            outcome[name] = f"failed after {wall:.1f} s"
+            outcome[name] = f"failed after {wall:.1f} s ({cpu:.1f} CPU-s)"
             _err(f"study {name} failed: {failure['message']}")
 
     if not args.quiet and "closed-loop" in names:  # its worker's notice goes to its log: say it here
