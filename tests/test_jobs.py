@@ -15,7 +15,7 @@ import pytest
 
 import adcskit.studies
 import adcskit.studies._registry as registry
-from adcskit.cli import _longest_first, _worker_executor_spec, main
+from adcskit.cli import _longest_first, _usable_cores, _worker_executor_spec, _worker_threads, main
 from adcskit.uncertainty.executor import make_executor
 
 #: Keys of result.json that are timings (they differ between any two runs).
@@ -142,3 +142,11 @@ def test_cli_lets_idle_openmp_threads_sleep_unless_the_user_chose(monkeypatch):
     monkeypatch.setenv("OMP_WAIT_POLICY", "ACTIVE")
     assert main(["list", "--quiet"]) == 0
     assert os.environ["OMP_WAIT_POLICY"] == "ACTIVE"
+
+
+def test_serial_studies_side_by_side_share_the_cores_out():
+    # issue 24: a prange loop's static halves left a core idle when two studies ran every core each
+    cores = _usable_cores()
+    assert _worker_threads("serial", 2) == max(1, cores // 2)
+    assert _worker_threads("serial", 4 * cores) == 1
+    assert _worker_threads("processes:1", 2) == 0 and _worker_threads("dask://127.0.0.1:8786", 2) == 0

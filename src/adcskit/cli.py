@@ -17,8 +17,12 @@ in its own ``spawn`` worker process, longest expected study first
 name, config and seed, so the result files equal a serial run's (``--jobs 1``) but for the
 timing fields. How ``--jobs`` combines with ``--executor`` (no oversubscription):
 
-* ``serial`` (default): studies run side by side, each study's campaigns serially; the numba
-  ``prange`` kernels keep their threads, so the last study running still uses every core.
+* ``serial`` (default): studies run side by side, each study's campaigns serially, and each
+  study's numba kernels on ``max(1, cores // N)`` threads (``numba.set_num_threads``; the
+  kernels' results do not depend on their thread count). With every worker's kernels on every
+  core, a ``prange`` loop's static halves waited for the half that shared its core with the
+  study beside it while the other core idled: 152 % CPU on 2 cores (docs/benchmarks.md, "Full
+  reproduction", the Xeon instance).
 * ``processes`` without a count: each study gets ``max(1, cores // N)`` campaign workers;
   an explicit ``processes:M`` is kept (a warning says when ``N * M`` exceeds the cores).
 * ``dask-local[:M]``: one local cluster, started here and shared by every study (they
@@ -268,7 +272,7 @@ def _cpu_s() -> float:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: str):
+def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: str, threads: int = 0):
     """Worker: run study ``name`` with its console output in ``log_path``.
 
     Returns ``(name, line, failure, wall_s, cpu_s)``; ``line`` None means cancelled before the
@@ -276,7 +280,8 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
     the child processes it reaped during the study (a ``processes`` executor's workers); a
     shared Dask cluster's workers are not counted.
     ``info`` is the parent's registry entry, so a study registered at run time (a test's fake
-    study) is found in the fresh worker too.
+    study) is found in the fresh worker too. ``threads`` > 0 caps this worker's numba threads
+    (at most numba's own ``NUMBA_NUM_THREADS``); 0 leaves them.
     """
     global _RUNNING
     _RUNNING = True  # first, then the flag: a Ctrl-C between the two still stops this study
@@ -289,6 +294,10 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
 
         if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
             STUDIES[name] = info
+        if threads > 0:
+            import numba
+
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         t0, c0 = time.perf_counter(), _cpu_s()
         with (
             open(log_path, "w", encoding="utf-8") as log,
@@ -324,6 +333,12 @@ def _worker_executor_spec(text: str, executor, jobs: int) -> str:
     return executor.spec
 
 
+def _worker_threads(spec: str, jobs: int) -> int:
+    """numba threads of each of ``jobs`` concurrent studies: the cores shared out under the
+    ``serial`` executor (see the module docstring), 0 (numba's default) under the others."""
+    return max(1, _usable_cores() // jobs) if spec == "serial" else 0
+
+
 def _longest_first(names: list[str]) -> list[str]:
     """``names`` by expected wall time, longest first (registry order among equals)."""
     from adcskit.studies import EXPECTED_WALL_S
@@ -348,6 +363,7 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
     from adcskit.studies import STUDIES
 
     spec = _worker_executor_spec(args.executor, executor, jobs)
+    threads = _worker_threads(spec, jobs)
     order = _longest_first(names)
     logs = Path(args.out) / "logs"
     logs.mkdir(exist_ok=True)
@@ -396,7 +412,7 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
         with progress_session(not args.quiet), bar(f"studies ({jobs} at once)", len(order)) as advance:
             for n in order:
                 log = str(logs / f"{n}.log")
-                futures[pool.submit(_study_job, n, STUDIES.get(n), args, spec, log)] = n
+                futures[pool.submit(_study_job, n, STUDIES.get(n), args, spec, log, threads)] = n
             for fut in cf.as_completed(futures):
                 collect(fut, futures[fut])
                 advance(1)
