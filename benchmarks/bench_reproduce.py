@@ -8,9 +8,9 @@ repository into its own directory with its own venv (``python -m venv --system-s
 an empty numba cache for every run (a new ``NUMBA_CACHE_DIR``, so every run compiles its
 kernels as a first run does), then ``adcskit reproduce`` (the candidate with its default
 ``--jobs``, the baseline as it is: it has no ``--jobs``). The runs alternate in pairs, the order
-swapped every pair (baseline first in pair 1 unless ``--first candidate``, then the other way round, ...), because the
-project's VM drifts by up to 20 % within an hour: the ratio to read is each pair's, and their
-median.
+swapped every pair (baseline first in pair 1 unless ``--first candidate``, then the other way
+round, ...), because the project's VM drifts by up to 20 % within an hour: the ratio to read
+is each pair's, and their median.
 
 Printed per run: wall, CPU (user + system of the ``adcskit`` process and its workers), CPU
 share, exit status, ``errors.json``, the per-study ``runtime_s`` and, for a ``--jobs`` run, the

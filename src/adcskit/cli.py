@@ -317,6 +317,11 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
         _RUNNING = False
 
 
+def _cores_per_study(jobs: int) -> int:
+    """Each of ``jobs`` concurrent studies' share of the usable cores (at least one)."""
+    return max(1, _usable_cores() // jobs)
+
+
 def _worker_executor_spec(text: str, executor, jobs: int) -> str:
     """The ``--executor`` each of ``jobs`` concurrent studies gets (see the module docstring)."""
     from adcskit.uncertainty.executor import DaskExecutor, ProcessExecutor
@@ -326,7 +331,7 @@ def _worker_executor_spec(text: str, executor, jobs: int) -> str:
     if isinstance(executor, ProcessExecutor):
         cores = _usable_cores()
         if ":" not in text:
-            return f"processes:{max(1, cores // jobs)}"
+            return f"processes:{_cores_per_study(jobs)}"
         if jobs * executor.n_workers > cores:
             _err(f"warning: --jobs {jobs} studies x --executor {text.strip()} = {jobs * executor.n_workers} "
                  f"campaign processes on {cores} cores")
@@ -336,7 +341,7 @@ def _worker_executor_spec(text: str, executor, jobs: int) -> str:
 def _worker_threads(spec: str, jobs: int) -> int:
     """numba threads of each of ``jobs`` concurrent studies: the cores shared out under the
     ``serial`` executor (see the module docstring), 0 (numba's default) under the others."""
-    return max(1, _usable_cores() // jobs) if spec == "serial" else 0
+    return _cores_per_study(jobs) if spec == "serial" else 0
 
 
 def _longest_first(names: list[str]) -> list[str]:
