@@ -11,6 +11,12 @@ the default run selects (everything but ``slow``):
 The fast lane for day-to-day work is ``pytest -m "not slow and not study and not docs"``
 (a ``-m`` on the command line replaces the ``-m 'not slow'`` of ``addopts``, so keep
 ``not slow`` in it). CI runs the default ``pytest``, which selects every lane.
+
+The default run is spread over the cores by pytest-xdist (``-n auto --maxprocesses=4 --dist
+worksteal`` in ``addopts``), so a test may not rely on another test having run in its process,
+and writes only under ``tmp_path`` (or the robustness suite's scratch root): each worker has
+its own session fixtures (``dask_local2`` starts one cluster per worker). ``-n 0`` runs the
+suite in one process.
 """
 
 from __future__ import annotations
