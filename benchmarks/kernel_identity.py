@@ -1,8 +1,9 @@
 """Bit-identity check of the closed-loop kernel over every branch (for kernel rewrites).
 
-8 scenarios x traces on/off: q-method, QUEST, min-max and MEKF estimators, star tracker,
+10 scenarios x traces on/off: q-method, QUEST, min-max and MEKF estimators, star tracker,
 uniform noise, Schmitt / PWM / open-loop control, pseudo-inverse and NNLS allocation, hold,
-step and slew-table guidance, gravity gradient, dispersions, known and unknown failures.
+step and slew-table guidance, gravity gradient, dispersions, known and unknown failures,
+diagonal and full inertia matrices (the two paths of the RK4 step).
 Save the metrics, on-times and traces before a change, compare after (np.array_equal,
 NaN-aware, and bytewise)::
 
@@ -26,6 +27,7 @@ from adcskit.simulation import (
     Scenario,
     SensorSpec,
     SimSpec,
+    SpacecraftSpec,
     ThrusterSpec,
     simulate,
 )
@@ -48,6 +50,7 @@ slew = table_from_angle(tt, th, np.full(11, math.radians(1.0)), (0.0, 0.0, 1.0))
 step = GuidanceSpec(kind="step", target_rotvec_deg=(3.0, -2.0, 10.0), t_step=1.0)
 lay = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
 rng0 = np.random.default_rng(5)
+FULL_J = (1218.6, 35.0, -20.0, 35.0, 442.2, 12.0, -20.0, 12.0, 1429.4)  # kg m^2
 on = rng0.integers(0, 10, size=(100, lay.n)) * 0.02 * (rng0.random((100, lay.n)) < 0.4)
 S = {
     "mekf_schmitt_step_disp": Scenario(
@@ -107,6 +110,22 @@ S = {
         estimator=EstimatorSpec(kind="truth"),
         guidance=step,
         dispersions=disp,
+        sim=sim,
+        controller=ControllerSpec(kind="pwm", kp=(60.0,) * 3, ki=(0.1,) * 3, kd=(300.0,) * 3),
+    ),
+    # a full inertia matrix (products of inertia): the general rigid-body path of the RK4 step
+    "mekf_schmitt_fullJ_gg": Scenario(
+        spacecraft=SpacecraftSpec(inertia=FULL_J),
+        estimator=EstimatorSpec(kind="mekf"),
+        orbit=OrbitSpec(gravity_gradient=True, altitude_km=700.0),
+        guidance=step,
+        dispersions=disp,
+        sim=sim,
+    ),
+    "truth_pwm_fullJ": Scenario(
+        spacecraft=SpacecraftSpec(inertia=FULL_J),
+        estimator=EstimatorSpec(kind="truth"),
+        guidance=step,
         sim=sim,
         controller=ControllerSpec(kind="pwm", kp=(60.0,) * 3, ki=(0.1,) * 3, kd=(300.0,) * 3),
     ),

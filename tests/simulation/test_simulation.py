@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from adcskit._targets import PerSample
@@ -82,6 +82,41 @@ def test_plant_matches_independent_propagation():
     qr = qr * np.where(qr[:, 3:] < 0, -1, 1)
     np.testing.assert_allclose(ours[:, :4], qr, atol=1e-8)
     np.testing.assert_allclose(ours[:, 4:], np.asarray(ref.omega), atol=1e-9)
+
+
+_unit = st.floats(-1.0, 1.0, allow_nan=False, allow_subnormal=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(q=st.tuples(_unit, _unit, _unit, _unit), w=st.tuples(_unit, _unit, _unit),
+       t=st.tuples(_unit, _unit, _unit), jd=st.tuples(*[st.floats(10.0, 2000.0)] * 3),
+       steps=st.integers(1, 40))
+def test_principal_axes_rk4_step_equals_the_general_step_bitwise(q, w, t, jd, steps):
+    # the kernel's diagonal-inertia RK4 step skips the products with J's zero entries: each is a
+    # signed zero, so for finite nonzero sums the general step's results are the same doubles
+    # (docs/benchmarks.md, "principal axes"); random attitudes, rates up to 0.1 rad/s, torques
+    # up to 1 N m and rigid-body inertias (triangle inequality) over up to 2 s
+    assume(max(jd) <= sum(jd) - max(jd))
+    if sum(a * a for a in q) < 1e-6:
+        q = (0.0, 0.0, 0.0, 1.0)
+    w = tuple(0.1 * a for a in w)
+    J = np.diag(jd)
+    Jf = np.ascontiguousarray(J.reshape(9))
+    Ji = np.ascontiguousarray(np.linalg.inv(J).reshape(9))
+    assert _k.principal_jit(Jf, Ji)
+    g = p = (*q, *w)
+    for _ in range(steps):
+        g = _k.rk4_step_jit(*g, Jf, Ji, *t, 0.05)
+        p = _k.rk4_step_principal_jit(*p, Jf[0], Jf[4], Jf[8], Ji[0], Ji[4], Ji[8], *t, 0.05)
+    assert np.array(g).tobytes() == np.array(p).tobytes()
+
+
+def test_principal_detects_products_of_inertia():
+    J = np.array([[100.0, 2.0, -1.0], [2.0, 80.0, 0.5], [-1.0, 0.5, 40.0]])
+    Jd = np.diag([100.0, 80.0, 40.0])
+    for A, want in ((J, False), (Jd, True), (Jd + np.diag([0.0, 1e-300], 1), False)):
+        Af = np.ascontiguousarray(A.reshape(9))
+        assert _k.principal_jit(Af, np.ascontiguousarray(np.linalg.inv(A).reshape(9))) is want
 
 
 def test_torque_free_energy_and_momentum_conserved():

@@ -169,6 +169,60 @@ def rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt):
 
 
 @register_jitable
+def _rhs_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t1, t2):
+    """:func:`_rhs` for a diagonal inertia ``diag(j0, j1, j2)`` (inverse ``diag(i0, i1, i2)``):
+    the same operations less the products with the zero entries."""
+    dq0, dq1, dq2, dq3 = qdot(q0, q1, q2, q3, w0, w1, w2)
+    h0 = j0 * w0
+    h1 = j1 * w1
+    h2 = j2 * w2
+    m0 = t0 - (w1 * h2 - w2 * h1)
+    m1 = t1 - (w2 * h0 - w0 * h2)
+    m2 = t2 - (w0 * h1 - w1 * h0)
+    return dq0, dq1, dq2, dq3, i0 * m0, i1 * m1, i2 * m2
+
+
+@register_jitable
+def rk4_step_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t1, t2, dt):
+    """:func:`rk4_step` for a diagonal inertia (body axes = principal axes): ``j0, j1, j2`` and
+    ``i0, i1, i2`` the diagonals of J and J^-1. For finite rates it returns what :func:`rk4_step`
+    returns with J's zero off-diagonal entries: each skipped term is a signed zero, and adding
+    one leaves a sum unchanged unless the sum is itself zero (then at most its sign differs).
+    About a quarter fewer operations (≈ 370 → 260 per step; docs/benchmarks.md)."""
+    a0, a1, a2, a3, a4, a5, a6 = _rhs_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2,
+                                                t0, t1, t2)
+    h = 0.5 * dt
+    b0, b1, b2, b3, b4, b5, b6 = _rhs_principal(q0 + h * a0, q1 + h * a1, q2 + h * a2, q3 + h * a3,
+                                                w0 + h * a4, w1 + h * a5, w2 + h * a6,
+                                                j0, j1, j2, i0, i1, i2, t0, t1, t2)
+    c0, c1, c2, c3, c4, c5, c6 = _rhs_principal(q0 + h * b0, q1 + h * b1, q2 + h * b2, q3 + h * b3,
+                                                w0 + h * b4, w1 + h * b5, w2 + h * b6,
+                                                j0, j1, j2, i0, i1, i2, t0, t1, t2)
+    d0, d1, d2, d3, d4, d5, d6 = _rhs_principal(q0 + dt * c0, q1 + dt * c1, q2 + dt * c2,
+                                                q3 + dt * c3, w0 + dt * c4, w1 + dt * c5,
+                                                w2 + dt * c6, j0, j1, j2, i0, i1, i2, t0, t1, t2)
+    s = dt / 6.0
+    n0 = q0 + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
+    n1 = q1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
+    n2 = q2 + s * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
+    n3 = q3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3)
+    u0, u1, u2, u3 = unit_q4_pos(n0, n1, n2, n3)
+    return (u0, u1, u2, u3,
+            w0 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4),
+            w1 + s * (a5 + 2.0 * b5 + 2.0 * c5 + d5),
+            w2 + s * (a6 + 2.0 * b6 + 2.0 * c6 + d6))
+
+
+@register_jitable
+def principal(J, Ji):
+    """True when the 3x3 inertia ``J`` (row-major, 9 entries) and its inverse are diagonal."""
+    for a in (1, 2, 3, 5, 6, 7):
+        if J[a] != 0.0 or Ji[a] != 0.0:
+            return False
+    return True
+
+
+@register_jitable
 def rpi_allocate(A, m0, m1, m2, fmax, mask, F, free, S, r, y, eps):
     """Redistributed pseudo-inverse (S3 eq. 12 with Jin 2005's redistribution), no allocation.
 
@@ -449,6 +503,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     lag = (C[A11], C[B1], C[A21], C[A22], C[B2], C[V1], C[V2], C[VU])
     J = P[i, P_J:P_J + 9]
     Ji = P[i, P_JI:P_JI + 9]
+    diag = principal(J, Ji)  # body axes = principal axes: the RK4 step without the zero terms
+    jd = (J[0], J[4], J[8])
+    jid = (Ji[0], Ji[4], Ji[8])
     buf = BUF[i]
     ts = TS[i]
     x2o = n
@@ -530,14 +587,24 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         t2 += dist[2] + dist[5] * math.sin(d_omega * tk + dist[8]) if dist[5] != 0.0 else dist[2]
         if n2orb > 0.0:
             c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
-            h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
-            h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
-            h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+            if diag:
+                h0 = jd[0] * c0
+                h1 = jd[1] * c1
+                h2 = jd[2] * c2
+            else:
+                h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
+                h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
+                h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
             t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
             t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
             t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q[0], q[1], q[2], q[3], w[0], w[1], w[2], J, Ji,
-                                                 t0, t1, t2, dt)
+        if diag:
+            q0, q1, q2, q3, w0n, w1n, w2n = rk4_step_principal(
+                q[0], q[1], q[2], q[3], w[0], w[1], w[2], jd[0], jd[1], jd[2], jid[0], jid[1], jid[2],
+                t0, t1, t2, dt)
+        else:
+            q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(q[0], q[1], q[2], q[3], w[0], w[1], w[2], J,
+                                                     Ji, t0, t1, t2, dt)
         q = (q0, q1, q2, q3)
         # mean rate over the step (trapezoid) for the rate-integrating gyro
         ws = (ws[0] + 0.5 * (w[0] + w0n), ws[1] + 0.5 * (w[1] + w1n), ws[2] + 0.5 * (w[2] + w2n))
@@ -971,6 +1038,8 @@ def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, AT
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
 bvls_allocate_jit = njit(cache=True, nogil=True)(bvls_allocate)
 rk4_step_jit = njit(cache=True, nogil=True)(rk4_step)
+rk4_step_principal_jit = njit(cache=True, nogil=True)(rk4_step_principal)
+principal_jit = njit(cache=True, nogil=True)(principal)
 
 
 # --- CUDA driver -----------------------------------------------------------------------------
