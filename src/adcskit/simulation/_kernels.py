@@ -182,7 +182,7 @@ def _rhs_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t1, t
     return dq0, dq1, dq2, dq3, i0 * m0, i1 * m1, i2 * m2
 
 
-@register_jitable
+@register_jitable(inline="always")
 def rk4_step_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t1, t2, dt):
     """:func:`rk4_step` for a diagonal inertia (body axes = principal axes): ``j0, j1, j2`` and
     ``i0, i1, i2`` the diagonals of J and J^-1. For finite rates it returns what :func:`rk4_step`
@@ -1014,9 +1014,10 @@ SAMPLE = PerSample(
             "gyro_step": _mk.gyro_step, "_compose_rotvec": compose_rotvec})),
         "_determine": register_jitable(rebound(_determine, {
             "wahba_one": _wahba_unavailable, "minmax_one": _minmax_unavailable})),
-        # a call, not numba IR inlining, on the device: numba-cuda does not type the inlined
-        # copy ("mul(omitted, omitted)"); NVVM inlines it itself
+        # calls, not numba IR inlining, on the device: numba-cuda does not type the inlined
+        # copies ("mul(omitted, omitted)"); NVVM inlines them itself
         "_control": register_jitable(rebound(_control, {})),
+        "rk4_step_principal": register_jitable(rebound(rk4_step_principal, {})),
     },
 )
 sample_loop_jit = SAMPLE.cpu
