@@ -488,6 +488,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` and
     ``_control`` are inlined by numba (``inline="always"``: as calls they cost 6-8 % CPU on the
     full chain, 3-5 % on the truth path), the others are calls (LLVM inlines ``_actuate``).
+    The RK4 step is :func:`rk4_step_principal` (numba-inlined) when the sample's inertia is
+    diagonal, :func:`rk4_step` (a call) otherwise: the same doubles, a quarter fewer operations
+    (docs/benchmarks.md, "Principal axes").
     """
     n = POS.shape[0]
     dt = C[DT]
