@@ -214,6 +214,17 @@ def rk4_step_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t
 
 
 @register_jitable
+def _inertia_times(J, diag, c0, c1, c2):
+    """``J c`` (``J`` row-major, 9 entries); from the diagonal alone when ``diag`` (the same
+    doubles for finite ``c``: see :func:`rk4_step_principal`)."""
+    if diag:
+        return J[0] * c0, J[4] * c1, J[8] * c2
+    return (J[0] * c0 + J[1] * c1 + J[2] * c2,
+            J[3] * c0 + J[4] * c1 + J[5] * c2,
+            J[6] * c0 + J[7] * c1 + J[8] * c2)
+
+
+@register_jitable
 def principal(J, Ji):
     """True when the 3x3 inertia ``J`` (row-major, 9 entries) and its inverse are diagonal."""
     for a in (1, 2, 3, 5, 6, 7):
@@ -507,8 +518,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     J = P[i, P_J:P_J + 9]
     Ji = P[i, P_JI:P_JI + 9]
     diag = principal(J, Ji)  # body axes = principal axes: the RK4 step without the zero terms
-    jd = (J[0], J[4], J[8])
-    jid = (Ji[0], Ji[4], Ji[8])
+    jd, jid = (J[0], J[4], J[8]), (Ji[0], Ji[4], Ji[8])
     buf = BUF[i]
     ts = TS[i]
     x2o = n
@@ -590,14 +600,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         t2 += dist[2] + dist[5] * math.sin(d_omega * tk + dist[8]) if dist[5] != 0.0 else dist[2]
         if n2orb > 0.0:
             c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
-            if diag:
-                h0 = jd[0] * c0
-                h1 = jd[1] * c1
-                h2 = jd[2] * c2
-            else:
-                h0 = J[0] * c0 + J[1] * c1 + J[2] * c2
-                h1 = J[3] * c0 + J[4] * c1 + J[5] * c2
-                h2 = J[6] * c0 + J[7] * c1 + J[8] * c2
+            h0, h1, h2 = _inertia_times(J, diag, c0, c1, c2)
             t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
             t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
             t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
