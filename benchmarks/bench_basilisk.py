@@ -56,6 +56,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from adcskit.attitude import quat_to_dcm
 from adcskit.simulation import (
     ControllerSpec,
     DisturbanceSpec,
@@ -335,11 +336,9 @@ def _speed_scenarios(t_final: float):
 
 def _general_inertia(sc: Scenario) -> Scenario:
     """``sc`` with its inertia in a body frame 30 deg about (1, 2, 3) off the principal axes."""
-    a = np.array([1.0, 2.0, 3.0]) / math.sqrt(14.0)
-    th = math.radians(30.0)
-    K = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-    R = np.eye(3) + math.sin(th) * K + (1.0 - math.cos(th)) * K @ K
-    J = R @ np.diag(INERTIA) @ R.T
+    half = 0.5 * math.radians(30.0)
+    A = quat_to_dcm(np.r_[math.sin(half) * np.array([1.0, 2.0, 3.0]) / math.sqrt(14.0), math.cos(half)])
+    J = A @ np.diag(INERTIA) @ A.T
     J = 0.5 * (J + J.T)
     return sc.replace(spacecraft=SpacecraftSpec(inertia=tuple(J.reshape(-1))))
 

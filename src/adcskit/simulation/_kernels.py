@@ -145,6 +145,21 @@ def _rhs(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2):
 
 
 @register_jitable
+def _rk4_combine(x, a, b, c, d, dt):
+    """RK4's last step from the state ``x`` and the stage derivatives ``a, b, c, d`` (7-tuples:
+    q, omega): ``x + dt/6 (a + 2b + 2c + d)``, the quaternion renormalised (q4 >= 0)."""
+    s = dt / 6.0
+    u0, u1, u2, u3 = unit_q4_pos(x[0] + s * (a[0] + 2.0 * b[0] + 2.0 * c[0] + d[0]),
+                                 x[1] + s * (a[1] + 2.0 * b[1] + 2.0 * c[1] + d[1]),
+                                 x[2] + s * (a[2] + 2.0 * b[2] + 2.0 * c[2] + d[2]),
+                                 x[3] + s * (a[3] + 2.0 * b[3] + 2.0 * c[3] + d[3]))
+    return (u0, u1, u2, u3,
+            x[4] + s * (a[4] + 2.0 * b[4] + 2.0 * c[4] + d[4]),
+            x[5] + s * (a[5] + 2.0 * b[5] + 2.0 * c[5] + d[5]),
+            x[6] + s * (a[6] + 2.0 * b[6] + 2.0 * c[6] + d[6]))
+
+
+@register_jitable
 def rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt):
     """One classical Runge-Kutta step of the rigid body with the torque held over the step;
     the quaternion is renormalised (q4 >= 0). Returns the new (q, omega) as 7 scalars."""
@@ -156,16 +171,9 @@ def rk4_step(q0, q1, q2, q3, w0, w1, w2, J, Ji, t0, t1, t2, dt):
                                       w0 + h * b4, w1 + h * b5, w2 + h * b6, J, Ji, t0, t1, t2)
     d0, d1, d2, d3, d4, d5, d6 = _rhs(q0 + dt * c0, q1 + dt * c1, q2 + dt * c2, q3 + dt * c3,
                                       w0 + dt * c4, w1 + dt * c5, w2 + dt * c6, J, Ji, t0, t1, t2)
-    s = dt / 6.0
-    n0 = q0 + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
-    n1 = q1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
-    n2 = q2 + s * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
-    n3 = q3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3)
-    u0, u1, u2, u3 = unit_q4_pos(n0, n1, n2, n3)
-    return (u0, u1, u2, u3,
-            w0 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4),
-            w1 + s * (a5 + 2.0 * b5 + 2.0 * c5 + d5),
-            w2 + s * (a6 + 2.0 * b6 + 2.0 * c6 + d6))
+    return _rk4_combine((q0, q1, q2, q3, w0, w1, w2), (a0, a1, a2, a3, a4, a5, a6),
+                        (b0, b1, b2, b3, b4, b5, b6), (c0, c1, c2, c3, c4, c5, c6),
+                        (d0, d1, d2, d3, d4, d5, d6), dt)
 
 
 @register_jitable
@@ -201,16 +209,9 @@ def rk4_step_principal(q0, q1, q2, q3, w0, w1, w2, j0, j1, j2, i0, i1, i2, t0, t
     d0, d1, d2, d3, d4, d5, d6 = _rhs_principal(q0 + dt * c0, q1 + dt * c1, q2 + dt * c2,
                                                 q3 + dt * c3, w0 + dt * c4, w1 + dt * c5,
                                                 w2 + dt * c6, j0, j1, j2, i0, i1, i2, t0, t1, t2)
-    s = dt / 6.0
-    n0 = q0 + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
-    n1 = q1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
-    n2 = q2 + s * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
-    n3 = q3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3)
-    u0, u1, u2, u3 = unit_q4_pos(n0, n1, n2, n3)
-    return (u0, u1, u2, u3,
-            w0 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4),
-            w1 + s * (a5 + 2.0 * b5 + 2.0 * c5 + d5),
-            w2 + s * (a6 + 2.0 * b6 + 2.0 * c6 + d6))
+    return _rk4_combine((q0, q1, q2, q3, w0, w1, w2), (a0, a1, a2, a3, a4, a5, a6),
+                        (b0, b1, b2, b3, b4, b5, b6), (c0, c1, c2, c3, c4, c5, c6),
+                        (d0, d1, d2, d3, d4, d5, d6), dt)
 
 
 @register_jitable
