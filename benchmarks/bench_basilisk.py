@@ -28,12 +28,17 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
    medians over the repeats, measured in this one run: full chain per CPU-second (Basilisk is
    one thread) and per wall second (our kernel uses every core, Basilisk one).
 
-   Two more per-core ratios compare like with like, because a CPU's clock and shared caches
-   make one busy core faster than each of several (the 2-vCPU Xeon of 2026-12-02: our kernel
-   ran 13 % fewer sample-steps per CPU-second on two threads than on one, medians of 7): **one thread
-   each** (ours with ``numba.set_num_threads(1)``, the other cores idle, as for Basilisk) and
-   **every core busy** (ours on all threads; Basilisk one process per core, started together
-   behind a barrier, counted as the sum of their steps over the sum of their CPU-seconds).
+   Idle OpenMP threads sleep (``OMP_WAIT_POLICY=PASSIVE``, set here before the first kernel
+   unless the environment sets it, as the ``adcskit`` command line does): with libgomp's
+   default the idle thread spins ≈ 8 ms after every parallel region and at every chunk's
+   barrier, CPU that does no work and that ``process_time`` counts (≈ 7 % of the full chain's
+   CPU-seconds on two threads here; docs/benchmarks.md, "Two threads per CPU-second"). The
+   policy in force is printed; ``--spinning-omp`` leaves libgomp's default.
+
+   Two more per-core ratios compare like with like: **one thread each** (ours with
+   ``numba.set_num_threads(1)``, the other cores idle, as for Basilisk) and **every core
+   busy** (ours on all threads; Basilisk one process per core, started together behind a
+   barrier, counted as the sum of their steps over the sum of their CPU-seconds).
 
    S3's inertia is diagonal (body axes = principal axes), and our RK4 step then skips the
    products with the zero entries (``rk4_step_principal``; Basilisk multiplies the full
@@ -51,13 +56,19 @@ import math
 import multiprocessing
 import os
 import platform
+import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-import numpy as np
+# before numba loads OpenMP (at the first parallel kernel): idle threads sleep, as under the CLI
+# (``--spinning-omp``: libgomp's default, idle threads spin)
+if "--spinning-omp" not in sys.argv[1:]:
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
-from adcskit.attitude import quat_to_dcm
-from adcskit.simulation import (
+import numpy as np  # noqa: E402
+
+from adcskit.attitude import quat_to_dcm  # noqa: E402
+from adcskit.simulation import (  # noqa: E402
     ControllerSpec,
     DisturbanceSpec,
     EstimatorSpec,
@@ -70,7 +81,7 @@ from adcskit.simulation import (
     ThrusterSpec,
     simulate,
 )
-from adcskit.thrusters import S3_REFERENCE_A
+from adcskit.thrusters import S3_REFERENCE_A  # noqa: E402
 
 INERTIA = (1218.6, 442.2, 1429.4)  # S3 Table 5, kg m^2
 MASS = 900.0  # S3 §6
@@ -382,7 +393,8 @@ def speed(t_final: float, n_samples: int, repeats: int, bsk_cpu_s: float, with_b
         runs["full_general"].append(_ours_speed(full_general, n_samples, 20 + r))
     med = {k: {q: float(np.median([x[q] for x in v])) for q in ("sample_steps_per_s", "sample_steps_per_cpu_s")}
            for k, v in runs.items() if v}
-    out = {"repeats": repeats, "n_samples": n_samples, "t_final_s": t_final, "cores": n_cores, "runs": runs,
+    out = {"repeats": repeats, "n_samples": n_samples, "t_final_s": t_final, "cores": n_cores,
+           "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY"), "runs": runs,
            "median": med}
     if with_basilisk:
         b = med["basilisk"]
@@ -426,6 +438,9 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3, help="interleaved speed repeats (median)")
     ap.add_argument("--bsk-cpu-s", type=float, default=2.0, help="CPU-seconds per Basilisk speed repeat")
     ap.add_argument("--speed-only", action="store_true", help="skip the open-loop and behaviour runs")
+    ap.add_argument("--spinning-omp", action="store_true",
+                    help="leave OpenMP's wait policy at libgomp's default (idle threads spin) unless "
+                         "OMP_WAIT_POLICY is set; by default it is set to PASSIVE, as the adcskit CLI does")
     args = ap.parse_args()
     t_open = 20.0 if args.quick else 120.0
     t_closed = 40.0 if args.quick else 150.0
@@ -491,7 +506,8 @@ def main() -> None:
 def _print_speed(sp: dict, n: int) -> None:
     med = sp["median"]
     print(f"speed ({sp['repeats']} interleaved repeats, medians; {n} samples x {sp['t_final_s']:.0f} s in one call, "
-          f"{os.cpu_count()} cores; Basilisk one sample, one thread):")
+          f"{os.cpu_count()} cores, OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}; Basilisk one sample, "
+          f"one thread):")
     if "basilisk" in med:
         b = med["basilisk"]
         tot = sum(r["cpu_s"] for r in sp["runs"]["basilisk"])

@@ -1,9 +1,10 @@
 """Bit-identity check of the closed-loop kernel over every branch (for kernel rewrites).
 
-10 scenarios x traces on/off: q-method, QUEST, min-max and MEKF estimators, star tracker,
+12 scenarios x traces on/off: q-method, QUEST, min-max and MEKF estimators, star tracker,
 uniform noise, Schmitt / PWM / open-loop control, pseudo-inverse and NNLS allocation, hold,
 step and slew-table guidance, gravity gradient, dispersions, known and unknown failures,
-diagonal and full inertia matrices (the two paths of the RK4 step).
+diagonal and full inertia matrices (the two paths of the RK4 step), fast thruster lags
+(the quiet-thruster shortcut) with and without a delay.
 Save the metrics, on-times and traces before a change, compare after (np.array_equal,
 NaN-aware, and bytewise)::
 
@@ -125,6 +126,22 @@ S = {
     "truth_pwm_fullJ": Scenario(
         spacecraft=SpacecraftSpec(inertia=FULL_J),
         estimator=EstimatorSpec(kind="truth"),
+        guidance=step,
+        sim=sim,
+        controller=ControllerSpec(kind="pwm", kp=(60.0,) * 3, ki=(0.1,) * 3, kd=(300.0,) * 3),
+    ),
+    # fast thruster lags (states exactly zero between pulses): the quiet-thruster shortcut,
+    # with a fractional delay (1.5 steps, dispersed) and with none
+    "mekf_schmitt_fastlag_delay": Scenario(
+        estimator=EstimatorSpec(kind="mekf"),
+        thrusters=lay.replace(tau=1e-6, delay=0.03),
+        guidance=step,
+        dispersions=disp,
+        sim=sim,
+    ),
+    "truth_pwm_fastlag_fail": Scenario(
+        estimator=EstimatorSpec(kind="truth"),
+        thrusters=lay.replace(tau=1e-6, delay=0.0, t_min=0.02, failed=(4,)),
         guidance=step,
         sim=sim,
         controller=ControllerSpec(kind="pwm", kp=(60.0,) * 3, ki=(0.1,) * 3, kd=(300.0,) * 3),

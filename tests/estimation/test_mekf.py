@@ -14,12 +14,15 @@ import pytest
 import scipy.linalg as sla
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from numba import njit
 
 from adcskit.attitude import quat_inverse, quat_multiply, quat_to_dcm, random_quat, skew
 from adcskit.determination import solve_wahba
 from adcskit.errors import InputError, InputTypeError
 from adcskit.estimation import MultiplicativeEKF, chi2_band, mekf_filter
 from adcskit.estimation import _mekf_kernels as mk
+
+_g_jit = njit(mk._g)  # the compiled series (numba's own lowering of the tuple lookups)
 
 # --------------------------------------------------------------------- NumPy reference
 
@@ -111,6 +114,28 @@ def test_phi_q_closed_form_matches_van_loan(rate, dt):
         _, _, Pr = ref_propagate(q, np.zeros(3), P, om, dt, sv, su)
         assert np.max(np.abs(Pk - Pr)) <= 1e-12 * np.max(np.abs(Pr))
         assert np.array_equal(Pk, Pk.T)
+
+
+
+def _g_loop(n, x):
+    """The g_n series as a loop over its terms (the form ``_mekf_kernels._g`` writes out)."""
+    m = 4 if x < 0.01 else (7 if x < 0.2 else 10)
+    s = 0.0
+    for k in range(m - 1, -1, -1):
+        s = mk._INV_FACT[2 * k + n] - x * x * s
+    return s
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(0.0, 0.999999, allow_subnormal=False), st.integers(1, 5))
+def test_g_series_written_out_equals_its_loop(x, n):
+    # the same Horner steps in the same order: the same doubles, at every term count
+    # (x < 0.01: 4 terms, < 0.2: 7, < 1: 10; the edges themselves below)
+    assert mk._g(n, x) == _g_loop(n, x)
+    for e in (0.0, 0.01, np.nextafter(0.01, 0), 0.2, np.nextafter(0.2, 0), np.nextafter(1.0, 0)):
+        assert mk._g(n, float(e)) == _g_loop(n, float(e))
+        assert _g_jit(n, float(e)) == _g_loop(n, float(e))
+    assert _g_jit(n, x) == _g_loop(n, x)
 
 
 def test_kernel_steps_match_numpy_reference():

@@ -142,14 +142,25 @@ def _g(n, x):
 
     Below ``x = 1`` a truncated series in Horner form (no divisions); the number of terms is
     chosen so the first omitted one is below 1e-17 relative (4 terms for x < 0.01, 7 for
-    x < 0.2, 10 below 1)."""
+    x < 0.2, 10 below 1). The Horner steps ``s = 1/(2k + n)! - x² s`` from ``k = m - 1`` down
+    to 0 are written out (the same operations in the same order as the loop over ``k`` they
+    replace, so the same doubles): numba's loop with a run-time trip count and tuple index
+    made the five calls of a propagation 2.5x slower (docs/benchmarks.md, "Two cores")."""
     if x < _SERIES_X:
         x2 = x * x
-        m = 4 if x < 0.01 else (7 if x < 0.2 else 10)
         s = 0.0
-        for k in range(m - 1, -1, -1):
-            s = _INV_FACT[2 * k + n] - x2 * s
-        return s
+        if not (x < 0.01):
+            if not (x < 0.2):
+                s = _INV_FACT[18 + n] - x2 * s  # k = 9 .. 7: ten terms
+                s = _INV_FACT[16 + n] - x2 * s
+                s = _INV_FACT[14 + n] - x2 * s
+            s = _INV_FACT[12 + n] - x2 * s  # k = 6 .. 4: seven terms
+            s = _INV_FACT[10 + n] - x2 * s
+            s = _INV_FACT[8 + n] - x2 * s
+        s = _INV_FACT[6 + n] - x2 * s  # k = 3 .. 0: four terms
+        s = _INV_FACT[4 + n] - x2 * s
+        s = _INV_FACT[2 + n] - x2 * s
+        return _INV_FACT[n] - x2 * s
     if n == 1:
         return math.sin(x) / x
     if n == 2:
