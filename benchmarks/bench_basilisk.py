@@ -30,15 +30,17 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
 
    Idle OpenMP threads sleep (``OMP_WAIT_POLICY=PASSIVE``, set here before the first kernel
    unless the environment sets it, as the ``adcskit`` command line does): with libgomp's
-   default the idle thread spins ≈ 8 ms after every parallel region and at every chunk's
-   barrier, CPU that does no work and that ``process_time`` counts (≈ 7 % of the full chain's
-   CPU-seconds on two threads here; docs/benchmarks.md, "Two threads per CPU-second"). The
-   policy in force is printed; ``--spinning-omp`` leaves libgomp's default.
+   default an idle thread spins 5-8 ms after every parallel region (and at each chunk's
+   barrier), CPU that does no work and that ``process_time`` counts. The policy in force is
+   printed; ``--spinning-omp`` leaves libgomp's default.
 
-   Two more per-core ratios compare like with like: **one thread each** (ours with
-   ``numba.set_num_threads(1)``, the other cores idle, as for Basilisk) and **every core
-   busy** (ours on all threads; Basilisk one process per core, started together behind a
-   barrier, counted as the sum of their steps over the sum of their CPU-seconds).
+   Two more per-core ratios compare like with like, because on this 2-vCPU machine our kernel
+   ran 5-15 % fewer sample-steps per CPU-second on two threads than on one (medians of 10
+   alternated pairs, with either wait policy; ``benchmarks/two_cores.py``, docs/benchmarks.md
+   "Two cores per CPU-second"). **One thread each**: ours with ``numba.set_num_threads(1)``,
+   the other cores idle, as for Basilisk. **Every core busy**: ours on all threads; Basilisk
+   one process per core, started together behind a barrier, counted as the sum of their steps
+   over the sum of their CPU-seconds.
 
    S3's inertia is diagonal (body axes = principal axes), and our RK4 step then skips the
    products with the zero entries (``rk4_step_principal``; Basilisk multiplies the full

@@ -12,7 +12,8 @@ Printed per variant and tree: the best and the median sample-steps per CPU-secon
     python benchmarks/kernel_ab.py /work/main /tmp/variant --variants full,truth,same --rounds 12
 
 Variants: ``full`` (bench_basilisk's full chain), ``truth`` (the same with the truth
-estimator), ``same`` (the same elements as Basilisk). Results: docs/benchmarks.md.
+estimator), ``same`` (the same elements as Basilisk), ``general`` (the full chain with the
+inertia off the principal axes: a full matrix, the general RK4 step). Results: docs/benchmarks.md.
 """
 
 from __future__ import annotations
@@ -33,10 +34,11 @@ def _worker() -> None:
     numba.set_num_threads(1)
     sys.path.insert(0, HERE)
     from adcskit.simulation import EstimatorSpec, simulate
-    from bench_basilisk import _speed_scenarios
+    from bench_basilisk import _general_inertia, _speed_scenarios
 
     same, full = _speed_scenarios(150.0)
-    scen = {"full": full, "same": same, "truth": full.replace(estimator=EstimatorSpec(kind="truth"))}
+    scen = {"full": full, "same": same, "truth": full.replace(estimator=EstimatorSpec(kind="truth")),
+            "general": _general_inertia(full)}
     for sc in scen.values():
         simulate(sc, 8, rng=0)
     print("ready", flush=True)
@@ -55,9 +57,9 @@ def main(argv=None) -> None:
     ap.add_argument("--samples", type=int, default=128)
     args = ap.parse_args(argv)
     variants = args.variants.split(",")
-    unknown = sorted(set(variants) - {"full", "truth", "same"})
+    unknown = sorted(set(variants) - {"full", "truth", "same", "general"})
     if unknown or args.rounds < 1 or args.samples < 1 or len(args.trees) < 1:
-        ap.error(f"variants must be among full, truth, same (got {unknown}); rounds and samples >= 1")
+        ap.error(f"variants must be among full, truth, same, general (got {unknown}); rounds and samples >= 1")
     workers = []
     for i, tree in enumerate(args.trees):
         tree = os.path.abspath(tree)
