@@ -58,19 +58,13 @@ import math
 import multiprocessing
 import os
 import platform
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-# before numba loads OpenMP (at the first parallel kernel): idle threads sleep, as under the CLI
-# (``--spinning-omp``: libgomp's default, idle threads spin)
-if "--spinning-omp" not in sys.argv[1:]:
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from adcskit.attitude import quat_to_dcm  # noqa: E402
-from adcskit.simulation import (  # noqa: E402
+from adcskit.attitude import quat_to_dcm
+from adcskit.simulation import (
     ControllerSpec,
     DisturbanceSpec,
     EstimatorSpec,
@@ -83,7 +77,7 @@ from adcskit.simulation import (  # noqa: E402
     ThrusterSpec,
     simulate,
 )
-from adcskit.thrusters import S3_REFERENCE_A  # noqa: E402
+from adcskit.thrusters import S3_REFERENCE_A
 
 INERTIA = (1218.6, 442.2, 1429.4)  # S3 Table 5, kg m^2
 MASS = 900.0  # S3 §6
@@ -444,6 +438,10 @@ def main() -> None:
                     help="leave OpenMP's wait policy at libgomp's default (idle threads spin) unless "
                          "OMP_WAIT_POLICY is set; by default it is set to PASSIVE, as the adcskit CLI does")
     args = ap.parse_args()
+    if not args.spinning_omp:
+        # before numba loads OpenMP (at the first parallel kernel, none has run yet): idle
+        # threads sleep, as under the CLI; a value in the environment is kept
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     t_open = 20.0 if args.quick else 120.0
     t_closed = 40.0 if args.quick else 150.0
     n = 64 if args.quick else 512
