@@ -4,7 +4,7 @@
 uniform noise, Schmitt / PWM / open-loop control, pseudo-inverse and NNLS allocation, hold,
 step and slew-table guidance, gravity gradient, dispersions, known and unknown failures,
 diagonal and full inertia matrices (the two paths of the RK4 step), fast thruster lags
-(the quiet-thruster shortcut) with and without a delay.
+(lag states exactly zero between pulses) with and without a delay.
 Save the metrics, on-times and traces before a change, compare after (np.array_equal,
 NaN-aware, and bytewise)::
 
@@ -130,8 +130,8 @@ S = {
         sim=sim,
         controller=ControllerSpec(kind="pwm", kp=(60.0,) * 3, ki=(0.1,) * 3, kd=(300.0,) * 3),
     ),
-    # fast thruster lags (states exactly zero between pulses): the quiet-thruster shortcut,
-    # with a fractional delay (1.5 steps, dispersed) and with none
+    # fast thruster lags (states exactly zero between pulses), with a fractional delay
+    # (1.5 steps, dispersed) and with none
     "mekf_schmitt_fastlag_delay": Scenario(
         estimator=EstimatorSpec(kind="mekf"),
         thrusters=lay.replace(tau=1e-6, delay=0.03),

@@ -116,7 +116,6 @@ def test_phi_q_closed_form_matches_van_loan(rate, dt):
         assert np.array_equal(Pk, Pk.T)
 
 
-
 def _g_loop(n, x):
     """The g_n series as a loop over its terms (the form ``_mekf_kernels._g`` writes out)."""
     m = 4 if x < 0.01 else (7 if x < 0.2 else 10)
@@ -130,12 +129,16 @@ def _g_loop(n, x):
 @given(st.floats(0.0, 0.999999, allow_subnormal=False), st.integers(1, 5))
 def test_g_series_written_out_equals_its_loop(x, n):
     # the same Horner steps in the same order: the same doubles, at every term count
-    # (x < 0.01: 4 terms, < 0.2: 7, < 1: 10; the edges themselves below)
+    # (x < 0.01: 4 terms, < 0.2: 7, < 1: 10; the edges themselves in the test below)
     assert mk._g(n, x) == _g_loop(n, x)
+    assert _g_jit(n, x) == _g_loop(n, x)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5])
+def test_g_series_written_out_equals_its_loop_at_the_term_count_edges(n):
     for e in (0.0, 0.01, np.nextafter(0.01, 0), 0.2, np.nextafter(0.2, 0), np.nextafter(1.0, 0)):
         assert mk._g(n, float(e)) == _g_loop(n, float(e))
         assert _g_jit(n, float(e)) == _g_loop(n, float(e))
-    assert _g_jit(n, x) == _g_loop(n, x)
 
 
 def test_kernel_steps_match_numpy_reference():
