@@ -41,9 +41,11 @@ from __future__ import annotations
 
 import math
 
-from numba import njit, prange, uint64
+import numpy as np
+from numba import int64, njit, prange
 from numba.extending import register_jitable
 
+from adcskit._stack import stack_f64
 from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked, rebound
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
@@ -1030,17 +1032,340 @@ SAMPLE = PerSample(
 sample_loop_jit = SAMPLE.cpu
 
 
+# --- CPU driver: samples in lanes --------------------------------------------------------------
+#: Samples advanced together by :func:`block_loop` (one ``prange`` iteration): the RK4 step runs
+#: as one loop over the lanes, which LLVM vectorises (8 doubles per AVX-512 register, 2 x 4 with
+#: AVX2); docs/benchmarks.md, "Samples in lanes".
+LANES = 8
+
+# per-lane scalar state of block_loop, FS[lane, ...] (float) and IS[lane, ...] (int)
+_F_WE = 0  # estimated rate (3)
+_F_CTL = 3  # Schmitt outputs, PID integrals (6)
+_F_FIRE = 9  # firings, on-time (2)
+_F_PROP = 11
+_F_KACC2 = 12
+_F_NEES = 13  # last NEES, NEES sum (2)
+_F_MT = 15  # metric window sums: acc, acc2, ax2, ay2, az2, emax (6)
+_F_E = 21  # pointing error ex, ey, ez, angle (4)
+_F_WMAX2 = 25
+_F_DIST = 26  # disturbance constant, amplitude, phase (9)
+_F_DFRAC = 35
+N_FS = 36
+_I_NEES_N = 0  # NEES count, determinations, box active (3)
+_I_LAST_OUT = 3
+_I_ND = 4
+_I_DIAG = 5
+N_IS = 6
+
+
+@register_jitable(inline="always")
+def _lanes_rk4(X, JD, T, WS, nl, dt):
+    """:func:`rk4_step_principal` of lanes ``0..nl-1`` (state ``X[0:7, lane]``: q, omega;
+    ``JD[0:6, lane]``: the diagonals of J and J^-1; torque ``T[0:3, lane]``), in place, and the
+    gyro's rate sums ``WS`` (the trapezoid of :func:`sample_loop`): the same operations per lane,
+    in a loop that LLVM vectorises across lanes."""
+    for l in range(nl):
+        w0 = X[4, l]
+        w1 = X[5, l]
+        w2 = X[6, l]
+        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step_principal(
+            X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, JD[0, l], JD[1, l], JD[2, l],
+            JD[3, l], JD[4, l], JD[5, l], T[0, l], T[1, l], T[2, l], dt)
+        WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
+        WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
+        WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
+        X[0, l] = q0
+        X[1, l] = q1
+        X[2, l] = q2
+        X[3, l] = q3
+        X[4, l] = w0n
+        X[5, l] = w1n
+        X[6, l] = w2n
+
+
+def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+               FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
+               SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT, FS, IS, SS):
+    """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(LANES, n - i0)``) over all steps: what
+    :func:`sample_loop` computes for each of them, bit for bit, with the steps interleaved.
+
+    At each step a pass over the lanes runs each sample's metrics of the previous step and its
+    sensors, estimation, control, thrusters and environment torques (the step functions of
+    :func:`sample_loop`, in its order for each sample), then :func:`_lanes_rk4` advances every
+    lane's rigid body in one vectorised loop when the block's inertias are all diagonal (each
+    sample's :func:`rk4_step` otherwise). Between the passes a lane's state lives in arrays:
+    on this function's stack (:func:`adcskit._stack.stack_f64`, which is what lets LLVM
+    vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JD`` (6 x
+    LANES: diagonals of J, J^-1) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
+    scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
+    ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F_*`` / ``_I_*``), and
+    ``SS`` (LANES, uint64): the noise state.
+    The counters that every sample shares (gyro and command instants, window counts) are the
+    block's.
+    """
+    n = POS.shape[0]
+    nl = min(LANES, P.shape[0] - i0)
+    X = stack_f64(7, LANES)
+    T = stack_f64(3, LANES)
+    JD = stack_f64(6, LANES)
+    WS = stack_f64(3, LANES)
+    dt = C[DT]
+    n_steps = int(C[N_STEPS])
+    h_ctrl = int(C[H_CTRL])
+    h_gyro = int(C[H_GYRO])
+    est_mode = int(C[EST_MODE])
+    k_win = int(C[K_WIN])
+    band = C[SETTLE_BAND]
+    rec_every = int(C[REC_EVERY])
+    bmask = int(C[BUF_MASK])
+    record = REC.shape[0] > 0
+    lag = (C[A11], C[B1], C[A21], C[A22], C[B2], C[V1], C[V2], C[VU])
+    thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    tb_lo = tb2 * (1.0 - 1e-6)
+    tb_hi = tb2 * (1.0 + 1e-6)
+    n2orb = C[N2ORB]
+    d_omega = C[D_OMEGA]
+    x2o = n
+    so = 9 * n
+    qf = (QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2], QREF[n_steps, 3])
+    all_diag = True
+    for l in range(nl):
+        i = i0 + l
+        J = P[i, P_J:P_J + 9]
+        Ji = P[i, P_JI:P_JI + 9]
+        diag = principal(J, Ji)
+        all_diag = all_diag and diag
+        IS[l, _I_DIAG] = 1 if diag else 0
+        JD[0, l] = J[0]
+        JD[1, l] = J[4]
+        JD[2, l] = J[8]
+        JD[3, l] = Ji[0]
+        JD[4, l] = Ji[4]
+        JD[5, l] = Ji[8]
+        buf = BUF[i]
+        ts = TS[i]
+        est = (QE[i], BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
+        _init(i, P, DIRS, POS, buf, ts, est, TOT, n)
+        for a in range(9):
+            FS[l, _F_DIST + a] = P[i, P_D0 + a]  # P_D0, P_DAMP, P_DPH: 3 each, consecutive
+        delay_steps = P[i, P_DELAY] / dt
+        nd = int(math.floor(delay_steps))
+        IS[l, _I_ND] = nd
+        FS[l, _F_DFRAC] = delay_steps - nd
+        SS[l] = SEEDS[i]
+        for a in range(4):
+            X[a, l] = P[i, P_Q0 + a]
+        for a in range(3):
+            X[4 + a, l] = P[i, P_W0 + a]
+            WS[a, l] = 0.0
+        for a in range(_F_MT):  # we, ctl, fire, prop, kacc2, last NEES, NEES sum
+            FS[l, a] = 0.0
+        FS[l, _F_NEES] = math.nan
+        for a in range(6):
+            FS[l, _F_MT + a] = 0.0
+        FS[l, _F_WMAX2] = 0.0
+        IS[l, _I_NEES_N] = 0
+        IS[l, _I_NEES_N + 1] = 0
+        IS[l, _I_NEES_N + 2] = 0
+        q0, q1, q2, q3 = X[0, l], X[1, l], X[2, l], X[3, l]
+        e = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+        FS[l, _F_E] = e[0]
+        FS[l, _F_E + 1] = e[1]
+        FS[l, _F_E + 2] = e[2]
+        FS[l, _F_E + 3] = e[3]
+        errf = qerr(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3])[3]
+        IS[l, _I_LAST_OUT] = 0 if errf > band else -1
+        if record:
+            _record(REC, i, 0, e[0], e[1], e[2], e[3], QE[i], q0, q1, q2, q3, X[4, l], X[5, l],
+                    X[6, l], math.nan, 0.0, ts, x2o, n)
+    k_gyro = 0  # next gyro epoch
+    k_ctrl = 0  # next command instant
+    kc = 0
+    nkw = 0
+    nwin = 0
+    for k in range(n_steps + 1):
+        last = k == n_steps
+        post = k > 0  # the metrics of step k - 1 -> k (sample_loop's kk = k)
+        rec_now = post and record and k % rec_every == 0
+        win = post and k >= k_win
+        if win:
+            nwin += 1  # _window's own count (nwin + 1) is not used: every lane shares it
+        need_e = win or rec_now or last
+        gyro = est_mode != EST_TRUTH and k == k_gyro
+        if gyro:
+            k_gyro += h_gyro
+        know = k >= k_win
+        if know:
+            nkw += 1
+        ctrl = not last and k == k_ctrl
+        if ctrl:
+            k_ctrl += h_ctrl
+            kc = k
+        tk = k * dt
+        for l in range(nl):
+            i = i0 + l
+            q = (X[0, l], X[1, l], X[2, l], X[3, l])
+            w = (X[4, l], X[5, l], X[6, l])
+            qe = QE[i]
+            ts = TS[i]
+            if post:
+                if need_e:
+                    e = qerr(q[0], q[1], q[2], q[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
+                             QREF[k, 3])
+                    FS[l, _F_E] = e[0]
+                    FS[l, _F_E + 1] = e[1]
+                    FS[l, _F_E + 2] = e[2]
+                    FS[l, _F_E + 3] = e[3]
+                else:
+                    e = (FS[l, _F_E], FS[l, _F_E + 1], FS[l, _F_E + 2], FS[l, _F_E + 3])
+                if _outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
+                            tb_hi):
+                    IS[l, _I_LAST_OUT] = k
+                wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+                if wn2 > FS[l, _F_WMAX2]:
+                    FS[l, _F_WMAX2] = wn2
+                if win:
+                    mt = _window((FS[l, _F_MT], FS[l, _F_MT + 1], FS[l, _F_MT + 2],
+                                  FS[l, _F_MT + 3], FS[l, _F_MT + 4], FS[l, _F_MT + 5], nwin), e)
+                    FS[l, _F_MT] = mt[0]
+                    FS[l, _F_MT + 1] = mt[1]
+                    FS[l, _F_MT + 2] = mt[2]
+                    FS[l, _F_MT + 3] = mt[3]
+                    FS[l, _F_MT + 4] = mt[4]
+                    FS[l, _F_MT + 5] = mt[5]
+                if rec_now:
+                    _record(REC, i, k // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2],
+                            q[3], w[0], w[1], w[2], FS[l, _F_NEES], FS[l, _F_PROP], ts, x2o, n)
+            if est_mode == EST_TRUTH:
+                qe[0] = q[0]
+                qe[1] = q[1]
+                qe[2] = q[2]
+                qe[3] = q[3]
+                FS[l, _F_WE] = w[0]
+                FS[l, _F_WE + 1] = w[1]
+                FS[l, _F_WE + 2] = w[2]
+            elif gyro:
+                est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
+                obs = (VB[i], VR[i], WW[i])
+                ws = (WS[0, l], WS[1, l], WS[2, l])
+                ec = (FS[l, _F_NEES], FS[l, _F_NEES + 1], IS[l, _I_NEES_N], IS[l, _I_NEES_N + 1],
+                      IS[l, _I_NEES_N + 2])
+                s, we, ec, nobs = _sense_estimate(k, C, ENV, q, w, SS[l], ws, ec, est, obs)
+                if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
+                    det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i],
+                           SAA[i], SBK[i], RS[i])
+                    ec = _determine(i, C, qe, ec, det)
+                SS[l] = s
+                FS[l, _F_WE] = we[0]
+                FS[l, _F_WE + 1] = we[1]
+                FS[l, _F_WE + 2] = we[2]
+                FS[l, _F_NEES] = ec[0]
+                FS[l, _F_NEES + 1] = ec[1]
+                IS[l, _I_NEES_N] = ec[2]
+                IS[l, _I_NEES_N + 1] = ec[3]
+                IS[l, _I_NEES_N + 2] = ec[4]
+                WS[0, l] = 0.0
+                WS[1, l] = 0.0
+                WS[2, l] = 0.0
+            if know:  # knowledge error at t_k, after this epoch's estimation
+                kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
+                FS[l, _F_KACC2] += kerr * kerr
+            if last:
+                _finish(OUT, i, (FS[l, _F_MT], FS[l, _F_MT + 1], FS[l, _F_MT + 2],
+                                 FS[l, _F_MT + 3], FS[l, _F_MT + 4], FS[l, _F_MT + 5], nwin),
+                        IS[l, _I_LAST_OUT], FS[l, _F_WMAX2], FS[l, _F_E + 3], FS[l, _F_KACC2], nkw,
+                        FS[l, _F_PROP], (FS[l, _F_FIRE], FS[l, _F_FIRE + 1]),
+                        (FS[l, _F_NEES], FS[l, _F_NEES + 1], IS[l, _I_NEES_N],
+                         IS[l, _I_NEES_N + 1], IS[l, _I_NEES_N + 2]), n_steps, dt)
+                continue
+            if ctrl:
+                scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
+                       ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
+                ctl, fire = _control(
+                    i, k, C, qe, (FS[l, _F_WE], FS[l, _F_WE + 1], FS[l, _F_WE + 2]),
+                    (FS[l, _F_CTL], FS[l, _F_CTL + 1], FS[l, _F_CTL + 2], FS[l, _F_CTL + 3],
+                     FS[l, _F_CTL + 4], FS[l, _F_CTL + 5]),
+                    (FS[l, _F_FIRE], FS[l, _F_FIRE + 1]), thr, scr, ts, TOT, n)
+                FS[l, _F_CTL] = ctl[0]
+                FS[l, _F_CTL + 1] = ctl[1]
+                FS[l, _F_CTL + 2] = ctl[2]
+                FS[l, _F_CTL + 3] = ctl[3]
+                FS[l, _F_CTL + 4] = ctl[4]
+                FS[l, _F_CTL + 5] = ctl[5]
+                FS[l, _F_FIRE] = fire[0]
+                FS[l, _F_FIRE + 1] = fire[1]
+            t0, t1, t2, prop = _actuate(i, k, k - kc, IS[l, _I_ND], FS[l, _F_DFRAC], ts, BUF[i],
+                                        bmask, FAILED, FLEV, MDOT, lag, dt, FS[l, _F_PROP], n)
+            FS[l, _F_PROP] = prop
+            # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
+            d0 = FS[l, _F_DIST]
+            d1 = FS[l, _F_DIST + 1]
+            d2 = FS[l, _F_DIST + 2]
+            a0 = FS[l, _F_DIST + 3]
+            a1 = FS[l, _F_DIST + 4]
+            a2 = FS[l, _F_DIST + 5]
+            t0 += d0 + a0 * math.sin(d_omega * tk + FS[l, _F_DIST + 6]) if a0 != 0.0 else d0
+            t1 += d1 + a1 * math.sin(d_omega * tk + FS[l, _F_DIST + 7]) if a1 != 0.0 else d1
+            t2 += d2 + a2 * math.sin(d_omega * tk + FS[l, _F_DIST + 8]) if a2 != 0.0 else d2
+            if n2orb > 0.0:
+                c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
+                h0, h1, h2 = _inertia_times(P[i, P_J:P_J + 9], IS[l, _I_DIAG] != 0, c0, c1, c2)
+                t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+                t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+                t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+            T[0, l] = t0
+            T[1, l] = t1
+            T[2, l] = t2
+        if last:
+            break
+        if all_diag:
+            _lanes_rk4(X, JD, T, WS, nl, dt)
+        else:
+            for l in range(nl):
+                i = i0 + l
+                w0, w1, w2 = X[4, l], X[5, l], X[6, l]
+                if IS[l, _I_DIAG] != 0:
+                    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step_principal(
+                        X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, JD[0, l], JD[1, l],
+                        JD[2, l], JD[3, l], JD[4, l], JD[5, l], T[0, l], T[1, l], T[2, l], dt)
+                else:
+                    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(
+                        X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, P[i, P_J:P_J + 9],
+                        P[i, P_JI:P_JI + 9], T[0, l], T[1, l], T[2, l], dt)
+                WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
+                WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
+                WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
+                X[0, l] = q0
+                X[1, l] = q1
+                X[2, l] = q2
+                X[3, l] = q3
+                X[4, l] = w0n
+                X[5, l] = w1n
+                X[6, l] = w2n
+
+
+block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy", _nrt=False)(block_loop)
+
+
 @njit(parallel=True, cache=True, nogil=True)
 def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
                  AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
                  SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
-    """CPU driver: every sample in parallel (``prange``), each through :func:`sample_loop`."""
-    for i in prange(P.shape[0]):
+    """CPU driver: blocks of :data:`LANES` samples in parallel (``prange``), each through
+    :func:`block_loop` (what :func:`sample_loop` computes, bit for bit: the GPU driver's
+    per-sample function and the reference of tests/simulation/test_lanes.py)."""
+    for b in prange((P.shape[0] + LANES - 1) // LANES):
+        # the block's scratch: a few hundred bytes, once per block of LANES x n_steps
+        FS = np.empty((LANES, N_FS))
+        IS = np.empty((LANES, N_IS), dtype=np.int64)
+        SS = np.empty(LANES, dtype=np.uint64)
         # prange's index is uint64 in the parallel loop but int64 when numba first types this
         # function: the cast makes both the same signature, compiled once (the one that runs)
-        sample_loop_jit(uint64(i), P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
-                    FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB,
-                    SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT)
+        block_loop_jit(int64(b) * LANES, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF,
+                       WREF, ATAB, ANOM, FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR,
+                       WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT,
+                       FS, IS, SS)
 
 
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
