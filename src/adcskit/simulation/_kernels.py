@@ -1083,6 +1083,36 @@ def _lanes_rk4(X, JD, T, WS, nl, dt):
         X[6, l] = w2n
 
 
+#: :func:`rk4_step` inlined by numba into :func:`_lanes_rk4_general`'s loop (a copy of its code:
+#: the same operations), so that LLVM sees the whole step inside the loop it vectorises.
+_rk4_step_inline = register_jitable(inline="always")(rebound(rk4_step, {}))
+
+
+@register_jitable(inline="always")
+def _lanes_rk4_general(X, JG, T, WS, nl, dt):
+    """:func:`_lanes_rk4` for full inertia matrices: :func:`rk4_step` of every lane, with J and
+    J^-1 (row-major) in ``JG[0:9, lane]`` and ``JG[9:18, lane]``."""
+    for l in range(nl):
+        w0 = X[4, l]
+        w1 = X[5, l]
+        w2 = X[6, l]
+        q0, q1, q2, q3, w0n, w1n, w2n = _rk4_step_inline(
+            X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2,
+            (JG[0, l], JG[1, l], JG[2, l], JG[3, l], JG[4, l], JG[5, l], JG[6, l], JG[7, l], JG[8, l]),
+            (JG[9, l], JG[10, l], JG[11, l], JG[12, l], JG[13, l], JG[14, l], JG[15, l], JG[16, l],
+             JG[17, l]), T[0, l], T[1, l], T[2, l], dt)
+        WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
+        WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
+        WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
+        X[0, l] = q0
+        X[1, l] = q1
+        X[2, l] = q2
+        X[3, l] = q3
+        X[4, l] = w0n
+        X[5, l] = w1n
+        X[6, l] = w2n
+
+
 def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT, FS, IS, SS):
@@ -1092,11 +1122,13 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     At each step a pass over the lanes runs each sample's metrics of the previous step and its
     sensors, estimation, control, thrusters and environment torques (the step functions of
     :func:`sample_loop`, in its order for each sample), then :func:`_lanes_rk4` advances every
-    lane's rigid body in one vectorised loop when the block's inertias are all diagonal (each
-    sample's :func:`rk4_step` otherwise). Between the passes a lane's state lives in arrays:
+    lane's rigid body in one vectorised loop when the block's inertias are all diagonal
+    (:func:`_lanes_rk4_general` when none is; in a block that mixes the two, each sample's
+    step in turn). Between the passes a lane's state lives in arrays:
     on this function's stack (:func:`adcskit._stack.stack_f64`, which is what lets LLVM
     vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JD`` (6 x
-    LANES: diagonals of J, J^-1) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
+    LANES: diagonals of J, J^-1), ``JG`` (18 x LANES: J and J^-1 row-major) and ``WS`` (3 x
+    LANES: the gyro's rate sums); in the block's
     scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
     ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F_*`` / ``_I_*``), and
     ``SS`` (LANES, uint64): the noise state.
@@ -1109,6 +1141,7 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     T = stack_f64(3, LANES)
     JD = stack_f64(6, LANES)
     WS = stack_f64(3, LANES)
+    JG = stack_f64(18, LANES)
     dt = C[DT]
     n_steps = int(C[N_STEPS])
     h_ctrl = int(C[H_CTRL])
@@ -1130,13 +1163,18 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     so = 9 * n
     qf = (QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2], QREF[n_steps, 3])
     all_diag = True
+    all_full = True
     for l in range(nl):
         i = i0 + l
         J = P[i, P_J:P_J + 9]
         Ji = P[i, P_JI:P_JI + 9]
         diag = principal(J, Ji)
         all_diag = all_diag and diag
+        all_full = all_full and not diag
         IS[l, _I_DIAG] = 1 if diag else 0
+        for a in range(9):
+            JG[a, l] = J[a]
+            JG[9 + a, l] = Ji[a]
         JD[0, l] = J[0]
         JD[1, l] = J[4]
         JD[2, l] = J[8]
@@ -1321,6 +1359,8 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             break
         if all_diag:
             _lanes_rk4(X, JD, T, WS, nl, dt)
+        elif all_full:
+            _lanes_rk4_general(X, JG, T, WS, nl, dt)
         else:
             for l in range(nl):
                 i = i0 + l
