@@ -44,9 +44,10 @@ disp = DispersionSpec(
     initial_attitude_deg=2.0,
     initial_rate_deg_s=0.05,
 )
-#: samples per chunk: 12 samples run as chunks of 10 and 2, i.e. lane blocks (``_kernels.LANES`` = 8)
-#: of 8, 2 and 2 samples: a full block, whose RK4 steps run vectorised, and partial ones (the
-#: outputs do not depend on the split: each sample's noise comes from its own seed)
+#: samples per chunk: 12 samples run as chunks of 10 and 2, i.e. (on one numba thread, set in
+#: run()) lane blocks (``_kernels.LANES`` = 8) of 8, 2 and 2 samples: a full block, whose RK4
+#: steps run vectorised, and partial ones (the outputs do not depend on the split: each
+#: sample's noise comes from its own seed)
 CHUNK = 10
 sim = SimSpec(dt=0.02, t_final=30.0, metrics_from_s=10.0, nees_from_s=5.0, record_every=5)
 th = np.linspace(0, math.radians(20), 11)
@@ -154,6 +155,9 @@ S = {
 
 
 def run():
+    import numba
+
+    numba.set_num_threads(1)  # blocks of 8 (_kernels.block_size balances smaller ones over threads)
     out = {}
     for name, sc in S.items():
         for rec in (True, False):

@@ -13,7 +13,9 @@ drivers on one thread, alternated: best and median sample-steps per CPU-second::
 
     PYTHONPATH=src python benchmarks/kernel_pair.py full 10
 
-Results: docs/benchmarks.md, "Two cores per CPU-second" (tried and not kept).
+Results: docs/benchmarks.md, "Two cores per CPU-second" (tried and not kept). Since the
+lane blocks (2026-12-03) the CPU driver runs ``block_loop``, not ``sample_loop``; this script
+still compares its two-sample loop with the one-sample loop it was generated from.
 """
 
 from __future__ import annotations

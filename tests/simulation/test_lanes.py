@@ -13,8 +13,11 @@ from __future__ import annotations
 
 import warnings
 
+import numba
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from adcskit.simulation import (
     ControllerSpec,
@@ -82,6 +85,15 @@ def _scenarios():
     }
 
 
+@pytest.fixture(autouse=True)
+def one_thread():
+    """One numba thread: the driver then makes blocks of K.LANES (8 + 3 for N = 11)."""
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(before)
+
+
 def _per_sample_python(*args):
     """The one-sample loop (plain Python; its compiled helpers as compiled) over every sample."""
     with np.errstate(over="ignore"), warnings.catch_warnings():
@@ -127,6 +139,49 @@ def test_block_mixing_diagonal_and_full_inertia(monkeypatch):
     seeds = np.random.SeedSequence(4).generate_state(N, dtype=np.uint64)
     lanes, ref = _both(prep, seeds, monkeypatch)
     _assert_same(lanes, ref, "mixed inertia")
+
+
+def test_balanced_blocks_on_two_threads(monkeypatch):
+    # 24 samples on 2 threads: 4 blocks of 6 (block_size), not 3 of 8; the same numbers
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("one numba thread on this machine")
+    numba.set_num_threads(2)
+    assert K.block_size(24, 2) == 6
+    sc = _scenarios()["mekf_schmitt_step_disp"]
+    prep, _ = core._prepare(sc, 24, np.random.default_rng(14))
+    seeds = np.random.SeedSequence(6).generate_state(24, dtype=np.uint64)
+    lanes, ref = _both(prep, seeds, monkeypatch)
+    _assert_same(lanes, ref, "two threads")
+
+
+def _busiest(n, size, threads):
+    """Samples on the busiest thread: prange's contiguous runs of ceil(blocks / threads)."""
+    return min(n, -(-(-(-n // size)) // threads) * size)
+
+
+@settings(max_examples=300, deadline=None)
+@given(n=st.integers(0, 5000), threads=st.integers(1, 64))
+def test_block_size_balances_the_threads(n, threads):
+    size = K.block_size(n, threads)
+    assert 1 <= size <= K.LANES
+    if n == 0 or threads == 1:
+        assert size == (1 if n == 0 else K.LANES)
+        return
+    load = _busiest(n, size, threads)
+    best = min(_busiest(n, s, threads) for s in range(1, K.LANES + 1))
+    if size == K.LANES:  # full blocks: within 5/4 of an even share, or nothing does better
+        assert 4 * load * threads <= 5 * n or load == best
+    else:  # smaller blocks: the least loaded busiest thread there is
+        assert load == best
+
+
+def test_block_size_examples():
+    # the docstring's cases: 64 samples on 16 threads, 24 on 2; a campaign's chunks on 2
+    assert K.block_size(64, 16) == 4
+    assert K.block_size(24, 2) == 6
+    assert K.block_size(64, 2) == K.LANES
+    assert K.block_size(125_000, 2) == K.LANES
+    assert K.block_size(11, 1) == K.LANES
 
 
 def test_single_sample_and_exact_blocks(monkeypatch):

@@ -1,10 +1,14 @@
-"""Private batch kernel of the closed-loop simulator: one sample per parallel lane.
+"""Private batch kernel of the closed-loop simulator: samples in parallel lanes.
 
 The per-sample step is written as plain functions (design.md "one source, two targets"):
 scalars, ``math`` functions and indexing of arrays passed in; no allocation, no NumPy calls,
 no Python objects inside :func:`sample_loop` and its helpers. :func:`sample_loop` is declared
-as a :class:`adcskit._targets.PerSample` (``SAMPLE``) and the CPU driver
-:func:`run_parallel` (``prange`` over samples) calls ``SAMPLE.cpu``; the helpers are
+as a :class:`adcskit._targets.PerSample` (``SAMPLE``), the GPU driver's per-sample function.
+The CPU driver :func:`run_parallel` (``prange`` over blocks of :data:`LANES` samples) runs
+:func:`block_loop`: the same step functions for each sample of a block in turn, then the
+block's RK4 steps in one loop that LLVM vectorises across the lanes; bit for bit what
+:func:`sample_loop` computes for each sample (tests/simulation/test_lanes.py; why two loops:
+docs/design-notes.md, "Two loops"). The helpers are
 ``register_jitable`` / :func:`adcskit._targets.device` functions, the quaternion ones and the
 S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
 kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The scratch
@@ -42,7 +46,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import int64, njit, prange
+from numba import get_num_threads, int64, njit, prange
 from numba.extending import register_jitable
 
 from adcskit._stack import stack_f64
@@ -1113,10 +1117,11 @@ def _lanes_rk4_general(X, JG, T, WS, nl, dt):
         X[6, l] = w2n
 
 
-def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
+def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT, FS, IS, SS):
-    """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(LANES, n - i0)``) over all steps: what
+    """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(size, n - i0)``, ``size <= LANES``)
+    over all steps: what
     :func:`sample_loop` computes for each of them, bit for bit, with the steps interleaved.
 
     At each step a pass over the lanes runs each sample's metrics of the previous step and its
@@ -1136,7 +1141,7 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     block's.
     """
     n = POS.shape[0]
-    nl = min(LANES, P.shape[0] - i0)
+    nl = min(size, P.shape[0] - i0)
     X = stack_f64(7, LANES)
     T = stack_f64(3, LANES)
     JD = stack_f64(6, LANES)
@@ -1385,6 +1390,34 @@ def block_loop(i0, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
                 X[6, l] = w2n
 
 
+@register_jitable
+def block_size(n, threads):
+    """Samples per lane block for ``n`` samples on ``threads`` threads.
+
+    :data:`LANES` (a full vector loop) unless whole blocks would load the busiest thread more
+    than 5/4 of an even share: ``prange`` gives each thread a contiguous run of
+    ``ceil(blocks / threads)`` blocks at most, so ``n = 64`` on 16 threads makes 8 blocks of 8
+    and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one thread). Then
+    the size (at most :data:`LANES`, the largest on a tie) that minimises the busiest thread's
+    samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than 8 samples
+    run their RK4 steps partly scalar; the results do not depend on the size
+    (tests/simulation/test_lanes.py)."""
+    if n < 1:
+        return 1
+    if threads <= 1:
+        return LANES
+    best = LANES
+    best_load = min(n, ((n + LANES - 1) // LANES + threads - 1) // threads * LANES)
+    if 4 * best_load * threads <= 5 * n:
+        return LANES
+    for size in range(LANES - 1, 0, -1):
+        load = min(n, ((n + size - 1) // size + threads - 1) // threads * size)
+        if load < best_load:
+            best = size
+            best_load = load
+    return best
+
+
 block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy", _nrt=False)(block_loop)
 
 
@@ -1392,20 +1425,23 @@ block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy
 def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
                  AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
                  SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
-    """CPU driver: blocks of :data:`LANES` samples in parallel (``prange``), each through
+    """CPU driver: blocks of up to :data:`LANES` samples in parallel (``prange``), each through
     :func:`block_loop` (what :func:`sample_loop` computes, bit for bit: the GPU driver's
-    per-sample function and the reference of tests/simulation/test_lanes.py)."""
-    for b in prange((P.shape[0] + LANES - 1) // LANES):
+    per-sample function and the reference of tests/simulation/test_lanes.py).
+    :func:`block_size` sets the block size from the sample and thread counts."""
+    n = P.shape[0]
+    size = block_size(n, get_num_threads())
+    for b in prange((n + size - 1) // size):
         # the block's scratch: a few hundred bytes, once per block of LANES x n_steps
         FS = np.empty((LANES, N_FS))
         IS = np.empty((LANES, N_IS), dtype=np.int64)
         SS = np.empty(LANES, dtype=np.uint64)
         # prange's index is uint64 in the parallel loop but int64 when numba first types this
         # function: the cast makes both the same signature, compiled once (the one that runs)
-        block_loop_jit(int64(b) * LANES, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF,
-                       WREF, ATAB, ANOM, FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR,
-                       WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT,
-                       FS, IS, SS)
+        block_loop_jit(int64(b) * size, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV,
+                       QREF, WREF, ATAB, ANOM, FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB,
+                       VR, WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC,
+                       TOT, FS, IS, SS)
 
 
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
