@@ -190,7 +190,8 @@ def main(argv):
     for (q, ph), v in sorted(_PASSES.items(), key=lambda kv: -kv[1])[:20]:
         print(f"{v:7.2f}  {ph:32s} {q}")
     sig = _kernels.run_parallel.signatures
-    print(f"run_parallel signatures: {len(sig)}; sample_loop: {len(_kernels.sample_loop_jit.signatures)}")
+    print(f"run_parallel signatures: {len(sig)}; block_loop: {len(_kernels.block_loop_jit.signatures)}; "
+          f"sample_loop (GPU driver's, compiled on the CPU only when called): {len(_kernels.sample_loop_jit.signatures)}")
     if "--json" in argv:
         with open(argv[argv.index("--json") + 1], "w") as fh:
             json.dump({"cpu_s": cpu, "wall_s": wall, "load": os.getloadavg()[0],
