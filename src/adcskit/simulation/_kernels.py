@@ -1037,9 +1037,10 @@ sample_loop_jit = SAMPLE.cpu
 
 
 # --- CPU driver: samples in lanes --------------------------------------------------------------
-#: Samples advanced together by :func:`block_loop` (one ``prange`` iteration): the RK4 step runs
-#: as one loop over the lanes, which LLVM vectorises (8 doubles per AVX-512 register, 2 x 4 with
-#: AVX2); docs/benchmarks.md, "Samples in lanes".
+#: Samples advanced together by :func:`block_loop` (one ``prange`` iteration, at most): the RK4
+#: step runs as one loop over the lanes, which LLVM vectorises (2 x 4 doubles in 256-bit
+#: registers: LLVM's choice also on the AVX-512 CPU measured); docs/benchmarks.md, "Samples in
+#: lanes". 16 measured no faster.
 LANES = 8
 
 # per-lane scalar state of block_loop, FS[lane, ...] (float) and IS[lane, ...] (int)
