@@ -1063,59 +1063,57 @@ _I_DIAG = 5
 N_IS = 6
 
 
-@register_jitable(inline="always")
-def _lanes_rk4(X, JD, T, WS, nl, dt):
-    """:func:`rk4_step_principal` of lanes ``0..nl-1`` (state ``X[0:7, lane]``: q, omega;
-    ``JD[0:6, lane]``: the diagonals of J and J^-1; torque ``T[0:3, lane]``), in place, and the
-    gyro's rate sums ``WS`` (the trapezoid of :func:`sample_loop`): the same operations per lane,
-    in a loop that LLVM vectorises across lanes."""
-    for l in range(nl):
-        w0 = X[4, l]
-        w1 = X[5, l]
-        w2 = X[6, l]
-        q0, q1, q2, q3, w0n, w1n, w2n = rk4_step_principal(
-            X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, JD[0, l], JD[1, l], JD[2, l],
-            JD[3, l], JD[4, l], JD[5, l], T[0, l], T[1, l], T[2, l], dt)
-        WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
-        WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
-        WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
-        X[0, l] = q0
-        X[1, l] = q1
-        X[2, l] = q2
-        X[3, l] = q3
-        X[4, l] = w0n
-        X[5, l] = w1n
-        X[6, l] = w2n
-
-
-#: :func:`rk4_step` inlined by numba into :func:`_lanes_rk4_general`'s loop (a copy of its code:
-#: the same operations), so that LLVM sees the whole step inside the loop it vectorises.
+#: :func:`rk4_step` inlined by numba into the lane loops (a copy of its code: the same
+#: operations), so that LLVM sees the whole step inside the loop it vectorises.
 _rk4_step_inline = register_jitable(inline="always")(rebound(rk4_step, {}))
 
 
 @register_jitable(inline="always")
-def _lanes_rk4_general(X, JG, T, WS, nl, dt):
-    """:func:`_lanes_rk4` for full inertia matrices: :func:`rk4_step` of every lane, with J and
-    J^-1 (row-major) in ``JG[0:9, lane]`` and ``JG[9:18, lane]``."""
-    for l in range(nl):
-        w0 = X[4, l]
-        w1 = X[5, l]
-        w2 = X[6, l]
-        q0, q1, q2, q3, w0n, w1n, w2n = _rk4_step_inline(
-            X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2,
-            (JG[0, l], JG[1, l], JG[2, l], JG[3, l], JG[4, l], JG[5, l], JG[6, l], JG[7, l], JG[8, l]),
-            (JG[9, l], JG[10, l], JG[11, l], JG[12, l], JG[13, l], JG[14, l], JG[15, l], JG[16, l],
-             JG[17, l]), T[0, l], T[1, l], T[2, l], dt)
-        WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
-        WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
-        WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
-        X[0, l] = q0
-        X[1, l] = q1
-        X[2, l] = q2
-        X[3, l] = q3
-        X[4, l] = w0n
-        X[5, l] = w1n
-        X[6, l] = w2n
+def _lane_principal(X, JG, T, l, dt):
+    """:func:`rk4_step_principal` of lane ``l``: state ``X[0:7, l]`` (q, omega), J and J^-1
+    row-major in ``JG[0:9, l]``, ``JG[9:18, l]`` (their diagonals read), torque ``T[0:3, l]``."""
+    return rk4_step_principal(X[0, l], X[1, l], X[2, l], X[3, l], X[4, l], X[5, l], X[6, l],
+                              JG[0, l], JG[4, l], JG[8, l], JG[9, l], JG[13, l], JG[17, l],
+                              T[0, l], T[1, l], T[2, l], dt)
+
+
+@register_jitable(inline="always")
+def _lane_general(X, JG, T, l, dt):
+    """:func:`rk4_step` of lane ``l`` (the arrays as in :func:`_lane_principal`)."""
+    return _rk4_step_inline(
+        X[0, l], X[1, l], X[2, l], X[3, l], X[4, l], X[5, l], X[6, l],
+        (JG[0, l], JG[1, l], JG[2, l], JG[3, l], JG[4, l], JG[5, l], JG[6, l], JG[7, l], JG[8, l]),
+        (JG[9, l], JG[10, l], JG[11, l], JG[12, l], JG[13, l], JG[14, l], JG[15, l], JG[16, l],
+         JG[17, l]), T[0, l], T[1, l], T[2, l], dt)
+
+
+@register_jitable(inline="always")
+def _lane_store(X, WS, l, x):
+    """Lane ``l``'s new state ``x`` (q, omega) into ``X``, after adding the step's mean rate
+    (the trapezoid of :func:`sample_loop`) to the gyro's rate sums ``WS``."""
+    WS[0, l] = WS[0, l] + 0.5 * (X[4, l] + x[4])
+    WS[1, l] = WS[1, l] + 0.5 * (X[5, l] + x[5])
+    WS[2, l] = WS[2, l] + 0.5 * (X[6, l] + x[6])
+    X[0, l] = x[0]
+    X[1, l] = x[1]
+    X[2, l] = x[2]
+    X[3, l] = x[3]
+    X[4, l] = x[4]
+    X[5, l] = x[5]
+    X[6, l] = x[6]
+
+
+@register_jitable(inline="always")
+def _lanes_rk4(X, JG, T, WS, nl, dt, general):
+    """The RK4 step of lanes ``0..nl-1`` in place (:func:`_lane_principal`, or
+    :func:`_lane_general` when ``general``) and the gyro's rate sums: the same operations per
+    lane as :func:`sample_loop`, in a loop that LLVM vectorises across lanes."""
+    if general:
+        for l in range(nl):
+            _lane_store(X, WS, l, _lane_general(X, JG, T, l, dt))
+    else:
+        for l in range(nl):
+            _lane_store(X, WS, l, _lane_principal(X, JG, T, l, dt))
 
 
 def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
@@ -1129,12 +1127,11 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
     sensors, estimation, control, thrusters and environment torques (the step functions of
     :func:`sample_loop`, in its order for each sample), then :func:`_lanes_rk4` advances every
     lane's rigid body in one vectorised loop when the block's inertias are all diagonal
-    (:func:`_lanes_rk4_general` when none is; in a block that mixes the two, each sample's
-    step in turn). Between the passes a lane's state lives in arrays:
+    (the general step when none is; in a block that mixes the two, each sample's step in
+    turn). Between the passes a lane's state lives in arrays:
     on this function's stack (:func:`adcskit._stack.stack_f64`, which is what lets LLVM
-    vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JD`` (6 x
-    LANES: diagonals of J, J^-1), ``JG`` (18 x LANES: J and J^-1 row-major) and ``WS`` (3 x
-    LANES: the gyro's rate sums); in the block's
+    vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JG`` (18 x
+    LANES: J and J^-1 row-major) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
     scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
     ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F_*`` / ``_I_*``), and
     ``SS`` (LANES, uint64): the noise state.
@@ -1145,7 +1142,6 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
     nl = min(size, P.shape[0] - i0)
     X = stack_f64(7, LANES)
     T = stack_f64(3, LANES)
-    JD = stack_f64(6, LANES)
     WS = stack_f64(3, LANES)
     JG = stack_f64(18, LANES)
     dt = C[DT]
@@ -1181,12 +1177,6 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
         for a in range(9):
             JG[a, l] = J[a]
             JG[9 + a, l] = Ji[a]
-        JD[0, l] = J[0]
-        JD[1, l] = J[4]
-        JD[2, l] = J[8]
-        JD[3, l] = Ji[0]
-        JD[4, l] = Ji[4]
-        JD[5, l] = Ji[8]
         buf = BUF[i]
         ts = TS[i]
         est = (QE[i], BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
@@ -1235,7 +1225,7 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
         win = post and k >= k_win
         if win:
             nwin += 1  # _window's own count (nwin + 1) is not used: every lane shares it
-        need_e = win or rec_now or last
+        need_e = win or rec_now or (post and last)  # the pointing error at t_k is used
         gyro = est_mode != EST_TRUTH and k == k_gyro
         if gyro:
             k_gyro += h_gyro
@@ -1253,22 +1243,19 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
             w = (X[4, l], X[5, l], X[6, l])
             qe = QE[i]
             ts = TS[i]
-            if post:
-                if need_e:
-                    e = qerr(q[0], q[1], q[2], q[3], QREF[k, 0], QREF[k, 1], QREF[k, 2],
-                             QREF[k, 3])
-                    FS[l, _F_E] = e[0]
-                    FS[l, _F_E + 1] = e[1]
-                    FS[l, _F_E + 2] = e[2]
-                    FS[l, _F_E + 3] = e[3]
-                else:
-                    e = (FS[l, _F_E], FS[l, _F_E + 1], FS[l, _F_E + 2], FS[l, _F_E + 3])
+            if post:  # (the settling and rate tests do not read the pointing error)
                 if _outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
                             tb_hi):
                     IS[l, _I_LAST_OUT] = k
                 wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
                 if wn2 > FS[l, _F_WMAX2]:
                     FS[l, _F_WMAX2] = wn2
+            if need_e:
+                e = qerr(q[0], q[1], q[2], q[3], QREF[k, 0], QREF[k, 1], QREF[k, 2], QREF[k, 3])
+                FS[l, _F_E] = e[0]
+                FS[l, _F_E + 1] = e[1]
+                FS[l, _F_E + 2] = e[2]
+                FS[l, _F_E + 3] = e[3]
                 if win:
                     mt = _window((FS[l, _F_MT], FS[l, _F_MT + 1], FS[l, _F_MT + 2],
                                   FS[l, _F_MT + 3], FS[l, _F_MT + 4], FS[l, _F_MT + 5], nwin), e)
@@ -1363,59 +1350,47 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
             T[2, l] = t2
         if last:
             break
-        if all_diag:
-            _lanes_rk4(X, JD, T, WS, nl, dt)
-        elif all_full:
-            _lanes_rk4_general(X, JG, T, WS, nl, dt)
-        else:
+        if all_diag or all_full:
+            _lanes_rk4(X, JG, T, WS, nl, dt, all_full)
+        else:  # diagonal and full inertias in one block: each lane's own step, not vectorised
             for l in range(nl):
-                i = i0 + l
-                w0, w1, w2 = X[4, l], X[5, l], X[6, l]
                 if IS[l, _I_DIAG] != 0:
-                    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step_principal(
-                        X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, JD[0, l], JD[1, l],
-                        JD[2, l], JD[3, l], JD[4, l], JD[5, l], T[0, l], T[1, l], T[2, l], dt)
-                else:
-                    q0, q1, q2, q3, w0n, w1n, w2n = rk4_step(
-                        X[0, l], X[1, l], X[2, l], X[3, l], w0, w1, w2, P[i, P_J:P_J + 9],
-                        P[i, P_JI:P_JI + 9], T[0, l], T[1, l], T[2, l], dt)
-                WS[0, l] = WS[0, l] + 0.5 * (w0 + w0n)
-                WS[1, l] = WS[1, l] + 0.5 * (w1 + w1n)
-                WS[2, l] = WS[2, l] + 0.5 * (w2 + w2n)
-                X[0, l] = q0
-                X[1, l] = q1
-                X[2, l] = q2
-                X[3, l] = q3
-                X[4, l] = w0n
-                X[5, l] = w1n
-                X[6, l] = w2n
+                    x = _lane_principal(X, JG, T, l, dt)
+                else:  # a call, not a third inlined copy of the step (compile time; rare path)
+                    i = i0 + l
+                    x = rk4_step(X[0, l], X[1, l], X[2, l], X[3, l], X[4, l], X[5, l], X[6, l],
+                                 P[i, P_J:P_J + 9], P[i, P_JI:P_JI + 9], T[0, l], T[1, l], T[2, l],
+                                 dt)
+                _lane_store(X, WS, l, x)
+
+
+@register_jitable
+def _busiest(n, size, threads):
+    """Samples on the busiest thread when ``n`` samples run in blocks of ``size`` on ``threads``
+    threads: ``prange`` gives each thread a contiguous run of ``ceil(blocks / threads)`` blocks
+    at most."""
+    return min(n, ((n + size - 1) // size + threads - 1) // threads * size)
 
 
 @register_jitable
 def block_size(n, threads):
     """Samples per lane block for ``n`` samples on ``threads`` threads.
 
-    :data:`LANES` (a full vector loop) unless whole blocks would load the busiest thread more
-    than 5/4 of an even share: ``prange`` gives each thread a contiguous run of
-    ``ceil(blocks / threads)`` blocks at most, so ``n = 64`` on 16 threads makes 8 blocks of 8
-    and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one thread). Then
-    the size (at most :data:`LANES`, the largest on a tie) that minimises the busiest thread's
-    samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than 8 samples
-    run their RK4 steps partly scalar; the results do not depend on the size
+    :data:`LANES` (a full vector loop) unless whole blocks would load the busiest thread
+    (:func:`_busiest`) more than 5/4 of an even share: ``n = 64`` on 16 threads makes 8 blocks
+    of 8 and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one thread).
+    Then the size (at most :data:`LANES`, the largest on a tie) that minimises the busiest
+    thread's samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than 8
+    samples run their RK4 steps partly scalar; the results do not depend on the size
     (tests/simulation/test_lanes.py)."""
     if n < 1:
         return 1
-    if threads <= 1:
+    if threads <= 1 or 4 * _busiest(n, LANES, threads) * threads <= 5 * n:
         return LANES
     best = LANES
-    best_load = min(n, ((n + LANES - 1) // LANES + threads - 1) // threads * LANES)
-    if 4 * best_load * threads <= 5 * n:
-        return LANES
     for size in range(LANES - 1, 0, -1):
-        load = min(n, ((n + size - 1) // size + threads - 1) // threads * size)
-        if load < best_load:
+        if _busiest(n, size, threads) < _busiest(n, best, threads):
             best = size
-            best_load = load
     return best
 
 
