@@ -374,7 +374,15 @@ def test_run_study_records_and_marks_the_config_a_study_resolves(fake, monkeypat
     monkeypatch.setattr(fake_study, "STUDY", replace(fake_study.STUDY, resolve=resolve))
     result = run_study(fake, seed=4, out=None)
     assert seen == [4] and result.config["n_tasks"] == 5 and len(result.measured["means"]) == 5
-    assert result.claims[0].protocol == "custom settings"  # 5 tasks against the paper's 8
+    # issue 45 item 5: the study's own resolve step is its setting, not a custom configuration
+    # (a default onoff-tuning run showed a "Custom configuration" banner for paper_scale)
+    assert result.config_changes == {}
+    assert result.claims[0].protocol == "reduced protocol"  # 5 tasks against the paper's 8
+    assert result.claims[0].protocol_differences == ("n_tasks: ours 5, paper 8",)
+    # a user's change is still one, recorded with the value that ran (here the resolve step's)
+    custom = run_study(fake, seed=4, config={"n_tasks": 6}, out=None)
+    assert custom.config_changes == {"n_tasks": {"value": 5, "default": 8, "paper": 8}}
+    assert custom.claims[0].protocol == "custom settings"
 
 
 def test_written_results_follow_the_umask_not_mkstemps_private_modes(tmp_path):

@@ -311,9 +311,8 @@ def run_study(
 
     seed = check_int("seed", seed, minimum=0)
     study = get_study(name)
-    cfg = resolve_config(name, config, quick=quick)
-    if study.resolve is not None:
-        cfg = study.resolve(cfg, seed)
+    requested = resolve_config(name, config, quick=quick)
+    cfg = study.resolve(requested, seed) if study.resolve is not None else requested
     owns = not isinstance(executor, Executor)
     ex = make_executor(executor)
     try:
@@ -325,7 +324,12 @@ def run_study(
             ex.close()
     from dataclasses import replace
 
-    changes = config_changes(name, cfg, quick=quick)
+    # a change is a key the user changed (the request against the study's settings) whose run
+    # value differs from the study's setting. The study's own resolve step (onoff-tuning: S4's
+    # protocol from the stored GAs) is the study's setting, not a custom configuration: it is
+    # recorded in ``config`` but never counted as a change.
+    asked = config_changes(name, requested, quick=quick)
+    changes = {k: v for k, v in config_changes(name, cfg, quick=quick).items() if k in asked}
     differ = protocol_differences(study.config_cls, cfg)
     reduced = _quick_reductions(name, cfg) if quick else {}
     result = replace(
