@@ -99,13 +99,14 @@ def _flatten(prefix: str, value: Any, rows: list[tuple[str, str]], limit: int = 
         rows.append((prefix, format_value(value)))
 
 
+#: The paper's verdicts, in the order the report counts them, and their colour classes.
+VERDICTS = ("holds", "does not hold", "inconclusive", "depends on reading")
 OUTCOME_CLASS = {
     "holds": "ok",
     "does not hold": "bad",
     "inconclusive": "warn",
     "depends on reading": "read",
-    "indicative": "ind",
-    "not comparable": "muted",
+    "not comparable": "nc",
 }
 
 #: The legend of the report: each bucket of :func:`_bucket`, its colour class and meaning.
@@ -115,31 +116,71 @@ LEGEND = (
     ("inconclusive", "warn", "seeds disagree, the interval straddles the threshold, a tie within a declared "
                              "margin, a failed seed, or one reading decided while others are not"),
     ("depends on reading", "read", "one documented reading of the paper holds and another does not"),
-    ("indicative", "ind", "fewer than 5 independent seeds (a quick run): shown, never a verdict on the paper"),
-    ("not comparable", "muted", "the run changed a protocol key of the claim (custom settings)"),
+    ("not comparable", "nc", "the run changed a protocol key of the claim (custom settings); the outcome it got "
+                             "is shown beside the label"),
+)
+
+#: How a verdict's badge is drawn when it is not a full verdict on the paper.
+STYLES = (
+    ("ind", "indicative", "pale with a dashed border: fewer than 5 independent seeds (a quick run); "
+                          "the outcome those seeds gave, never a verdict on the paper"),
+    ("reduced", "reduced protocol", "hatched: decided below the paper's protocol (a protocol key differs "
+                                    "from the paper's printed value: hover for which)"),
 )
 
 
-def _display_outcome(c: dict[str, Any]) -> str:
-    """The label of a claim or finding (``display_outcome`` of new files; derived for older ones)."""
-    if c.get("display_outcome"):
-        return str(c["display_outcome"])
-    if not c.get("comparable", True):
-        return "not comparable"
-    return c.get("outcome", "inconclusive")
+def _custom(c: dict[str, Any]) -> bool:
+    """A claim whose protocol keys the user changed (custom settings)."""
+    if "protocol" in c:
+        return c["protocol"] == "custom settings"
+    return not c.get("comparable", True) and not c.get("indicative")  # result.json of an older version
 
 
 def _bucket(c: dict[str, Any]) -> str:
-    """The colour bucket of a claim: indicative, not comparable, or its outcome."""
-    if c.get("indicative"):
-        return "indicative"
-    if c.get("protocol") == "custom settings" or (not c.get("comparable", True) and "protocol" not in c):
+    """The column a claim is counted in: ``"not comparable"`` under custom settings, else its
+    outcome (an indicative outcome keeps its outcome's bucket and is drawn pale)."""
+    if _custom(c):
         return "not comparable"
-    return c.get("outcome", "inconclusive")
+    outcome = c.get("outcome", "inconclusive")
+    return outcome if outcome in OUTCOME_CLASS else "inconclusive"
+
+
+def _held(c: dict[str, Any]) -> str:
+    """``"k/n"`` supporting seeds of the default reading (``"n seeds"`` where a count says nothing)."""
+    n = int(c.get("n_seeds") or 0)
+    f = c.get("fraction_held")
+    if c.get("outcome") == "depends on reading" or not isinstance(f, int | float) or not math.isfinite(f):
+        return f"{n} seed{'s' if n != 1 else ''}"
+    return f"{round(f * n)}/{n}"
+
+
+def _label(c: dict[str, Any]) -> str:
+    """The badge text: the outcome, with what qualifies it (issue 44: an indicative outcome keeps
+    its verdict visible, e.g. ``"does not hold · indicative 0/2"``; issue 45: ``"not comparable ·
+    holds"`` says what a custom run got)."""
+    outcome = c.get("outcome", "inconclusive")
+    if _custom(c):
+        return f"not comparable · {outcome}"
+    if c.get("indicative"):
+        return f"{outcome} · indicative {_held(c)}"
+    if c.get("protocol") == "reduced protocol":
+        return f"{outcome} (reduced protocol)"
+    return outcome
+
+
+def _style(c: dict[str, Any]) -> str:
+    """``"ind"``, ``"reduced"`` or ``""``: how :func:`_label`'s badge is drawn."""
+    if _custom(c):
+        return ""
+    if c.get("indicative"):
+        return "ind"
+    return "reduced" if c.get("protocol") == "reduced protocol" else ""
 
 
 def _tooltip(c: dict[str, Any]) -> str:
-    parts = [f"{_display_outcome(c)} — {c.get('statement', '')}"]
+    parts = [f"{_label(c)} — {c.get('statement', '')}"]
+    if c.get("indicative"):
+        parts.append(f"indicative: {c.get('n_seeds')} independent seeds (fewer than 5), not a verdict on the paper")
     if c.get("quantity"):
         parts.append(f"decided by: {c['quantity']}")
     if c.get("measured") is not None:
@@ -148,7 +189,8 @@ def _tooltip(c: dict[str, Any]) -> str:
     for r in c.get("readings") or []:
         parts.append(f"reading {r.get('reading')}: {r.get('outcome')} ({r.get('n_seeds')} seeds)")
     if c.get("protocol_differences"):
-        parts.append("reduced protocol: " + "; ".join(c["protocol_differences"]))
+        what = "custom settings" if _custom(c) else "reduced protocol"
+        parts.append(f"{what}: " + "; ".join(c["protocol_differences"]))
     if c.get("detail"):
         parts.append(str(c["detail"])[:400])
     return "\n".join(parts)
@@ -156,14 +198,15 @@ def _tooltip(c: dict[str, Any]) -> str:
 
 def _decorate(items: list[dict[str, Any]], study: str, prefix: str) -> list[dict[str, Any]]:
     for i, c in enumerate(items):
-        c["display"] = _display_outcome(c)
         c["bucket"] = _bucket(c)
-        c["css"] = OUTCOME_CLASS.get(c["bucket"], "muted")
-        c["reduced"] = c.get("protocol") == "reduced protocol" and c["bucket"] not in ("indicative", "not comparable")
+        c["style"] = _style(c)
+        c["label"] = _label(c)
+        c["css"] = f"{OUTCOME_CLASS[c['bucket']]} {c['style']}".strip()
         c["anchor"] = f"{study}--{prefix}-{c.get('id') or i}"
         c["tooltip"] = _tooltip(c)
+        pale = " ind" if c["style"] == "ind" or c["bucket"] == "not comparable" else ""
         for r in c.get("readings") or []:
-            r["css"] = OUTCOME_CLASS.get(r.get("outcome", ""), "muted")
+            r["css"] = OUTCOME_CLASS.get(r.get("outcome", ""), "nc") + pale
     return items
 
 
@@ -209,7 +252,7 @@ def _inline_tables(study_dir: Path, names: list[str]) -> list[dict[str, Any]]:
 
 
 def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
-    """The claims of a result, with ``display``, ``bucket``, ``css``, ``anchor`` and ``tooltip`` set."""
+    """The claims of a result, with ``bucket``, ``style``, ``label``, ``css``, ``anchor`` and ``tooltip`` set."""
     claims = [dict(c) for c in data.get("claims", [])]
     if not claims and "claims" not in data:  # result.json of an older adcskit version
         claims = [
@@ -220,22 +263,81 @@ def _claims_of(data: dict[str, Any]) -> list[dict[str, Any]]:
     return _decorate(claims, data.get("study", ""), "claim")
 
 
-def _tally(items: list[dict[str, Any]]) -> list[tuple[str, int, str]]:
-    """``[(bucket, count, css)]`` for the buckets present (items from :func:`_decorate`), in the legend's order."""
-    counts = {o: sum(1 for c in items if c["bucket"] == o) for o in OUTCOME_CLASS}
-    return [(o, n, OUTCOME_CLASS[o]) for o, n in counts.items() if n]
+def _tally(items: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Counts of items (from :func:`_decorate`) per bucket and style, in the legend's order:
+    ``[{"bucket", "style", "n", "css", "label"}]``, e.g. ``"2 does not hold · indicative"``."""
+    out = []
+    for bucket in OUTCOME_CLASS:
+        for style in ("", "reduced", "ind"):
+            n = sum(1 for c in items if c["bucket"] == bucket and c["style"] == style)
+            if n:
+                label = f"{n} {bucket}" + {"": "", "reduced": " (reduced protocol)", "ind": " · indicative"}[style]
+                out.append({"bucket": bucket, "style": style, "n": n, "label": label,
+                            "css": f"{OUTCOME_CLASS[bucket]} {style}".strip()})
+    return out
 
 
-def _verdict_class(claims: list[dict[str, Any]]) -> str:
-    """Badge colour of a study's claim tally: green only when every claim holds."""
-    if not claims:
-        return "muted"
-    shown = {c["bucket"] for c in claims}
-    if shown == {"holds"}:
-        return "ok"
-    if "holds" not in shown:
-        return "bad" if "does not hold" in shown else "warn"
-    return "warn"
+def _columns(items: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:
+    """:func:`_tally` grouped by bucket: the cells of the first screen's per-study counts."""
+    cols: dict[str, list[dict[str, Any]]] = {b: [] for b in OUTCOME_CLASS}
+    for t in _tally(items):
+        cols[t["bucket"]].append(t)
+    return cols
+
+
+#: The verb of each bucket in the first screen's headline, singular and plural.
+_PHRASE = {"holds": ("holds", "hold"), "does not hold": ("does not hold", "do not hold"),
+           "inconclusive": ("is inconclusive", "are inconclusive"),
+           "depends on reading": ("depends on reading", "depend on reading"),
+           "not comparable": ("is not comparable", "are not comparable")}
+
+
+def _totals(items: list[dict[str, Any]]) -> dict[str, Any]:
+    """The first screen's headline over all studies' claims (items from :func:`_decorate`).
+
+    Examples
+    --------
+    >>> t = _totals(_decorate([{"outcome": "holds"}, {"outcome": "holds", "indicative": True}], "s", "claim"))
+    >>> t["n"], t["buckets"], t["indicative"]
+    (2, [('holds', '2 hold', 'ok')], 1)
+    """
+    buckets = []
+    for b, css in OUTCOME_CLASS.items():
+        n = sum(1 for c in items if c["bucket"] == b)
+        if n:
+            buckets.append((b, f"{n} {_PHRASE[b][n != 1]}", css))
+    return {"n": len(items), "buckets": buckets,
+            "indicative": sum(1 for c in items if c["style"] == "ind"),
+            "reduced": sum(1 for c in items if c["style"] == "reduced")}
+
+
+def _doc_href(out: Path, doc: str) -> str | None:
+    """A link from the report in ``out`` to the study's documentation page ``doc``
+    (``docs/studies/<study>.md``, a path in the repository).
+
+    The built documentation site's page (``docs/_build/html/studies/<study>.html``, made by
+    ``sphinx-build -b html docs docs/_build/html``) where it exists, else the Markdown page in
+    the repository; both as a path relative to ``out``, so the link survives moving the
+    repository with its ``results/`` folder. None when adcskit runs outside a source checkout
+    (an installed wheel has no ``docs/``): the report then shows the path as text.
+    """
+    if not doc:
+        return None
+    import os
+
+    import adcskit
+
+    root = Path(adcskit.__file__).resolve().parents[2]
+    page = Path(doc)
+    built = root / "docs" / "_build" / "html" / page.relative_to("docs").with_suffix(".html") \
+        if page.parts[:1] == ("docs",) else None
+    for target in (built, root / page):
+        if target is not None and target.is_file():
+            try:
+                return Path(os.path.relpath(target, out.resolve())).as_posix()
+            except ValueError:  # another drive (Windows): no relative path exists
+                return target.as_uri()
+    return None
 
 
 def build_report(out: str | Path, *, title: str = "adcskit — reproduction report") -> Path:
@@ -307,8 +409,9 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
                 checks=checks,
                 findings=findings,
                 tally=_tally(claims),
+                columns=_columns(claims),
                 finding_tally=_tally(findings),
-                verdict_class=_verdict_class(claims),
+                doc_href=_doc_href(out, str(data.get("doc") or "")),
                 changes=data.get("config_changes") or {},
                 protocol_differences=data.get("protocol_differences") or {},
                 checks_passed=sum(bool(c.get("passed")) for c in checks),
@@ -319,6 +422,8 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
             )
         sections.append(section)
 
+    ran = [s for s in sections if s.get("data")]
+    all_claims = [c for s in ran for c in s["claims"]]
     env = Environment(autoescape=select_autoescape(["html", "j2"]), trim_blocks=True, lstrip_blocks=True)
     env.filters["fmt"] = format_value
     template_text = resources.files("adcskit.report").joinpath("templates/report.html.j2").read_text(encoding="utf-8")
@@ -330,6 +435,10 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
         machine=html.escape(f"{platform.system()} {platform.machine()}, Python {platform.python_version()}"),
         sections=sections,
         legend=LEGEND,
+        styles=STYLES,
+        verdicts=VERDICTS,
+        total=_totals(all_claims),
+        custom=[s for s in ran if s["changes"]],
         n_studies=len(STUDIES),
         n_paper_studies=sum(1 for i in STUDIES.values() if i.paper in PAPERS),
         papers=PAPERS,
