@@ -98,7 +98,7 @@ def test_custom_run_has_the_banner_at_the_top_and_the_outcome_beside_not_compara
     assert _cells(page)["c-custom"] == ("nc", "not comparable · holds")
     summary = page[page.index('id="summary"'):]
     row = summary[summary.index('href="#wahba-table1"'):]
-    assert '<span class="badge nc" title="1 not comparable">1</span>' in row[:row.index("</tr>")]
+    assert '<span class="badge nc" title="1 not comparable (1 holds)">1</span>' in row[:row.index("</tr>")]
 
 
 def test_docs_link_is_a_relative_path_to_the_page(tmp_path):

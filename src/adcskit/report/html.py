@@ -272,6 +272,9 @@ def _tally(items: list[dict[str, Any]]) -> list[dict[str, Any]]:
             n = sum(1 for c in items if c["bucket"] == bucket and c["style"] == style)
             if n:
                 label = f"{n} {bucket}" + {"": "", "reduced": " (reduced protocol)", "ind": " · indicative"}[style]
+                if bucket == "not comparable":  # the outcomes the custom run got
+                    got = [c.get("outcome", "inconclusive") for c in items if c["bucket"] == bucket]
+                    label += " (" + ", ".join(f"{got.count(o)} {o}" for o in dict.fromkeys(got)) + ")"
                 out.append({"bucket": bucket, "style": style, "n": n, "label": label,
                             "css": f"{OUTCOME_CLASS[bucket]} {style}".strip()})
     return out
@@ -413,7 +416,9 @@ def build_report(out: str | Path, *, title: str = "adcskit — reproduction repo
                 finding_tally=_tally(findings),
                 doc_href=_doc_href(out, str(data.get("doc") or "")),
                 changes=data.get("config_changes") or {},
-                protocol_differences=data.get("protocol_differences") or {},
+                # a key the user changed is shown as a custom setting, not as a reduced protocol
+                protocol_differences={k: v for k, v in (data.get("protocol_differences") or {}).items()
+                                      if k not in (data.get("config_changes") or {})},
                 checks_passed=sum(bool(c.get("passed")) for c in checks),
                 flat_paper=flat_paper,
                 flat_measured=flat_measured,
