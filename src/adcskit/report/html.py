@@ -1,5 +1,12 @@
 """Render ``DIR/index.html`` from the ``DIR/<study>/result.json`` files.
 
+The first screen says, per study, how many of the paper's claims hold, do not hold, are
+inconclusive, depend on reading or are not comparable (a custom run), then the claims matrix
+(one row per claim). An indicative outcome (fewer than 5 seeds, a quick run) keeps its verdict
+and is drawn pale ("does not hold · indicative 0/2"); one decided below the paper's protocol is
+hatched; a custom run reads "not comparable · <the outcome it got>" under a banner at the top.
+Each study links its documentation page (see :func:`_doc_href`).
+
 The page shows, per study: the paper's values beside ours (the study's ``comparison`` rows),
 a verdict per claim, our sanity checks, what we did differently from the paper and why,
 the figures, CSV tables and the resolved configuration. Studies that are registered but
