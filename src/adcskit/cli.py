@@ -7,6 +7,7 @@
     adcskit reproduce [--quick] [--out DIR] [--only A,B] [--seed N] [--executor SPEC] [--jobs N]
     adcskit report DIR                            # rebuild the HTML report from results
     adcskit config STUDY [--quick]                # print the resolved default config as TOML
+    adcskit scenario [--wheels] [--quiet]         # print the default closed-loop scenario as TOML
     adcskit pages [--results DIR] [--check]       # study pages from their committed snapshots
 
 Exit codes: 0 success, 1 a study failed, 2 bad arguments or input, 130 interrupted.
@@ -138,6 +139,10 @@ def build_parser() -> argparse.ArgumentParser:
     p_cfg.add_argument("study")
     p_cfg.add_argument("--quick", action="store_true", help="the --quick settings")
     p_cfg.add_argument("--quiet", action="store_true", help="keys and values only, no comments")
+
+    p_scn = sub.add_parser("scenario", help="print the default closed-loop scenario as TOML (a template for simulate)")
+    p_scn.add_argument("--wheels", action="store_true", help="the wheel + magnetorquer scenario (simulate_wheels)")
+    p_scn.add_argument("--quiet", action="store_true", help="keys and values only, no comments")
     return parser
 
 
@@ -201,6 +206,21 @@ def _cmd_config(args: argparse.Namespace) -> int:
     print(f"# adcskit {__version__}: default config of study {args.study!r}{' (--quick)' if args.quick else ''}")
     print("# The defaults are the paper's settings; a changed key is reported as a custom configuration.")
     print(dump_toml(config_to_dict(cfg), comments=config_help(type(cfg))), end="")
+    return EXIT_OK
+
+
+def _cmd_scenario(args: argparse.Namespace) -> int:
+    from adcskit.simulation import Scenario, WheelScenario, scenario_toml
+
+    sc = WheelScenario() if args.wheels else Scenario()
+    if args.quiet:
+        print(scenario_toml(sc, comments=False), end="")
+        return EXIT_OK
+    func, loader = ("simulate_wheels", "load_wheel_scenario") if args.wheels else ("simulate", "load_scenario")
+    print(f"# adcskit {__version__}: default {type(sc).__name__} of adcskit.simulation.{func}")
+    print(f"# Load with adcskit.simulation.{loader}(PATH); keep only the keys you change: a table's")
+    print("# other keys keep these defaults. Units are in the comments and the key names (_deg, _s, _hz).")
+    print(scenario_toml(sc), end="")
     return EXIT_OK
 
 
@@ -605,6 +625,8 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_list(args.quiet)
         if args.command == "config":
             return _cmd_config(args)
+        if args.command == "scenario":
+            return _cmd_scenario(args)
         if args.command == "pages":
             return _cmd_pages(args)
         if args.command == "report":

@@ -69,7 +69,6 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
@@ -99,6 +98,7 @@ from adcskit.simulation.scenario import (
     SpacecraftSpec,
     ThrusterSpec,
     _check_parts,
+    _load_spec,
     _Spec,
     _triangle_ok,
     _vec,
@@ -720,17 +720,17 @@ class WheelScenario(_Spec):
 def load_wheel_scenario(source: Any = None, overrides: Any = None) -> WheelScenario:
     """A :class:`WheelScenario` from a TOML file path or a mapping (unknown keys are errors).
 
+    A partial file is completed from ``WheelScenario()``: a table sets only the keys it names
+    (``[orbit] altitude_km = 600.0`` keeps the reference's sun-synchronous inclination);
+    ``adcskit scenario --wheels`` prints the full default.
+
     Examples
     --------
     >>> sc = load_wheel_scenario({"sim": {"t_final": 60.0, "metrics_from_s": 30.0}})
     >>> sc.sim.t_final, sc.wheels.n
     (60.0, 4)
     """
-    from adcskit.config import load_config
-
-    if isinstance(source, str) and not Path(source).exists():
-        raise InputError(f"scenario file {source!r} does not exist")
-    return load_config(WheelScenario, source, overrides)
+    return _load_spec(WheelScenario, source, overrides)
 
 
 # ------------------------------------------------------------------------------- results
