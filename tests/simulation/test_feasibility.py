@@ -115,11 +115,63 @@ def test_batched_controllability_equals_the_lp_sample_by_sample(failed):
     work = np.setdiff1d(np.arange(th.n), failed)
     ref = np.array([check_controllability(np.cross(pos, dirs[i]).T[:, [j for j in work if flev[i, j] > 0]]).success
                     for i in range(n)])
-    np.testing.assert_array_equal(feas["controllable"], ref)
+    np.testing.assert_array_equal(feas["span"], ref)
     assert 0 < ref.sum() < n  # dispersions change the answer in both directions of the test
+    # controllable: positive span and >= min_authority_fraction (0.05) of the intact layout's authority
+    np.testing.assert_array_equal(feas["controllable"], ref & (feas["authority"] >= 0.05 * feas["intact"]))
+    assert feas["intact"] == pytest.approx(10.0, rel=1e-12)  # S3 reference at 10 N: 10 N m (closed form below)
     assert feas["nominal"].success == (failed == ())
     assert not feas["first_bad"].success
     assert np.all(feas["authority"][~ref] < 1e-12) and np.all(feas["authority"][ref] > 1e-6)  # N m
+
+
+def test_issue41_sliver_of_authority_is_not_controllable():
+    # issue 41 item 6: 20 dispersed samples (0.5 deg misalignment, 5 % thrust) of S3's reference
+    # layout without thruster 2 (S3 §6); the positive-span test alone called most of them
+    # controllable with at most 1-2 % of the intact layout's 10 N m, and none settles
+    from adcskit._validation import as_rng
+    from adcskit.simulation.core import _controllability_message, _prepare
+
+    disp = DispersionSpec(misalignment_deg=0.5, thrust_rel=0.05)
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, failed=(2,))
+    for seed in range(3):
+        sc = Scenario(thrusters=th, sim=TINY, dispersions=disp)
+        feas = _prepare(sc, 20, as_rng(seed))[0]["feasibility"]
+        assert feas["span"].sum() >= 9 and not feas["controllable"].any()
+        assert np.max(feas["authority"]) < 0.03 * feas["intact"]
+        msg = _controllability_message(sc, feas)
+        assert "only through their misalignment" in msg and "below min_authority_fraction = 0.05" in msg
+        # the fraction is the scenario's: 0 gives back the positive-span answer
+        sc0 = sc.replace(thrusters=th.replace(min_authority_fraction=0.0))
+        feas0 = _prepare(sc0, 20, as_rng(seed))[0]["feasibility"]
+        np.testing.assert_array_equal(feas0["controllable"], feas["span"])
+    # an intact layout dispersed alike keeps far more than 5 % (>= 84 % over 1000 samples)
+    feas = _prepare(Scenario(sim=TINY, dispersions=disp), 1000, as_rng(0))[0]["feasibility"]
+    assert feas["controllable"].all() and np.min(feas["authority"]) > 0.8 * feas["intact"]
+
+
+def test_weak_but_spanning_samples_are_reported():
+    # a nominally controllable layout whose samples keep < 5 % authority: thruster 4's thrust
+    # set to ~0 in a few samples of a layout that needs it (failed directions stay reachable
+    # only through it)
+    from adcskit.simulation.core import _controllability, _controllability_message
+
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
+    n = 6
+    dirs = np.broadcast_to(np.asarray(th.directions), (n, th.n, 3)).copy()
+    flev = np.full((n, th.n), 10.0)
+    flev[:3, 4] = 0.1  # 1 % of the thrust: 1 % of the authority in that direction
+    sc = Scenario(thrusters=th)
+    feas = _controllability(sc, dirs, flev)
+    assert feas["span"].all() and feas["controllable"].tolist() == [False] * 3 + [True] * 3
+    assert "3 of 6 samples have at most" in _controllability_message(sc, feas)
+
+
+def test_min_authority_fraction_validated():
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
+    for bad in (-0.1, 1.0, float("nan")):
+        with pytest.raises(InputError, match="min_authority_fraction"):
+            th.replace(min_authority_fraction=bad)
 
 
 def test_torque_authority_closed_form():
@@ -151,7 +203,9 @@ def test_nominally_uncontrollable_layout_fails_even_where_misalignment_spans():
                   dispersions=DispersionSpec(misalignment_deg=0.5))
     with pytest.warns(UncontrollableWarning, match="only through their misalignment"):
         res = simulate(sc, 16, rng=0)
-    assert 0 < res.controllable.sum() < 16 and not res.success
+    # 9 of 16 span R^3, with at most 1.7 % of the intact 10 N m: none controllable (issue 41)
+    assert 0 < np.count_nonzero(res.parameters["torque_authority"] > 0) < 16
+    assert not res.controllable.any() and not res.success
     # a 3-sigma 0.5 deg tilt of a 14 N m column (sqrt(2) m x 10 N) gives ~0.4 N m; intact: ~9.9 N m
     assert np.max(res.parameters["torque_authority"]) < 0.5
 
