@@ -263,10 +263,11 @@ class ThrusterSpec(_Spec):
         nominal layout's (all thrusters at ``f_max``, no dispersion), in [0, 1). Default 0.05:
         a lost torque direction that only a misalignment ``delta`` tilts back into reach
         gives an authority of order ``sin(delta)`` of the nominal (0.9 % at 0.5 deg; up to
-        2.8 % over 1000 samples of 0.5 deg misalignment with S3's reference layout missing
-        one thruster), which the allocator (it knows only the nominal geometry) does not use;
-        an intact layout dispersed by 5 % thrust and 0.5 deg keeps at least 84 % of it
+        3.2 % over the closed-loop study's 5000 Q1 samples of S3's reference layout
+        missing one thruster), which the allocator (it knows only the nominal geometry) does not use;
+        an intact layout dispersed by 5 % thrust and 0.5 deg keeps at least 79 % of it
         (docs/simulation.md, "Feasibility before flight"). 0 keeps only the positive-span test.
+        Not used by :func:`adcskit.simulation.simulate_wheels` (unloading thrusters).
 
     Examples
     --------
