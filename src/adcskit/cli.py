@@ -267,6 +267,7 @@ def _attempt(name: str, args: argparse.Namespace, executor, config=None) -> tupl
 
 # --- reproduce --jobs N: studies in spawn worker processes --------------------------------
 _CANCEL = None  # multiprocessing Event shared with the parent; set on Ctrl-C
+_STAGES = None  # multiprocessing Queue of stage lines, printed by the parent (None: --quiet)
 _RUNNING = False  # a study is running in this worker (SIGINT interrupts it; idle workers ignore it)
 
 
@@ -275,10 +276,11 @@ def _on_sigint(signum, frame) -> None:
         raise KeyboardInterrupt
 
 
-def _job_init(cancel) -> None:
-    """Initializer of a ``--jobs`` worker process."""
-    global _CANCEL
+def _job_init(cancel, stages=None) -> None:
+    """Initializer of a ``--jobs`` worker process (``stages``: the parent's queue of stage lines)."""
+    global _CANCEL, _STAGES
     _CANCEL = cancel
+    _STAGES = stages
     signal.signal(signal.SIGINT, _on_sigint)
 
 
@@ -308,9 +310,13 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
     try:
         if _CANCEL is not None and _CANCEL.is_set():
             return name, None, None, 0.0, 0.0
-        from adcskit._progress import progress_session
+        from adcskit._progress import forward_status, progress_session
         from adcskit.studies import STUDIES
         from adcskit.uncertainty.executor import make_executor
+
+        if _STAGES is not None:  # this study's stage lines to the parent's console, named
+            put = _STAGES.put
+            forward_status(lambda line: put(line if line.startswith(name) else f"{name}: {line}"))
 
         if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
             STUDIES[name] = info
@@ -377,7 +383,9 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
 
     One line per study as it finishes, then a summary in ``names`` order (each study's wall and
     CPU seconds: a study's CPU against its wall says how much of the cores it had); each study's
-    console output is in ``OUT/logs/STUDY.log``. Ctrl-C cancels the studies not started,
+    console output is in ``OUT/logs/STUDY.log``, and its stage lines (``status``: its start,
+    its stages, and inside a long loop a progress line every
+    :data:`adcskit._progress.FORWARD_EVERY_S` s) are printed here as they come, named. Ctrl-C cancels the studies not started,
     interrupts the running ones (their previous results stay, see :func:`write_result`) and
     keeps every study already written.
     """
@@ -394,7 +402,9 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
     logs.mkdir(exist_ok=True)
     ctx = multiprocessing.get_context("spawn")
     cancel = ctx.Event()
-    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_job_init, initargs=(cancel,))
+    stages = None if args.quiet else ctx.Queue()  # the workers' stage lines, printed here (issue 41)
+    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_job_init,
+                                  initargs=(cancel, stages))
     outcome: dict[str, str] = {}
     t0 = time.perf_counter()
     interrupted = False
@@ -434,7 +444,8 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
             print(f"closed-loop: {CLOSED_LOOP_NOTICE}", flush=True)
     futures: dict = {}
     try:
-        with progress_session(not args.quiet), bar(f"studies ({jobs} at once)", len(order)) as advance:
+        with (progress_session(not args.quiet), _print_stages(stages),
+              bar(f"studies ({jobs} at once)", len(order)) as advance):
             for n in order:
                 log = str(logs / f"{n}.log")
                 futures[pool.submit(_study_job, n, STUDIES.get(n), args, spec, log, threads)] = n
@@ -455,6 +466,30 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
         for n in names:
             print(f"  {n:<{width}}  {outcome.get(n, 'not run')}")
     return interrupted
+
+
+@contextlib.contextmanager
+def _print_stages(stages):
+    """Print the stage lines the ``--jobs`` workers put on ``stages`` (a queue; None: nothing)
+    as they come, from a thread, until the ``with`` block ends."""
+    if stages is None:
+        yield
+        return
+    import threading
+
+    from adcskit._progress import status
+
+    def pump() -> None:
+        while (line := stages.get()) is not None:
+            status(line)
+
+    thread = threading.Thread(target=pump, name="adcskit-stages", daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stages.put(None)
+        thread.join(timeout=5.0)
 
 
 def _cancel_jobs(pool, futures, cancel) -> None:

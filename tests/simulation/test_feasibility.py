@@ -333,3 +333,42 @@ def test_simulate_prints_compile_notice_only_when_cold(monkeypatch, capsys, cold
     with progress_session(True):
         simulate(Scenario(sim=TINY), 1, rng=0)
     assert (CLOSED_LOOP_NOTICE in capsys.readouterr().out) is cold
+
+
+@pytest.mark.parametrize("flag, terminal", [(None, False), (False, False), (None, True), (False, True), (True, False)])
+def test_simulate_progress_keyword(monkeypatch, capsys, flag, terminal):
+    # issue 41 item 3: a plain call shows the compile notice and a bar over the chunks at a
+    # terminal (None) or when asked (True), never with False; the bar appears after
+    # AUTO_DELAY_S (0 here: the test's runs are short). The display's console is recorded.
+    import io
+
+    from rich.console import Console
+    from rich.progress import Progress
+
+    import adcskit._progress as progress
+    from adcskit.errors import InputTypeError
+    from adcskit.simulation import core
+
+    consoles, bars = [], []
+
+    class Recorded(Progress):
+        def add_task(self, description, *args, **kw):
+            bars.append(description)
+            return super().add_task(description, *args, **kw)
+
+    def recorded():
+        console = Console(file=io.StringIO(), force_terminal=terminal, record=True, width=120)
+        consoles.append(console)
+        return Recorded(*Progress.get_default_columns(), console=console)
+
+    monkeypatch.setattr(progress, "_new_progress", recorded)
+    monkeypatch.setattr(progress, "AUTO_DELAY_S", 0.0)
+    monkeypatch.setattr(core, "will_compile", lambda d: True)
+    res = simulate(Scenario(sim=TINY), 2, rng=0, progress=flag)
+    shown = flag is True or (flag is None and terminal)
+    text = consoles[0].export_text() if consoles else ""
+    assert (CLOSED_LOOP_NOTICE in text) is shown
+    assert bars == (["closed-loop samples"] if shown else [])
+    assert res.success and progress._SESSION is None and capsys.readouterr().out == ""
+    with pytest.raises(InputTypeError, match="progress must be True, False or None"):
+        simulate(Scenario(sim=TINY), 1, progress="yes")

@@ -33,7 +33,7 @@ import scipy.linalg
 from scipy.spatial.transform import Rotation, Slerp
 
 from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
-from adcskit._progress import status
+from adcskit._progress import auto_session, progress_flag, status
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.attitude._kernels import quat_multiply as _quat_multiply
@@ -725,6 +725,7 @@ def simulate(
     chunk_size: int | None = None,
     directory: Any = None,
     backend: str = "cpu",
+    progress: bool | None = None,
 ) -> SimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a closed-loop scenario.
 
@@ -758,6 +759,11 @@ def simulate(
         device is usable and the estimator runs there, else the CPU. On a device the results
         agree with the CPU's to rounding (fused multiply-adds); under numba's CUDA simulator
         they are bit-identical.
+    progress : bool or None
+        Progress bar over the chunks (and the compile notice) on the console: ``None``
+        (default) at a terminal or in a notebook only, ``False`` never, ``True`` always. The
+        bar appears once the run has taken :data:`adcskit._progress.AUTO_DELAY_S` (3 s);
+        inside the ``adcskit`` CLI's display the CLI shows it.
 
     Returns
     -------
@@ -805,6 +811,7 @@ def simulate(
         raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    progress = progress_flag(progress)
     target = _resolve_backend(backend, scenario)
     if isinstance(rng, np.random.SeedSequence):
         # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
@@ -832,10 +839,11 @@ def simulate(
         tasks.append(task + ("cuda",) if target == "cuda" else task)
     from adcskit.uncertainty import run_campaign
 
-    if target == "cpu" and will_compile(_k.run_parallel):
-        status(CLOSED_LOOP_NOTICE)
-    camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
-                        description="closed-loop samples")
+    with auto_session(progress):
+        if target == "cpu" and will_compile(_k.run_parallel):
+            status(CLOSED_LOOP_NOTICE)
+        camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                            description="closed-loop samples")
     blocks = camp.values
     out = np.concatenate([b["out"] for b in blocks], axis=0)
     tot = np.concatenate([b["tot"] for b in blocks], axis=0)

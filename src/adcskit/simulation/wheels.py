@@ -74,6 +74,7 @@ from typing import Any, Literal
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from adcskit._progress import auto_session, progress_flag
 from adcskit._targets import resolve_backend
 from adcskit._validation import (
     as_array,
@@ -1266,7 +1267,8 @@ def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shar
 
 def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
                     record: bool = False, chunk_size: int | None = None,
-                    directory: Any = None, backend: str = "cpu") -> WheelSimulationResult:
+                    directory: Any = None, backend: str = "cpu",
+                    progress: bool | None = None) -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
     The samples are split into chunks (tasks of :func:`adcskit.uncertainty.run_campaign`) run
@@ -1301,6 +1303,10 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         device). ``"auto"``: CUDA when a real device is usable, else the CPU. On a device the
         results agree with the CPU's to rounding (the GPU contracts ``a * b + c`` into fused
         multiply-adds); under numba's CUDA simulator they are bit-identical.
+    progress : bool or None
+        Progress bar over the chunks on the console: ``None`` (default) at a terminal or in a
+        notebook only, ``False`` never, ``True`` always; it appears once the run has taken
+        :data:`adcskit._progress.AUTO_DELAY_S` (3 s) (as :func:`adcskit.simulation.simulate`).
 
     Returns
     -------
@@ -1335,6 +1341,7 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         raise InputTypeError(f"scenario must be a WheelScenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    progress = progress_flag(progress)
     target = resolve_backend(backend)
     if isinstance(rng, np.random.SeedSequence):
         rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
@@ -1361,8 +1368,9 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
               seeds[lo:lo + chunk_size], record) for lo in range(0, n, chunk_size)]
     from adcskit.uncertainty import run_campaign
 
-    camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
-                        description="wheel samples", shared=sh)
+    with auto_session(progress):
+        camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                            description="wheel samples", shared=sh)
     blocks = camp.values
     OUT = np.concatenate([b["out"] for b in blocks], axis=0)
     REC = np.concatenate([b["rec"] for b in blocks], axis=0) if record else None
