@@ -12,11 +12,21 @@ sensors, controller and thrusters all in the loop), ``--loop-runs`` samples, see
 dt = 0.05 s, NEES recorded every 0.5 s, each case with the default measurement underweighting
 (p = 0.2) and without it (p = 0, the plain EKF update):
 
-* ``default``: ``Scenario(estimator=EstimatorSpec(kind="mekf", init_error_deg=1.0))`` (LEO
-  hold; sun sensor 1 Hz 0.005°, magnetometer 1 Hz 0.5°, gyro 10 Hz) — issue 23's reproduction;
+* ``default``: ``Scenario(estimator=EstimatorSpec(kind="mekf", init_error_deg=1.0))`` (hold at
+  the identity in the default scenario's GEO orbit, 35786 km, gravity gradient only; S3's GEO
+  satellite and thrusters; sun sensor 1 Hz 0.005°, magnetometer 1 Hz 0.5°, gyro 10 Hz) —
+  issue 23's reproduction;
 * ``slew``: the same with a 30° step about z at t = 5 s (the gyro rate and the sensor
   geometry change during the estimation transient);
 * ``star-tracker``: no sun sensor or magnetometer, a 10 arcsec star tracker at 1 Hz.
+
+Perfect-knowledge baseline (``--baseline``): the ``default`` case with ``estimator.kind =
+"truth"`` (no initial error; a true 1° initial attitude error per axis), beside the MEKF with
+a 1° and a 0.01° prior, p = 0.2 and 0 (:data:`BASELINES`).
+
+NIS (``--nis``): the standalone scenario through the stepping filter, the mean NIS as the
+filter reports it (underweighted updates use the inflated variance) beside the plain NIS
+``νᵀ (H P Hᵀ + σ² I)⁻¹ ν`` of the same prior (:func:`run_nis`).
 
 Remedy choice (``--choice``): the standalone filter on a static analogue of ``default`` (two
 fixed directions at 1 Hz with σ = 0.005° and 0.5°, the simulator's default gyro at 10 Hz,
@@ -30,7 +40,7 @@ For the closed-loop cases: the ensemble-mean NEES at 1 s, its time mean over 100
 
 Usage: python benchmarks/mekf_consistency.py [--runs N] [--seeds S] [--json PATH]
        [--choice] [--choice-init D,D] [--loop] [--loop-sweep P,P] [--loop-runs N]
-       [--figure PATH] [--no-standalone]
+       [--figure PATH] [--no-standalone] [--baseline] [--nis]
 """
 
 from __future__ import annotations
@@ -62,7 +72,8 @@ def _rotvec_quat(r):
     return np.concatenate([s * r, np.cos(a / 2)], axis=-1)
 
 
-def run(N: int, seed: int) -> dict:
+def _standalone_data(N: int, seed: int):
+    """Truth, gyro readings and vector measurements of the standalone scenario (seeded)."""
     rng = np.random.default_rng(seed)
     r = np.array([[1.0, 0.2, -0.1], [0.1, 1.0, 0.4]])
     r /= np.linalg.norm(r, axis=1, keepdims=True)
@@ -86,6 +97,11 @@ def run(N: int, seed: int) -> dict:
     for i in range(2):
         v = np.einsum("ntij,j->nti", A, r[i]) + SIG[i] * rng.standard_normal(A.shape[:2] + (3,))
         body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    return r, q_hat0, b_hat0, qt, bt, gyro, body
+
+
+def run(N: int, seed: int) -> dict:
+    r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
     res = mekf_filter(q_hat0, b_hat0, P0, np.arange(T) * DT, gyro, body,
                       np.broadcast_to(r, (T, 2, 3)), SIG, sigma_v=SV, sigma_u=SU, q_true=qt,
                       b_true=bt)
@@ -159,16 +175,68 @@ def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
     return rows
 
 
+def _plain_nis(f, v_body, v_ref, sigma) -> float:
+    """NIS of one vector measurement against the filter's prior, ``νᵀ (H P Hᵀ + σ² I)⁻¹ ν``
+    (``ν = b̃ − A(q̂) r``, ``H = [[A(q̂) r ×], 0]``): the textbook statistic, whatever the update
+    then does. For a plain (not underweighted) update it equals the kernel's sequential
+    ``Σ ν_i² / s_i`` (the sequential scalar updates are the 3-vector update)."""
+    b_hat = quat_to_dcm(f.q) @ v_ref
+    nu = v_body / np.linalg.norm(v_body) - b_hat
+    bx = np.array([[0.0, -b_hat[2], b_hat[1]], [b_hat[2], 0.0, -b_hat[0]], [-b_hat[1], b_hat[0], 0.0]])
+    S = bx @ f.P[:3, :3] @ bx.T + sigma**2 * np.eye(3)
+    return float(nu @ np.linalg.solve(S, nu))
+
+
+def run_nis(N: int, seed: int, underweight: float = 0.2) -> dict:
+    """Mean NIS of the standalone scenario as the filter reports it (with underweighting the
+    inflated ``S = (1 + p) h P hᵀ + σ²`` while ``h P hᵀ > σ²``) and the plain NIS
+    (:func:`_plain_nis`, computed before each update of the stepping filter), over the whole
+    run and over 100-300 s, against the χ²(2 M)/M 95 % band of the M values' mean."""
+    from adcskit.estimation import MultiplicativeEKF
+
+    r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
+    rep = np.full((N, T, 2), np.nan)
+    plain = np.full((N, T, 2), np.nan)
+    for k in range(N):
+        f = MultiplicativeEKF(q_hat0[k], b_hat0[k], P0, sigma_v=SV, sigma_u=SU, underweight=underweight)
+        for t in range(T):
+            if t > 0:
+                f.propagate(gyro[k, t - 1], DT)
+            for j in range(2):
+                if np.isfinite(body[k, t, j, 0]):
+                    plain[k, t, j] = _plain_nis(f, body[k, t, j], r[j], SIG[j])
+                    rep[k, t, j] = f.update_vector(body[k, t, j], r[j], SIG[j])
+    out = {"seed": seed, "runs": N, "underweight": underweight}
+    for label, sl in (("whole_run", slice(None)), ("after_100s", slice(1000, None))):
+        a, b = rep[:, sl], plain[:, sl]
+        m = int(np.count_nonzero(np.isfinite(a)))
+        lo, hi = chi2_band(2, m)
+        out[label] = {"count": m, "band_95": [lo, hi], "nis_reported": float(np.nanmean(a)),
+                      "nis_plain": float(np.nanmean(b)),
+                      "epochs_inflated": int(np.count_nonzero(np.abs(a - b) > 1e-6 * np.abs(b)))}
+    return out
+
+
 LOOP_CASES = ("default", "slew", "star-tracker")
 
 
-def loop_scenario(case: str, underweight: float):
-    """The closed-loop scenario of one ``--loop`` case (see the module docstring)."""
-    from adcskit.simulation import EstimatorSpec, GuidanceSpec, Scenario, SensorSpec, SimSpec
+def loop_scenario(case: str, underweight: float, *, init_error_deg: float = 1.0, kind: str = "mekf",
+                  initial_attitude_deg: float = 0.0):
+    """The closed-loop scenario of one ``--loop`` case (see the module docstring); ``kind``,
+    ``init_error_deg`` and ``initial_attitude_deg`` (the true attitude's dispersion per
+    axis) for the ``--baseline`` cases."""
+    from adcskit.simulation import (
+        DispersionSpec,
+        EstimatorSpec,
+        GuidanceSpec,
+        Scenario,
+        SensorSpec,
+        SimSpec,
+    )
 
-    est = EstimatorSpec(kind="mekf", init_error_deg=1.0, underweight=underweight)
+    est = EstimatorSpec(kind=kind, init_error_deg=init_error_deg, underweight=underweight)
     sim = SimSpec(dt=0.05, t_final=300.0, metrics_from_s=100.0, record_every=10)
-    kw = {}
+    kw = {"dispersions": DispersionSpec(initial_attitude_deg=initial_attitude_deg)} if initial_attitude_deg else {}
     if case == "slew":
         kw["guidance"] = GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 30.0), t_step=5.0)
     elif case == "star-tracker":
@@ -177,10 +245,10 @@ def loop_scenario(case: str, underweight: float):
     return Scenario(estimator=est, sim=sim, **kw)
 
 
-def run_loop(case: str, underweight: float, N: int) -> dict:
+def run_loop(case: str, underweight: float, N: int, **kw) -> dict:
     from adcskit.simulation import simulate
 
-    res = simulate(loop_scenario(case, underweight), N, rng=7, record=True)
+    res = simulate(loop_scenario(case, underweight, **kw), N, rng=7, record=True)
     nees = res.trace[:, :, res.channels.index("nees")]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # t = 0: no NEES recorded yet
@@ -201,9 +269,22 @@ def run_loop(case: str, underweight: float, N: int) -> dict:
         "rms_error_deg_mean": float(np.mean(res.metrics["pointing_rms_deg"])),
         "propellant_mean": float(np.mean(res.metrics["propellant_kg"])),
         "knowledge_rms_deg_mean": float(np.mean(res.metrics["knowledge_rms_deg"])),
+        "fired_fraction": float(np.mean(res.metrics["propellant_kg"] > 0)),
         "t": res.t.tolist(),
         "mean_nees": mean.tolist(),
     }
+
+
+#: ``--baseline``: the ``default`` case's cost of the estimator beside perfect knowledge
+#: (label, run_loop keywords).
+BASELINES = (
+    ("truth, no initial error", {"kind": "truth", "underweight": 0.2}),
+    ("truth, 1° initial attitude error per axis", {"kind": "truth", "underweight": 0.2, "initial_attitude_deg": 1.0}),
+    ("MEKF 1° prior, p = 0.2", {"underweight": 0.2}),
+    ("MEKF 1° prior, p = 0", {"underweight": 0.0}),
+    ("MEKF 0.01° prior, p = 0.2", {"underweight": 0.2, "init_error_deg": 0.01}),
+    ("MEKF 0.01° prior, p = 0", {"underweight": 0.0, "init_error_deg": 0.01}),
+)
 
 
 def loop_figure(rows: list[dict], path: str) -> None:
@@ -243,6 +324,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--choice", action="store_true", help="underweighting factors vs Wahba initialisation")
     ap.add_argument("--choice-init", default="1", help="prior sigmas [deg] of --choice, comma-separated")
     ap.add_argument("--loop-sweep", metavar="P,P,...", help="closed-loop default case for these p only")
+    ap.add_argument("--baseline", action="store_true",
+                    help="closed-loop default case: MEKF priors and p beside perfect knowledge (truth)")
+    ap.add_argument("--nis", action="store_true", help="standalone: reported vs plain NIS (stepping filter)")
     args = ap.parse_args(argv)
     out = [] if args.no_standalone else [run(args.runs, seed) for seed in range(args.seeds)]
     for o in out:
@@ -253,6 +337,16 @@ def main(argv: list[str] | None = None) -> list[dict]:
               f"bias rms {o['final_bias_rms_rad_s']:.2e} (filter σ {o['final_bias_sigma_filter_rad_s']:.2e}); "
               f"attitude rms {o['final_attitude_rms_rad']:.2e} rad "
               f"(filter σ {o['final_attitude_sigma_filter_rad']:.2e})", flush=True)
+    nis_rows = []
+    if args.nis:
+        for seed in range(args.seeds):
+            o = run_nis(args.runs, seed)
+            nis_rows.append(o)
+            for label in ("whole_run", "after_100s"):
+                w = o[label]
+                print(f"nis seed {seed} {label:10s}: reported {w['nis_reported']:.4f}, plain {w['nis_plain']:.4f}; "
+                      f"band [{w['band_95'][0]:.4f}, {w['band_95'][1]:.4f}] of {w['count']} values; "
+                      f"{w['epochs_inflated']} underweighted updates", flush=True)
     choice_rows = []
     if args.choice:
         for init, seed in ((float(i), s) for i in args.choice_init.split(",") for s in (0, 1)):
@@ -271,6 +365,15 @@ def main(argv: list[str] | None = None) -> list[dict]:
                   f"{r['time_mean_nees_100_300s']:.3f} in={r['time_mean_in_band']}; pointing rms "
                   f"{r['rms_error_deg_mean']:.4f} deg; knowledge rms {r['knowledge_rms_deg_mean']:.4f} deg; "
                   f"propellant {r['propellant_mean']:.4g}", flush=True)
+    if args.baseline:
+        for label, kw in BASELINES:
+            r = run_loop("default", N=args.loop_runs, **kw)
+            r["case"] = f"baseline: {label}"
+            loop_rows.append(r)
+            print(f"baseline {label:42s}: pointing rms {r['rms_error_deg_mean']:.4f} deg; propellant "
+                  f"{r['propellant_mean']:.4g} kg; fired {100 * r['fired_fraction']:.0f} % of samples; knowledge rms "
+                  f"{r['knowledge_rms_deg_mean']:.4f} deg; NEES time mean {r['time_mean_nees_100_300s']:.3f}",
+                  flush=True)
     if args.loop:
         for case in LOOP_CASES:
             for uw in (0.2, 0.0):
@@ -286,9 +389,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
             loop_figure(loop_rows, args.figure)
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(out + choice_rows + [{k: v for k, v in r.items() if k not in ("t", "mean_nees")} for r in loop_rows],
+            json.dump(out + nis_rows + choice_rows + [{k: v for k, v in r.items() if k not in ("t", "mean_nees")} for r in loop_rows],
                       fh, indent=2)
-    return out + choice_rows + loop_rows
+    return out + nis_rows + choice_rows + loop_rows
 
 
 if __name__ == "__main__":
