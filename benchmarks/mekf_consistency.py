@@ -24,8 +24,9 @@ Perfect-knowledge baseline (``--baseline``): the ``default`` case with ``estimat
 "truth"`` (no initial error; a true 1° initial attitude error per axis), beside the MEKF with
 a 1° and a 0.01° prior, p = 0.2 and 0 (:data:`BASELINES`).
 
-NIS (``--nis``): the standalone scenario through the stepping filter, the mean NIS as the
-filter reports it (underweighted updates use the inflated variance) beside the plain NIS
+NIS (``--nis standalone,static-default``): the standalone scenario, or the static analogue
+of ``default`` (below), through the stepping filter with p = 0.2 and p = 0, the mean NIS as
+the filter reports it (underweighted updates use the inflated variance) beside the plain NIS
 ``νᵀ (H P Hᵀ + σ² I)⁻¹ ν`` of the same prior (:func:`run_nis`).
 
 Remedy choice (``--choice``): the standalone filter on a static analogue of ``default`` (two
@@ -40,7 +41,7 @@ For the closed-loop cases: the ensemble-mean NEES at 1 s, its time mean over 100
 
 Usage: python benchmarks/mekf_consistency.py [--runs N] [--seeds S] [--json PATH]
        [--choice] [--choice-init D,D] [--loop] [--loop-sweep P,P] [--loop-runs N]
-       [--figure PATH] [--no-standalone] [--baseline] [--nis]
+       [--figure PATH] [--no-standalone] [--baseline] [--nis CASES]
 """
 
 from __future__ import annotations
@@ -129,26 +130,9 @@ def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
     (prior σ ``init_deg`` per axis)."""
     from adcskit.determination import solve_wahba
 
-    sv, su, dt, T = 3.16e-7, 3.16e-10, 0.1, 3001
-    sig = np.radians([0.005, 0.5])
-    p0 = np.diag([np.radians(init_deg) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
-    rng = np.random.default_rng(seed)
-    r = np.array([[1.0, 0.2, -0.1], [0.3, 1.0, 0.4]])
-    r /= np.linalg.norm(r, axis=1, keepdims=True)
-    q_hat0 = random_quat(N, rng=rng)
-    x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
-    q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
-    qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
-    bt = np.empty((N, T, 3))
-    gyro = np.empty((N, T, 3))
-    for k in range(N):
-        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
-        gyro[k], bt[k] = m.omega, m.bias
-    body = np.full((N, T, 2, 3), np.nan)
-    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
-    for i in range(2):
-        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
-        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    r, q_hat0, p0, qt, bt, gyro, body = _choice_data(N, seed, init_deg)
+    sv, su, dt, T = CHOICE_SV, CHOICE_SU, 0.1, 3001
+    sig = CHOICE_SIG
     t = np.arange(T) * dt
     ref = np.broadcast_to(r, (T, 2, 3))
     lo, hi = chi2_band(6, N)
@@ -175,6 +159,36 @@ def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
     return rows
 
 
+#: The static analogue of the closed-loop ``default`` case (``--choice``): the simulator's
+#: default gyro (σv, σu) and the sun sensor's and magnetometer's σ.
+CHOICE_SV, CHOICE_SU, CHOICE_SIG = 3.16e-7, 3.16e-10, np.radians([0.005, 0.5])
+
+
+def _choice_data(N: int, seed: int, init_deg: float = 1.0):
+    """Truth, gyro readings and vectors of the static analogue (prior σ ``init_deg``)."""
+    sv, su, dt, T = CHOICE_SV, CHOICE_SU, 0.1, 3001
+    sig = CHOICE_SIG
+    p0 = np.diag([np.radians(init_deg) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
+    rng = np.random.default_rng(seed)
+    r = np.array([[1.0, 0.2, -0.1], [0.3, 1.0, 0.4]])
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    q_hat0 = random_quat(N, rng=rng)
+    x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
+    q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
+    qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
+    bt = np.empty((N, T, 3))
+    gyro = np.empty((N, T, 3))
+    for k in range(N):
+        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
+        gyro[k], bt[k] = m.omega, m.bias
+    body = np.full((N, T, 2, 3), np.nan)
+    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
+    for i in range(2):
+        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
+        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    return r, q_hat0, p0, qt, bt, gyro, body
+
+
 def _plain_nis(f, v_body, v_ref, sigma) -> float:
     """NIS of one vector measurement against the filter's prior, ``νᵀ (H P Hᵀ + σ² I)⁻¹ ν``
     (``ν = b̃ − A(q̂) r``, ``H = [[A(q̂) r ×], 0]``): the textbook statistic, whatever the update
@@ -187,26 +201,34 @@ def _plain_nis(f, v_body, v_ref, sigma) -> float:
     return float(nu @ np.linalg.solve(S, nu))
 
 
-def run_nis(N: int, seed: int, underweight: float = 0.2) -> dict:
+def run_nis(N: int, seed: int, underweight: float = 0.2, case: str = "standalone") -> dict:
     """Mean NIS of the standalone scenario as the filter reports it (with underweighting the
     inflated ``S = (1 + p) h P hᵀ + σ²`` while ``h P hᵀ > σ²``) and the plain NIS
     (:func:`_plain_nis`, computed before each update of the stepping filter), over the whole
-    run and over 100-300 s, against the χ²(2 M)/M 95 % band of the M values' mean."""
+    run and over 100-300 s, against the χ²(2 M)/M 95 % band of the M values' mean.
+    ``case``: ``"standalone"`` (σ = 1, 2 mrad, :func:`run`) or ``"static-default"`` (the
+    1° static analogue of the closed-loop ``default`` case, σ = 0.005° and 0.5°,
+    :func:`run_choice`)."""
     from adcskit.estimation import MultiplicativeEKF
 
-    r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
+    if case == "standalone":
+        r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
+        p0, sv, su, sig = np.broadcast_to(P0, (N, 6, 6)), SV, SU, SIG
+    else:
+        r, q_hat0, p0, qt, bt, gyro, body = _choice_data(N, seed, 1.0)
+        b_hat0, p0, sv, su, sig = np.zeros((N, 3)), np.broadcast_to(p0, (N, 6, 6)), CHOICE_SV, CHOICE_SU, CHOICE_SIG
     rep = np.full((N, T, 2), np.nan)
     plain = np.full((N, T, 2), np.nan)
     for k in range(N):
-        f = MultiplicativeEKF(q_hat0[k], b_hat0[k], P0, sigma_v=SV, sigma_u=SU, underweight=underweight)
+        f = MultiplicativeEKF(q_hat0[k], b_hat0[k], p0[k], sigma_v=sv, sigma_u=su, underweight=underweight)
         for t in range(T):
             if t > 0:
                 f.propagate(gyro[k, t - 1], DT)
             for j in range(2):
                 if np.isfinite(body[k, t, j, 0]):
-                    plain[k, t, j] = _plain_nis(f, body[k, t, j], r[j], SIG[j])
-                    rep[k, t, j] = f.update_vector(body[k, t, j], r[j], SIG[j])
-    out = {"seed": seed, "runs": N, "underweight": underweight}
+                    plain[k, t, j] = _plain_nis(f, body[k, t, j], r[j], sig[j])
+                    rep[k, t, j] = f.update_vector(body[k, t, j], r[j], sig[j])
+    out = {"seed": seed, "runs": N, "underweight": underweight, "case": case}
     for label, sl in (("whole_run", slice(None)), ("after_100s", slice(1000, None))):
         a, b = rep[:, sl], plain[:, sl]
         m = int(np.count_nonzero(np.isfinite(a)))
@@ -326,7 +348,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--loop-sweep", metavar="P,P,...", help="closed-loop default case for these p only")
     ap.add_argument("--baseline", action="store_true",
                     help="closed-loop default case: MEKF priors and p beside perfect knowledge (truth)")
-    ap.add_argument("--nis", action="store_true", help="standalone: reported vs plain NIS (stepping filter)")
+    ap.add_argument("--nis", metavar="CASE,CASE", help="reported vs plain NIS (stepping filter) of these cases: "
+                    "standalone, static-default")
     args = ap.parse_args(argv)
     out = [] if args.no_standalone else [run(args.runs, seed) for seed in range(args.seeds)]
     for o in out:
@@ -338,13 +361,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
               f"attitude rms {o['final_attitude_rms_rad']:.2e} rad "
               f"(filter σ {o['final_attitude_sigma_filter_rad']:.2e})", flush=True)
     nis_rows = []
-    if args.nis:
+    for case, uw in ((c, p) for c in (args.nis.split(",") if args.nis else ()) for p in (0.2, 0.0)):
         for seed in range(args.seeds):
-            o = run_nis(args.runs, seed)
+            o = run_nis(args.runs, seed, underweight=uw, case=case)
             nis_rows.append(o)
             for label in ("whole_run", "after_100s"):
                 w = o[label]
-                print(f"nis seed {seed} {label:10s}: reported {w['nis_reported']:.4f}, plain {w['nis_plain']:.4f}; "
+                print(f"nis {case} p={uw:g} seed {seed} {label:10s}: reported {w['nis_reported']:.4f}, plain {w['nis_plain']:.4f}; "
                       f"band [{w['band_95'][0]:.4f}, {w['band_95'][1]:.4f}] of {w['count']} values; "
                       f"{w['epochs_inflated']} underweighted updates", flush=True)
     choice_rows = []
