@@ -116,10 +116,11 @@ def progress_flag(progress: object) -> bool | None:
 
     if isinstance(progress, np.bool_):
         return bool(progress)
-    from adcskit._validation import short_repr
     from adcskit.errors import InputTypeError
 
-    raise InputTypeError(f"progress must be True, False or None (on at a terminal); got {short_repr(progress)}")
+    text = repr(progress)
+    text = text if len(text) <= 60 else text[:57] + "..."
+    raise InputTypeError(f"progress must be True, False or None (on at a terminal); got {text}")
 
 
 def forward_status(sink: Callable[[str], None] | None) -> None:
