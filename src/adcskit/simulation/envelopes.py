@@ -333,9 +333,9 @@ def _draw(ax: Any, e: Envelope, v: np.ndarray, worst: np.ndarray, worst_by: str,
     ax.grid(True, which="major", alpha=0.3)
 
 
-#: A log-scale panel spans at most this many decades below its largest value: an error that
-#: starts at exactly 0 (a hold from the reference attitude) or at rounding level (1e-14 deg)
-#: would otherwise stretch the axis over 12 empty decades.
+#: A log-scale panel spans at most this many decades below its largest value: errors at
+#: rounding level (true knowledge before a step: 2e-15 deg) would otherwise stretch the axis
+#: over a dozen empty decades.
 LOG_DECADES = 4
 
 
