@@ -1,8 +1,7 @@
 from dataclasses import replace
 
-import fake_study
-
 import adcskit._progress as progress
+import fake_study
 
 
 def run(config, **kw):

@@ -167,6 +167,25 @@ def test_weak_but_spanning_samples_are_reported():
     assert "3 of 6 samples have at most" in _controllability_message(sc, feas)
 
 
+def test_layout_without_authority_even_intact():
+    # torques +-x, +-y, +z (rotated off the body axes): the intact layout cannot push along -z,
+    # its in-radius is 0 (3e-16 by rounding, read as 0), so the fraction asks nothing more; a
+    # 10 deg misalignment tilts some samples into a positive span, the only test left
+    from scipy.spatial.transform import Rotation
+
+    from adcskit.simulation.core import _controllability, _controllability_message
+
+    A = np.array([[1.0, -1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0]])
+    th = ThrusterSpec.from_torque_matrix(Rotation.from_rotvec([0.4, 0.3, 0.0]).as_matrix() @ A)
+    dirs = _layout_dirs(th, 40, 10.0, seed=1)
+    sc = Scenario(thrusters=th)
+    feas = _controllability(sc, dirs, np.full((40, th.n), 10.0))
+    assert feas["intact"] == 0.0 and not feas["nominal"].success and 0 < feas["span"].sum() < 40
+    np.testing.assert_array_equal(feas["controllable"], feas["span"])
+    msg = _controllability_message(sc, feas)
+    assert "span every direction only through their misalignment" in msg and "% of the intact" not in msg
+
+
 def test_min_authority_fraction_validated():
     th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
     for bad in (-0.1, 1.0, float("nan")):

@@ -479,7 +479,10 @@ def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> 
     nominal = check_controllability(A0) if cols.size else None
     A = np.swapaxes(np.cross(pos[None], dirs), 1, 2)[:, :, cols] * flev[:, None, cols]  # (n, 3, k), N m
     auth = _torque_authority(A)
-    intact = float(_torque_authority((np.cross(pos, np.asarray(th.directions)).T * th.f_max)[None])[0])
+    A1 = np.cross(pos, np.asarray(th.directions)).T * th.f_max  # every thruster, no dispersion
+    intact = float(_torque_authority(A1[None])[0])
+    if not intact > 1e-9 * float(np.max(np.linalg.norm(A1, axis=0))):
+        intact = 0.0  # no positive span even intact (rounding-level in-radius): the fraction asks nothing
     big = np.max(np.linalg.norm(A, axis=1), axis=1) if cols.size else np.zeros(n)
     span = auth > 1e-9 * big
     ok = span & (auth >= th.min_authority_fraction * intact)
@@ -508,10 +511,10 @@ def _controllability_message(scenario: Scenario, feas: dict[str, Any]) -> str:
             tail = "no sample can produce torque in every direction"
         else:
             top = float(np.max(auth[span]))
+            pct = f" ({100 * top / intact:.2g} % of the intact layout's)" if intact > 0 else ""
             tail = (f"{n_span} of {ok.size} dispersed samples span every direction only through their misalignment, "
-                    f"with at most {top:.3g} N m ({100 * top / intact:.2g} % of the intact layout's) in their weakest "
-                    f"direction" + (f", {rule}" if n_ok == 0 else f"; {n_ok} of them reach "
-                                    f"min_authority_fraction = {frac:g}"))
+                    f"with at most {top:.3g} N m{pct} in their weakest direction"
+                    + (f", {rule}" if n_ok == 0 else f"; {n_ok} of them reach min_authority_fraction = {frac:g}"))
         return f"the thruster layout{failed} cannot produce torque in every direction: {nominal.message}; {tail}"
     if n_ok == ok.size:
         return ""
