@@ -204,10 +204,13 @@ class DisturbanceSpec(_Spec):
     Attributes
     ----------
     constant : 3 floats, N m
+        Constant part ``d0`` per body axis.
     amplitude : 3 floats, N m
+        Amplitude ``a`` of the sinusoid per body axis.
     period_s : float, s
         Period of the sinusoid; 0 means one orbit period (solar-pressure-like, S3 §2).
     phase_deg : 3 floats, deg
+        Phase of the sinusoid per body axis.
 
     Examples
     --------
@@ -520,6 +523,7 @@ class GuidanceSpec(_Spec):
     Attributes
     ----------
     kind : {"hold", "step", "table"}
+        Reference attitude: the identity, a step at ``t_step``, or a time table.
     target_rotvec_deg : 3 floats, deg
         ``step``: rotation vector of the target attitude from the identity.
     t_step : float, s
@@ -687,6 +691,7 @@ class DispersionSpec(_Spec):
     initial_rate_deg_s : float
         Std per axis of the initial rate.
     sampling : {"lhs", "random"}
+        Latin-hypercube or plain random draws.
 
     Examples
     --------
@@ -721,6 +726,7 @@ class SimSpec(_Spec):
     dt : float, s
         Integration step (RK4; thruster lag exact for a held command).
     t_final : float, s
+        Duration of each sample's run.
     metrics_from_s : float, s
         Pointing statistics (mean, RMS, max, per-axis RMS) and knowledge error over
         ``[metrics_from_s, t_final]``.

@@ -614,12 +614,25 @@ class WheelScenario(_Spec):
     ----------
     spacecraft : SpacecraftSpec
         Inertia without the wheels' axial inertia, kg m^2.
-    orbit, disturbance, sensors, sim
-        As in :class:`~adcskit.simulation.Scenario` (``sensors.mag_noise_deg`` is the
+    orbit : OrbitSpec
+        Circular orbit, epoch and environment models (as in :class:`~adcskit.simulation.Scenario`).
+    disturbance : DisturbanceSpec
+        Body-frame disturbance torque.
+    sensors : SensorSpec
+        Sun sensor, magnetometer, gyro and star tracker (``mag_noise_deg`` is the
         per-component std relative to ``|B|``, in the angle it subtends).
-    wheels, magnetorquers, control, modes, dispersions
-        See :class:`WheelSpec`, :class:`MagnetorquerSpec`, :class:`WheelControlSpec`,
-        :class:`ModeSpec`, :class:`WheelDispersionSpec`.
+    sim : SimSpec
+        Time grid and metrics.
+    wheels : WheelSpec
+        Reaction wheels.
+    magnetorquers : MagnetorquerSpec
+        Torque rods (B-dot and magnetic unloading).
+    control : WheelControlSpec
+        Wheel control law, gains and allocation.
+    modes : ModeSpec
+        Mode sequence detumble -> sun -> point.
+    dispersions : WheelDispersionSpec
+        Monte-Carlo dispersions.
     estimator : EstimatorSpec or None
         ``None`` (default): the knowledge is the raw sensors' (the last star-tracker
         quaternion propagated with the gyro; the truth without a star tracker) and the
