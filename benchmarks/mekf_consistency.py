@@ -243,10 +243,10 @@ LOOP_CASES = ("default", "slew", "star-tracker")
 
 
 def loop_scenario(case: str, underweight: float, *, init_error_deg: float = 1.0, kind: str = "mekf",
-                  initial_attitude_deg: float = 0.0):
+                  initial_attitude_deg: float = 0.0, initial_rotvec_deg: tuple = (0.0, 0.0, 0.0)):
     """The closed-loop scenario of one ``--loop`` case (see the module docstring); ``kind``,
-    ``init_error_deg`` and ``initial_attitude_deg`` (the true attitude's dispersion per
-    axis) for the ``--baseline`` cases."""
+    ``init_error_deg``, ``initial_attitude_deg`` (the true attitude's dispersion per axis) and
+    ``initial_rotvec_deg`` (the true initial attitude) for the ``--baseline`` cases."""
     from adcskit.simulation import (
         DispersionSpec,
         EstimatorSpec,
@@ -264,7 +264,7 @@ def loop_scenario(case: str, underweight: float, *, init_error_deg: float = 1.0,
     elif case == "star-tracker":
         kw["sensors"] = SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=1.0,
                                    star_tracker_noise_arcsec=10.0)
-    return Scenario(estimator=est, sim=sim, **kw)
+    return Scenario(estimator=est, sim=sim, initial_rotvec_deg=initial_rotvec_deg, **kw)
 
 
 def run_loop(case: str, underweight: float, N: int, **kw) -> dict:
@@ -302,6 +302,10 @@ def run_loop(case: str, underweight: float, N: int, **kw) -> dict:
 BASELINES = (
     ("truth, no initial error", {"kind": "truth", "underweight": 0.2}),
     ("truth, 1° initial attitude error per axis", {"kind": "truth", "underweight": 0.2, "initial_attitude_deg": 1.0}),
+    *((f"truth, 1° initial rotation about {name}", {"kind": "truth", "underweight": 0.2,
+                                                   "initial_rotvec_deg": tuple(float(x) for x in axis)})
+      for name, axis in (("x", (1, 0, 0)), ("y", (0, 1, 0)), ("z", (0, 0, 1)),
+                         ("(1,1,1)", np.ones(3) / np.sqrt(3)))),
     ("MEKF 1° prior, p = 0.2", {"underweight": 0.2}),
     ("MEKF 1° prior, p = 0", {"underweight": 0.0}),
     ("MEKF 0.01° prior, p = 0.2", {"underweight": 0.2, "init_error_deg": 0.01}),
