@@ -110,3 +110,10 @@ def test_short_call_draws_no_bar(capsys):
         for _ in progress.track(range(2), "samples"):
             pass
     assert "samples" not in capsys.readouterr().out
+
+
+def test_simulate_wheels_validates_progress_before_running():
+    from adcskit.simulation import WheelScenario, simulate_wheels
+
+    with pytest.raises(InputTypeError, match="progress must be True, False or None"):
+        simulate_wheels(WheelScenario(), 1, progress=1)
