@@ -281,6 +281,8 @@ def _job_init(cancel, stages=None) -> None:
     global _CANCEL, _STAGES
     _CANCEL = cancel
     _STAGES = stages
+    if stages is not None:
+        stages.cancel_join_thread()  # an exiting worker never waits for the parent to read its stage lines
     signal.signal(signal.SIGINT, _on_sigint)
 
 
