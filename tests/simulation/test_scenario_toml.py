@@ -38,6 +38,18 @@ def test_partial_wheel_table_keeps_the_scenario_default_not_the_class_default():
     assert sc.orbit.inclination_deg == 97.4
 
 
+def test_keys_sized_by_another_follow_it():
+    # a part equal to its class default (WheelScenario's wheels: the 4-wheel pyramid) is left to
+    # the class: three axes get three inertias and speeds, not the pyramid's four
+    sc = load_wheel_scenario({"wheels": {"axes": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}})
+    assert sc.wheels.n == 3 and sc.wheels.inertia_kgm2 == (2.4e-5,) * 3
+    # the wheel reference's time grid is inherited (dt 0.2 s, not SimSpec's 0.02 s), so a
+    # shorter t_final needs its own metrics window; the error says where the rest comes from
+    assert load_wheel_scenario({"sim": {"t_final": 60.0, "metrics_from_s": 30.0}}).sim.dt == 0.2
+    with pytest.raises(ConfigError, match=r"metrics_from_s.*'adcskit scenario --wheels' prints them"):
+        load_wheel_scenario({"sim": {"t_final": 60.0}})
+
+
 def test_overrides_go_under_the_source():
     sc = load_scenario({"sim": {"t_final": 30.0}}, overrides={"sim": {"t_final": 40.0, "metrics_from_s": 5.0}})
     assert (sc.sim.t_final, sc.sim.metrics_from_s, sc.sim.dt) == (30.0, 5.0, Scenario().sim.dt)

@@ -878,11 +878,40 @@ class Scenario(_Spec):
             raise InputError("thrusters.failed holds an index beyond the layout")
 
 
+def _inherited(scenario: Any) -> dict[str, Any]:
+    """What a partial file inherits from the default ``scenario``, part by part: every key of
+    a part whose class has no default of its own (``ThrusterSpec``: the layout), else the keys
+    where the scenario's default part differs from its class's default (``WheelScenario``'s
+    500 km sun-synchronous orbit). Keys equal to the class default are left to the class, so
+    that values sized by another key follow it (``[wheels]`` with three ``axes`` gets three
+    wheel inertias, not the default pyramid's four)."""
+    from dataclasses import is_dataclass
+
+    from adcskit.config import config_to_dict
+
+    base: dict[str, Any] = {}
+    for f in fields(scenario):
+        part = getattr(scenario, f.name)
+        if not is_dataclass(part):
+            continue
+        mine = config_to_dict(part)
+        try:
+            ref = config_to_dict(type(part)())
+        except TypeError:  # required fields: no class default to fall back on
+            base[f.name] = mine
+            continue
+        differ = {k: v for k, v in mine.items() if v != ref.get(k)}
+        if differ:
+            base[f.name] = differ
+    return base
+
+
 def _load_spec(cls: type, source: Any = None, overrides: Any = None) -> Any:
     """A scenario of class ``cls`` from a TOML path or a mapping, over ``cls()``'s defaults.
 
     A table in ``source`` sets only the keys it names: the others keep the default
-    scenario's values (``[thrusters] f_max = 5.0`` keeps the default layout). ``overrides``
+    scenario's values (``[thrusters] f_max = 5.0`` keeps the default layout; see
+    :func:`_inherited` for the keys a part's class sizes by another key). ``overrides``
     (a mapping) goes under ``source``. Unknown keys are a :class:`~adcskit.errors.ConfigError`
     naming the dotted key and the allowed ones; a missing file is an
     :class:`~adcskit.errors.InputError`. Used by :func:`load_scenario` and
@@ -891,7 +920,7 @@ def _load_spec(cls: type, source: Any = None, overrides: Any = None) -> Any:
     from collections.abc import Mapping
 
     from adcskit._validation import check_mapping
-    from adcskit.config import config_to_dict, load_config, merge_mappings, read_toml
+    from adcskit.config import load_config, merge_mappings, read_toml
     from adcskit.errors import ConfigError
 
     if source is None:
@@ -905,10 +934,17 @@ def _load_spec(cls: type, source: Any = None, overrides: Any = None) -> Any:
     else:
         raise ConfigError(f"scenario source must be a mapping or a TOML path; got {short_repr(source)}")
     check_mapping("overrides", overrides, allow_none=True)
-    base = config_to_dict(cls())
+    base = _inherited(cls())
     if overrides:
         base = merge_mappings(base, overrides)
-    return load_config(cls, merge_mappings(base, data))
+    try:
+        return load_config(cls, merge_mappings(base, data))
+    except ConfigError as exc:
+        if not str(exc).startswith("invalid config"):
+            raise
+        cmd = "adcskit scenario" + (" --wheels" if cls.__name__ == "WheelScenario" else "")
+        raise ConfigError(f"{exc} (the keys a table does not set keep the default scenario's values: "
+                          f"'{cmd}' prints them)") from None
 
 
 def load_scenario(source: Any = None, overrides: Any = None) -> Scenario:
