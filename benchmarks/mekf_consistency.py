@@ -12,11 +12,22 @@ sensors, controller and thrusters all in the loop), ``--loop-runs`` samples, see
 dt = 0.05 s, NEES recorded every 0.5 s, each case with the default measurement underweighting
 (p = 0.2) and without it (p = 0, the plain EKF update):
 
-* ``default``: ``Scenario(estimator=EstimatorSpec(kind="mekf", init_error_deg=1.0))`` (LEO
-  hold; sun sensor 1 Hz 0.005°, magnetometer 1 Hz 0.5°, gyro 10 Hz) — issue 23's reproduction;
+* ``default``: ``Scenario(estimator=EstimatorSpec(kind="mekf", init_error_deg=1.0))`` (hold at
+  the identity in the default scenario's GEO orbit, 35786 km, gravity gradient only; S3's GEO
+  satellite and thrusters; sun sensor 1 Hz 0.005°, magnetometer 1 Hz 0.5°, gyro 10 Hz) —
+  issue 23's reproduction;
 * ``slew``: the same with a 30° step about z at t = 5 s (the gyro rate and the sensor
   geometry change during the estimation transient);
 * ``star-tracker``: no sun sensor or magnetometer, a 10 arcsec star tracker at 1 Hz.
+
+Perfect-knowledge baseline (``--baseline``): the ``default`` case with ``estimator.kind =
+"truth"`` (no initial error; a true 1° initial attitude error per axis), beside the MEKF with
+a 1° and a 0.01° prior, p = 0.2 and 0 (:data:`BASELINES`).
+
+NIS (``--nis standalone,static-default``): the standalone scenario, or the static analogue
+of ``default`` (below), through the stepping filter with p = 0.2 and p = 0, the mean NIS as
+the filter reports it (underweighted updates use the inflated variance) beside the plain NIS
+``νᵀ (H P Hᵀ + σ² I)⁻¹ ν`` of the same prior (:func:`run_nis`).
 
 Remedy choice (``--choice``): the standalone filter on a static analogue of ``default`` (two
 fixed directions at 1 Hz with σ = 0.005° and 0.5°, the simulator's default gyro at 10 Hz,
@@ -30,7 +41,7 @@ For the closed-loop cases: the ensemble-mean NEES at 1 s, its time mean over 100
 
 Usage: python benchmarks/mekf_consistency.py [--runs N] [--seeds S] [--json PATH]
        [--choice] [--choice-init D,D] [--loop] [--loop-sweep P,P] [--loop-runs N]
-       [--figure PATH] [--no-standalone]
+       [--figure PATH] [--no-standalone] [--baseline] [--nis CASES]
 """
 
 from __future__ import annotations
@@ -62,7 +73,8 @@ def _rotvec_quat(r):
     return np.concatenate([s * r, np.cos(a / 2)], axis=-1)
 
 
-def run(N: int, seed: int) -> dict:
+def _standalone_data(N: int, seed: int):
+    """Truth, gyro readings and vector measurements of the standalone scenario (seeded)."""
     rng = np.random.default_rng(seed)
     r = np.array([[1.0, 0.2, -0.1], [0.1, 1.0, 0.4]])
     r /= np.linalg.norm(r, axis=1, keepdims=True)
@@ -86,6 +98,11 @@ def run(N: int, seed: int) -> dict:
     for i in range(2):
         v = np.einsum("ntij,j->nti", A, r[i]) + SIG[i] * rng.standard_normal(A.shape[:2] + (3,))
         body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    return r, q_hat0, b_hat0, qt, bt, gyro, body
+
+
+def run(N: int, seed: int) -> dict:
+    r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
     res = mekf_filter(q_hat0, b_hat0, P0, np.arange(T) * DT, gyro, body,
                       np.broadcast_to(r, (T, 2, 3)), SIG, sigma_v=SV, sigma_u=SU, q_true=qt,
                       b_true=bt)
@@ -113,26 +130,9 @@ def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
     (prior σ ``init_deg`` per axis)."""
     from adcskit.determination import solve_wahba
 
-    sv, su, dt, T = 3.16e-7, 3.16e-10, 0.1, 3001
-    sig = np.radians([0.005, 0.5])
-    p0 = np.diag([np.radians(init_deg) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
-    rng = np.random.default_rng(seed)
-    r = np.array([[1.0, 0.2, -0.1], [0.3, 1.0, 0.4]])
-    r /= np.linalg.norm(r, axis=1, keepdims=True)
-    q_hat0 = random_quat(N, rng=rng)
-    x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
-    q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
-    qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
-    bt = np.empty((N, T, 3))
-    gyro = np.empty((N, T, 3))
-    for k in range(N):
-        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
-        gyro[k], bt[k] = m.omega, m.bias
-    body = np.full((N, T, 2, 3), np.nan)
-    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
-    for i in range(2):
-        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
-        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    r, q_hat0, p0, qt, bt, gyro, body = _choice_data(N, seed, init_deg)
+    sv, su, dt, T = CHOICE_SV, CHOICE_SU, 0.1, 3001
+    sig = CHOICE_SIG
     t = np.arange(T) * dt
     ref = np.broadcast_to(r, (T, 2, 3))
     lo, hi = chi2_band(6, N)
@@ -159,28 +159,118 @@ def run_choice(N: int, seed: int, init_deg: float = 1.0) -> list[dict]:
     return rows
 
 
+#: The static analogue of the closed-loop ``default`` case (``--choice``): the simulator's
+#: default gyro (σv, σu) and the sun sensor's and magnetometer's σ.
+CHOICE_SV, CHOICE_SU, CHOICE_SIG = 3.16e-7, 3.16e-10, np.radians([0.005, 0.5])
+
+
+def _choice_data(N: int, seed: int, init_deg: float = 1.0):
+    """Truth, gyro readings and vectors of the static analogue (prior σ ``init_deg``)."""
+    sv, su, dt, T = CHOICE_SV, CHOICE_SU, 0.1, 3001
+    sig = CHOICE_SIG
+    p0 = np.diag([np.radians(init_deg) ** 2] * 3 + [(np.radians(1.0) / 3600) ** 2] * 3)
+    rng = np.random.default_rng(seed)
+    r = np.array([[1.0, 0.2, -0.1], [0.3, 1.0, 0.4]])
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    q_hat0 = random_quat(N, rng=rng)
+    x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
+    q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
+    qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
+    bt = np.empty((N, T, 3))
+    gyro = np.empty((N, T, 3))
+    for k in range(N):
+        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
+        gyro[k], bt[k] = m.omega, m.bias
+    body = np.full((N, T, 2, 3), np.nan)
+    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
+    for i in range(2):
+        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
+        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    return r, q_hat0, p0, qt, bt, gyro, body
+
+
+def _plain_nis(f, v_body, v_ref, sigma) -> float:
+    """NIS of one vector measurement against the filter's prior, ``νᵀ (H P Hᵀ + σ² I)⁻¹ ν``
+    (``ν = b̃ − A(q̂) r``, ``H = [[A(q̂) r ×], 0]``): the textbook statistic, whatever the update
+    then does. For a plain (not underweighted) update it equals the kernel's sequential
+    ``Σ ν_i² / s_i`` (the sequential scalar updates are the 3-vector update)."""
+    b_hat = quat_to_dcm(f.q) @ v_ref
+    nu = v_body / np.linalg.norm(v_body) - b_hat
+    bx = np.array([[0.0, -b_hat[2], b_hat[1]], [b_hat[2], 0.0, -b_hat[0]], [-b_hat[1], b_hat[0], 0.0]])
+    S = bx @ f.P[:3, :3] @ bx.T + sigma**2 * np.eye(3)
+    return float(nu @ np.linalg.solve(S, nu))
+
+
+def run_nis(N: int, seed: int, underweight: float = 0.2, case: str = "standalone") -> dict:
+    """Mean NIS of the standalone scenario as the filter reports it (with underweighting the
+    inflated ``S = (1 + p) h P hᵀ + σ²`` while ``h P hᵀ > σ²``) and the plain NIS
+    (:func:`_plain_nis`, computed before each update of the stepping filter), over the whole
+    run and over 100-300 s, against the χ²(2 M)/M 95 % band of the M values' mean.
+    ``case``: ``"standalone"`` (σ = 1, 2 mrad, :func:`run`) or ``"static-default"`` (the
+    1° static analogue of the closed-loop ``default`` case, σ = 0.005° and 0.5°,
+    :func:`run_choice`)."""
+    from adcskit.estimation import MultiplicativeEKF
+
+    if case == "standalone":
+        r, q_hat0, b_hat0, qt, bt, gyro, body = _standalone_data(N, seed)
+        p0, sv, su, sig = np.broadcast_to(P0, (N, 6, 6)), SV, SU, SIG
+    else:
+        r, q_hat0, p0, qt, bt, gyro, body = _choice_data(N, seed, 1.0)
+        b_hat0, p0, sv, su, sig = np.zeros((N, 3)), np.broadcast_to(p0, (N, 6, 6)), CHOICE_SV, CHOICE_SU, CHOICE_SIG
+    rep = np.full((N, T, 2), np.nan)
+    plain = np.full((N, T, 2), np.nan)
+    for k in range(N):
+        f = MultiplicativeEKF(q_hat0[k], b_hat0[k], p0[k], sigma_v=sv, sigma_u=su, underweight=underweight)
+        for t in range(T):
+            if t > 0:
+                f.propagate(gyro[k, t - 1], DT)
+            for j in range(2):
+                if np.isfinite(body[k, t, j, 0]):
+                    plain[k, t, j] = _plain_nis(f, body[k, t, j], r[j], sig[j])
+                    rep[k, t, j] = f.update_vector(body[k, t, j], r[j], sig[j])
+    out = {"seed": seed, "runs": N, "underweight": underweight, "case": case}
+    for label, sl in (("whole_run", slice(None)), ("after_100s", slice(1000, None))):
+        a, b = rep[:, sl], plain[:, sl]
+        m = int(np.count_nonzero(np.isfinite(a)))
+        lo, hi = chi2_band(2, m)
+        out[label] = {"count": m, "band_95": [lo, hi], "nis_reported": float(np.nanmean(a)),
+                      "nis_plain": float(np.nanmean(b)),
+                      "epochs_inflated": int(np.count_nonzero(np.abs(a - b) > 1e-6 * np.abs(b)))}
+    return out
+
+
 LOOP_CASES = ("default", "slew", "star-tracker")
 
 
-def loop_scenario(case: str, underweight: float):
-    """The closed-loop scenario of one ``--loop`` case (see the module docstring)."""
-    from adcskit.simulation import EstimatorSpec, GuidanceSpec, Scenario, SensorSpec, SimSpec
+def loop_scenario(case: str, underweight: float, *, init_error_deg: float = 1.0, kind: str = "mekf",
+                  initial_attitude_deg: float = 0.0, initial_rotvec_deg: tuple = (0.0, 0.0, 0.0)):
+    """The closed-loop scenario of one ``--loop`` case (see the module docstring); ``kind``,
+    ``init_error_deg``, ``initial_attitude_deg`` (the true attitude's dispersion per axis) and
+    ``initial_rotvec_deg`` (the true initial attitude) for the ``--baseline`` cases."""
+    from adcskit.simulation import (
+        DispersionSpec,
+        EstimatorSpec,
+        GuidanceSpec,
+        Scenario,
+        SensorSpec,
+        SimSpec,
+    )
 
-    est = EstimatorSpec(kind="mekf", init_error_deg=1.0, underweight=underweight)
+    est = EstimatorSpec(kind=kind, init_error_deg=init_error_deg, underweight=underweight)
     sim = SimSpec(dt=0.05, t_final=300.0, metrics_from_s=100.0, record_every=10)
-    kw = {}
+    kw = {"dispersions": DispersionSpec(initial_attitude_deg=initial_attitude_deg)} if initial_attitude_deg else {}
     if case == "slew":
         kw["guidance"] = GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 30.0), t_step=5.0)
     elif case == "star-tracker":
         kw["sensors"] = SensorSpec(sun_rate_hz=0.0, mag_rate_hz=0.0, star_tracker_rate_hz=1.0,
                                    star_tracker_noise_arcsec=10.0)
-    return Scenario(estimator=est, sim=sim, **kw)
+    return Scenario(estimator=est, sim=sim, initial_rotvec_deg=initial_rotvec_deg, **kw)
 
 
-def run_loop(case: str, underweight: float, N: int) -> dict:
+def run_loop(case: str, underweight: float, N: int, **kw) -> dict:
     from adcskit.simulation import simulate
 
-    res = simulate(loop_scenario(case, underweight), N, rng=7, record=True)
+    res = simulate(loop_scenario(case, underweight, **kw), N, rng=7, record=True)
     nees = res.trace[:, :, res.channels.index("nees")]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # t = 0: no NEES recorded yet
@@ -201,9 +291,26 @@ def run_loop(case: str, underweight: float, N: int) -> dict:
         "rms_error_deg_mean": float(np.mean(res.metrics["pointing_rms_deg"])),
         "propellant_mean": float(np.mean(res.metrics["propellant_kg"])),
         "knowledge_rms_deg_mean": float(np.mean(res.metrics["knowledge_rms_deg"])),
+        "fired_fraction": float(np.mean(res.metrics["propellant_kg"] > 0)),
         "t": res.t.tolist(),
         "mean_nees": mean.tolist(),
     }
+
+
+#: ``--baseline``: the ``default`` case's cost of the estimator beside perfect knowledge
+#: (label, run_loop keywords).
+BASELINES = (
+    ("truth, no initial error", {"kind": "truth", "underweight": 0.2}),
+    ("truth, 1° initial attitude error per axis", {"kind": "truth", "underweight": 0.2, "initial_attitude_deg": 1.0}),
+    *((f"truth, 1° initial rotation about {name}", {"kind": "truth", "underweight": 0.2,
+                                                   "initial_rotvec_deg": tuple(float(x) for x in axis)})
+      for name, axis in (("x", (1, 0, 0)), ("y", (0, 1, 0)), ("z", (0, 0, 1)),
+                         ("(1,1,1)", np.ones(3) / np.sqrt(3)))),
+    ("MEKF 1° prior, p = 0.2", {"underweight": 0.2}),
+    ("MEKF 1° prior, p = 0", {"underweight": 0.0}),
+    ("MEKF 0.01° prior, p = 0.2", {"underweight": 0.2, "init_error_deg": 0.01}),
+    ("MEKF 0.01° prior, p = 0", {"underweight": 0.0, "init_error_deg": 0.01}),
+)
 
 
 def loop_figure(rows: list[dict], path: str) -> None:
@@ -243,6 +350,10 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--choice", action="store_true", help="underweighting factors vs Wahba initialisation")
     ap.add_argument("--choice-init", default="1", help="prior sigmas [deg] of --choice, comma-separated")
     ap.add_argument("--loop-sweep", metavar="P,P,...", help="closed-loop default case for these p only")
+    ap.add_argument("--baseline", action="store_true",
+                    help="closed-loop default case: MEKF priors and p beside perfect knowledge (truth)")
+    ap.add_argument("--nis", metavar="CASE,CASE", help="reported vs plain NIS (stepping filter) of these cases: "
+                    "standalone, static-default")
     args = ap.parse_args(argv)
     out = [] if args.no_standalone else [run(args.runs, seed) for seed in range(args.seeds)]
     for o in out:
@@ -253,6 +364,16 @@ def main(argv: list[str] | None = None) -> list[dict]:
               f"bias rms {o['final_bias_rms_rad_s']:.2e} (filter σ {o['final_bias_sigma_filter_rad_s']:.2e}); "
               f"attitude rms {o['final_attitude_rms_rad']:.2e} rad "
               f"(filter σ {o['final_attitude_sigma_filter_rad']:.2e})", flush=True)
+    nis_rows = []
+    for case, uw in ((c, p) for c in (args.nis.split(",") if args.nis else ()) for p in (0.2, 0.0)):
+        for seed in range(args.seeds):
+            o = run_nis(args.runs, seed, underweight=uw, case=case)
+            nis_rows.append(o)
+            for label in ("whole_run", "after_100s"):
+                w = o[label]
+                print(f"nis {case} p={uw:g} seed {seed} {label:10s}: reported {w['nis_reported']:.4f}, plain {w['nis_plain']:.4f}; "
+                      f"band [{w['band_95'][0]:.4f}, {w['band_95'][1]:.4f}] of {w['count']} values; "
+                      f"{w['epochs_inflated']} underweighted updates", flush=True)
     choice_rows = []
     if args.choice:
         for init, seed in ((float(i), s) for i in args.choice_init.split(",") for s in (0, 1)):
@@ -271,6 +392,15 @@ def main(argv: list[str] | None = None) -> list[dict]:
                   f"{r['time_mean_nees_100_300s']:.3f} in={r['time_mean_in_band']}; pointing rms "
                   f"{r['rms_error_deg_mean']:.4f} deg; knowledge rms {r['knowledge_rms_deg_mean']:.4f} deg; "
                   f"propellant {r['propellant_mean']:.4g}", flush=True)
+    if args.baseline:
+        for label, kw in BASELINES:
+            r = run_loop("default", N=args.loop_runs, **kw)
+            r["case"] = f"baseline: {label}"
+            loop_rows.append(r)
+            print(f"baseline {label:42s}: pointing rms {r['rms_error_deg_mean']:.4f} deg; propellant "
+                  f"{r['propellant_mean']:.4g} kg; fired {100 * r['fired_fraction']:.0f} % of samples; knowledge rms "
+                  f"{r['knowledge_rms_deg_mean']:.4f} deg; NEES time mean {r['time_mean_nees_100_300s']:.3f}",
+                  flush=True)
     if args.loop:
         for case in LOOP_CASES:
             for uw in (0.2, 0.0):
@@ -286,9 +416,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
             loop_figure(loop_rows, args.figure)
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(out + choice_rows + [{k: v for k, v in r.items() if k not in ("t", "mean_nees")} for r in loop_rows],
+            json.dump(out + nis_rows + choice_rows + [{k: v for k, v in r.items() if k not in ("t", "mean_nees")} for r in loop_rows],
                       fh, indent=2)
-    return out + choice_rows + loop_rows
+    return out + nis_rows + choice_rows + loop_rows
 
 
 if __name__ == "__main__":

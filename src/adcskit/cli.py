@@ -7,6 +7,7 @@
     adcskit reproduce [--quick] [--out DIR] [--only A,B] [--seed N] [--executor SPEC] [--jobs N]
     adcskit report DIR                            # rebuild the HTML report from results
     adcskit config STUDY [--quick]                # print the resolved default config as TOML
+    adcskit scenario [--wheels] [--quiet]         # print the default closed-loop scenario as TOML
     adcskit pages [--results DIR] [--check]       # study pages from their committed snapshots
 
 Exit codes: 0 success, 1 a study failed, 2 bad arguments or input, 130 interrupted.
@@ -138,6 +139,10 @@ def build_parser() -> argparse.ArgumentParser:
     p_cfg.add_argument("study")
     p_cfg.add_argument("--quick", action="store_true", help="the --quick settings")
     p_cfg.add_argument("--quiet", action="store_true", help="keys and values only, no comments")
+
+    p_scn = sub.add_parser("scenario", help="print the default closed-loop scenario as TOML (a template for simulate)")
+    p_scn.add_argument("--wheels", action="store_true", help="the wheel + magnetorquer scenario (simulate_wheels)")
+    p_scn.add_argument("--quiet", action="store_true", help="keys and values only, no comments")
     return parser
 
 
@@ -204,6 +209,21 @@ def _cmd_config(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_scenario(args: argparse.Namespace) -> int:
+    from adcskit.simulation import Scenario, WheelScenario, scenario_toml
+
+    sc = WheelScenario() if args.wheels else Scenario()
+    if args.quiet:
+        print(scenario_toml(sc, comments=False), end="")
+        return EXIT_OK
+    func, loader = ("simulate_wheels", "load_wheel_scenario") if args.wheels else ("simulate", "load_scenario")
+    print(f"# adcskit {__version__}: default {type(sc).__name__} of adcskit.simulation.{func}")
+    print(f"# Load with adcskit.simulation.{loader}(PATH); keep only the keys you change: a table's")
+    print("# other keys keep these defaults. Units are in the comments and the key names (_deg, _s, _hz).")
+    print(scenario_toml(sc), end="")
+    return EXIT_OK
+
+
 def _run_one(name: str, args: argparse.Namespace, executor, config=None) -> tuple[bool, str]:
     from adcskit.studies import run_study
 
@@ -247,6 +267,7 @@ def _attempt(name: str, args: argparse.Namespace, executor, config=None) -> tupl
 
 # --- reproduce --jobs N: studies in spawn worker processes --------------------------------
 _CANCEL = None  # multiprocessing Event shared with the parent; set on Ctrl-C
+_STAGES = None  # multiprocessing Queue of stage lines, printed by the parent (None: --quiet)
 _RUNNING = False  # a study is running in this worker (SIGINT interrupts it; idle workers ignore it)
 
 
@@ -255,10 +276,13 @@ def _on_sigint(signum, frame) -> None:
         raise KeyboardInterrupt
 
 
-def _job_init(cancel) -> None:
-    """Initializer of a ``--jobs`` worker process."""
-    global _CANCEL
+def _job_init(cancel, stages=None) -> None:
+    """Initializer of a ``--jobs`` worker process (``stages``: the parent's queue of stage lines)."""
+    global _CANCEL, _STAGES
     _CANCEL = cancel
+    _STAGES = stages
+    if stages is not None:
+        stages.cancel_join_thread()  # an exiting worker never waits for the parent to read its stage lines
     signal.signal(signal.SIGINT, _on_sigint)
 
 
@@ -288,9 +312,13 @@ def _study_job(name: str, info, args: argparse.Namespace, spec: str, log_path: s
     try:
         if _CANCEL is not None and _CANCEL.is_set():
             return name, None, None, 0.0, 0.0
-        from adcskit._progress import progress_session
+        from adcskit._progress import forward_status, progress_session
         from adcskit.studies import STUDIES
         from adcskit.uncertainty.executor import make_executor
+
+        if _STAGES is not None:  # this study's stage lines to the parent's console, named
+            put = _STAGES.put
+            forward_status(lambda line: put(line if line.startswith(name) else f"{name}: {line}"))
 
         if info is not None and name not in STUDIES:  # a fresh process: the registry's own dict
             STUDIES[name] = info
@@ -357,7 +385,9 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
 
     One line per study as it finishes, then a summary in ``names`` order (each study's wall and
     CPU seconds: a study's CPU against its wall says how much of the cores it had); each study's
-    console output is in ``OUT/logs/STUDY.log``. Ctrl-C cancels the studies not started,
+    console output is in ``OUT/logs/STUDY.log``, and its stage lines (``status``: its start,
+    its stages, and inside a long loop a progress line every
+    :data:`adcskit._progress.FORWARD_EVERY_S` s) are printed here as they come, named. Ctrl-C cancels the studies not started,
     interrupts the running ones (their previous results stay, see :func:`write_result`) and
     keeps every study already written.
     """
@@ -374,7 +404,9 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
     logs.mkdir(exist_ok=True)
     ctx = multiprocessing.get_context("spawn")
     cancel = ctx.Event()
-    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_job_init, initargs=(cancel,))
+    stages = None if args.quiet else ctx.Queue()  # the workers' stage lines, printed here (issue 41)
+    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_job_init,
+                                  initargs=(cancel, stages))
     outcome: dict[str, str] = {}
     t0 = time.perf_counter()
     interrupted = False
@@ -414,7 +446,8 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
             print(f"closed-loop: {CLOSED_LOOP_NOTICE}", flush=True)
     futures: dict = {}
     try:
-        with progress_session(not args.quiet), bar(f"studies ({jobs} at once)", len(order)) as advance:
+        with (progress_session(not args.quiet), _print_stages(stages),
+              bar(f"studies ({jobs} at once)", len(order)) as advance):
             for n in order:
                 log = str(logs / f"{n}.log")
                 futures[pool.submit(_study_job, n, STUDIES.get(n), args, spec, log, threads)] = n
@@ -435,6 +468,30 @@ def _run_parallel(names: list[str], args: argparse.Namespace, executor, jobs: in
         for n in names:
             print(f"  {n:<{width}}  {outcome.get(n, 'not run')}")
     return interrupted
+
+
+@contextlib.contextmanager
+def _print_stages(stages):
+    """Print the stage lines the ``--jobs`` workers put on ``stages`` (a queue; None: nothing)
+    as they come, from a thread, until the ``with`` block ends."""
+    if stages is None:
+        yield
+        return
+    import threading
+
+    from adcskit._progress import status
+
+    def pump() -> None:
+        while (line := stages.get()) is not None:
+            status(line)
+
+    thread = threading.Thread(target=pump, name="adcskit-stages", daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stages.put(None)
+        thread.join(timeout=5.0)
 
 
 def _cancel_jobs(pool, futures, cancel) -> None:
@@ -605,6 +662,8 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_list(args.quiet)
         if args.command == "config":
             return _cmd_config(args)
+        if args.command == "scenario":
+            return _cmd_scenario(args)
         if args.command == "pages":
             return _cmd_pages(args)
         if args.command == "report":

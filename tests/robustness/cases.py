@@ -1093,6 +1093,7 @@ case("simulation.Scenario", kinds={k: "object" for k in ("spacecraft", "orbit", 
 case("simulation.load_scenario", aliases={"source": ("scenario", "config", "path"), "overrides": ("config",)})(
     lambda: dict(source={"sim": {"t_final": 20.0, "metrics_from_s": 10.0}}, overrides={"sim": {"dt": 0.05}})
 )
+case("simulation.scenario_toml", kinds={"scenario": "object"})(lambda: dict(scenario=_sim_scenario(), comments=True))
 case("simulation.reference_profile", kinds={"scenario": "object"})(lambda: dict(scenario=_sim_scenario()))
 def _simulate_kw() -> dict[str, Any]:
     return dict(scenario=_sim_scenario(), n_samples=2, rng=1, record=False)

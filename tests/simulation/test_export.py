@@ -331,6 +331,27 @@ def test_figures_have_units_and_name_the_ranking(run):
         env.attitude_error_figure(simulate(_scenario(), n_samples=2, rng=0))
 
 
+def test_log_axis_has_a_floor():
+    # issue 41 item 8: with true knowledge the error before a 5 deg step sits at rounding level
+    # (2e-15 deg); matplotlib's own log axis went down to 4e-16 deg. Now it spans at most
+    # LOG_DECADES below its top (5 deg, the step)
+    from adcskit.simulation import EstimatorSpec
+
+    sc = Scenario(estimator=EstimatorSpec(kind="truth"),
+                  guidance=GuidanceSpec(kind="step", target_rotvec_deg=(0.0, 0.0, 5.0), t_step=1.0),
+                  sim=SimSpec(dt=0.05, t_final=5.0, metrics_from_s=2.0, record_every=1))
+    res = simulate(sc, n_samples=6, rng=0, record=True)
+    pe = np.degrees(res.trace[:, :, res.channels.index("pointing_error")])
+    assert 0 < np.min(pe[pe > 0]) < 1e-10  # the rounding-level errors are there
+    fig = env.attitude_error_figure(res)
+    lo, hi = fig.axes[0].get_ylim()
+    top = np.nanmax(pe)
+    assert hi == pytest.approx(1.25 * top, rel=1e-9)
+    assert lo == pytest.approx(top * 10.0 ** -env.LOG_DECADES / 1.25, rel=1e-9)
+    lin = env.attitude_error_figure(res, yscale="linear")  # a linear axis is left to matplotlib
+    assert lin.axes[0].get_ylim()[0] <= 0.0
+
+
 # ------------------------------------------------------------------------------------ sign-off
 
 

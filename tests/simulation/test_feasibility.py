@@ -115,11 +115,97 @@ def test_batched_controllability_equals_the_lp_sample_by_sample(failed):
     work = np.setdiff1d(np.arange(th.n), failed)
     ref = np.array([check_controllability(np.cross(pos, dirs[i]).T[:, [j for j in work if flev[i, j] > 0]]).success
                     for i in range(n)])
-    np.testing.assert_array_equal(feas["controllable"], ref)
+    np.testing.assert_array_equal(feas["span"], ref)
     assert 0 < ref.sum() < n  # dispersions change the answer in both directions of the test
+    # controllable: positive span and >= min_authority_fraction (0.05) of the intact layout's authority
+    np.testing.assert_array_equal(feas["controllable"], ref & (feas["authority"] >= 0.05 * feas["intact"]))
+    assert feas["intact"] == pytest.approx(10.0, rel=1e-12)  # S3 reference at 10 N: 10 N m (closed form below)
     assert feas["nominal"].success == (failed == ())
     assert not feas["first_bad"].success
     assert np.all(feas["authority"][~ref] < 1e-12) and np.all(feas["authority"][ref] > 1e-6)  # N m
+
+
+def test_issue41_sliver_of_authority_is_not_controllable():
+    # issue 41 item 6: 20 dispersed samples (0.5 deg misalignment, 5 % thrust) of S3's reference
+    # layout without thruster 2 (S3 §6); the positive-span test alone called most of them
+    # controllable with at most 1-2 % of the intact layout's 10 N m, and none settles
+    from adcskit._validation import as_rng
+    from adcskit.simulation.core import _controllability_message, _prepare
+
+    disp = DispersionSpec(misalignment_deg=0.5, thrust_rel=0.05)
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, failed=(2,))
+    for seed in range(3):
+        sc = Scenario(thrusters=th, sim=TINY, dispersions=disp)
+        feas = _prepare(sc, 20, as_rng(seed))[0]["feasibility"]
+        assert feas["span"].sum() >= 9 and not feas["controllable"].any()
+        assert np.max(feas["authority"]) < 0.03 * feas["intact"]
+        msg = _controllability_message(sc, feas)
+        assert "only through their misalignment" in msg and "below min_authority_fraction = 0.05" in msg
+        # the fraction is the scenario's: 0 gives back the positive-span answer
+        sc0 = sc.replace(thrusters=th.replace(min_authority_fraction=0.0))
+        feas0 = _prepare(sc0, 20, as_rng(seed))[0]["feasibility"]
+        np.testing.assert_array_equal(feas0["controllable"], feas["span"])
+    # an intact layout dispersed alike keeps far more than 5 % (>= 83 % over 1000 samples)
+    feas = _prepare(Scenario(sim=TINY, dispersions=disp), 1000, as_rng(0))[0]["feasibility"]
+    assert feas["controllable"].all() and np.min(feas["authority"]) > 0.8 * feas["intact"]
+
+
+def test_issue41_sliver_samples_do_not_settle():
+    # the issue's reproduction flown: a 30 deg step about z (S3 reference layout without
+    # thruster 2, 0.5 deg misalignment, 5 % thrust); 14 of 20 samples span R^3 (rng 2), none
+    # settles within 100 s (the allocator never uses the sliver), and none reads controllable
+    sc = Scenario(thrusters=ThrusterSpec.from_torque_matrix(S3_REFERENCE_A, failed=(2,)),
+                  guidance=GuidanceSpec(kind="step", target_rotvec_deg=(0, 0, 30), t_step=5),
+                  dispersions=DispersionSpec(misalignment_deg=0.5, thrust_rel=0.05))
+    with pytest.warns(UncontrollableWarning, match="below min_authority_fraction"):
+        res = simulate(sc, 20, rng=2)
+    span = res.parameters["torque_authority"] > 0
+    assert span.sum() == 14 and not res.controllable.any()
+    assert not np.isfinite(res.metrics["settling_time_s"]).any()
+    assert np.min(res.metrics["pointing_rms_deg"]) > 10.0  # far from the 30 deg target, deg
+
+
+def test_weak_but_spanning_samples_are_reported():
+    # a nominally controllable layout whose samples keep < 5 % authority: thruster 4's thrust
+    # set to ~0 in a few samples of a layout that needs it (failed directions stay reachable
+    # only through it)
+    from adcskit.simulation.core import _controllability, _controllability_message
+
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
+    n = 6
+    dirs = np.broadcast_to(np.asarray(th.directions), (n, th.n, 3)).copy()
+    flev = np.full((n, th.n), 10.0)
+    flev[:3, 4] = 0.1  # 1 % of the thrust: 1 % of the authority in that direction
+    sc = Scenario(thrusters=th)
+    feas = _controllability(sc, dirs, flev)
+    assert feas["span"].all() and feas["controllable"].tolist() == [False] * 3 + [True] * 3
+    assert "3 of 6 samples have at most" in _controllability_message(sc, feas)
+
+
+def test_layout_without_authority_even_intact():
+    # torques +-x, +-y, +z (rotated off the body axes): the intact layout cannot push along -z,
+    # its in-radius is 0 (3e-16 by rounding, read as 0), so the fraction asks nothing more; a
+    # 10 deg misalignment tilts some samples into a positive span, the only test left
+    from scipy.spatial.transform import Rotation
+
+    from adcskit.simulation.core import _controllability, _controllability_message
+
+    A = np.array([[1.0, -1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0]])
+    th = ThrusterSpec.from_torque_matrix(Rotation.from_rotvec([0.4, 0.3, 0.0]).as_matrix() @ A)
+    dirs = _layout_dirs(th, 40, 10.0, seed=1)
+    sc = Scenario(thrusters=th)
+    feas = _controllability(sc, dirs, np.full((40, th.n), 10.0))
+    assert feas["intact"] == 0.0 and not feas["nominal"].success and 0 < feas["span"].sum() < 40
+    np.testing.assert_array_equal(feas["controllable"], feas["span"])
+    msg = _controllability_message(sc, feas)
+    assert "span every direction only through their misalignment" in msg and "% of the intact" not in msg
+
+
+def test_min_authority_fraction_validated():
+    th = ThrusterSpec.from_torque_matrix(S3_REFERENCE_A)
+    for bad in (-0.1, 1.0, float("nan")):
+        with pytest.raises(InputError, match="min_authority_fraction"):
+            th.replace(min_authority_fraction=bad)
 
 
 def test_torque_authority_closed_form():
@@ -151,7 +237,9 @@ def test_nominally_uncontrollable_layout_fails_even_where_misalignment_spans():
                   dispersions=DispersionSpec(misalignment_deg=0.5))
     with pytest.warns(UncontrollableWarning, match="only through their misalignment"):
         res = simulate(sc, 16, rng=0)
-    assert 0 < res.controllable.sum() < 16 and not res.success
+    # 9 of 16 span R^3, with at most 1.7 % of the intact 10 N m: none controllable (issue 41)
+    assert 0 < np.count_nonzero(res.parameters["torque_authority"] > 0) < 16
+    assert not res.controllable.any() and not res.success
     # a 3-sigma 0.5 deg tilt of a 14 N m column (sqrt(2) m x 10 N) gives ~0.4 N m; intact: ~9.9 N m
     assert np.max(res.parameters["torque_authority"]) < 0.5
 
@@ -279,3 +367,42 @@ def test_simulate_prints_compile_notice_only_when_cold(monkeypatch, capsys, cold
     with progress_session(True):
         simulate(Scenario(sim=TINY), 1, rng=0)
     assert (CLOSED_LOOP_NOTICE in capsys.readouterr().out) is cold
+
+
+@pytest.mark.parametrize("flag, terminal", [(None, False), (False, False), (None, True), (False, True), (True, False)])
+def test_simulate_progress_keyword(monkeypatch, capsys, flag, terminal):
+    # issue 41 item 3: a plain call shows the compile notice and a bar over the chunks at a
+    # terminal (None) or when asked (True), never with False; the bar appears after
+    # AUTO_DELAY_S (0 here: the test's runs are short). The display's console is recorded.
+    import io
+
+    from rich.console import Console
+    from rich.progress import Progress
+
+    import adcskit._progress as progress
+    from adcskit.errors import InputTypeError
+    from adcskit.simulation import core
+
+    consoles, bars = [], []
+
+    class Recorded(Progress):
+        def add_task(self, description, *args, **kw):
+            bars.append(description)
+            return super().add_task(description, *args, **kw)
+
+    def recorded():
+        console = Console(file=io.StringIO(), force_terminal=terminal, record=True, width=120)
+        consoles.append(console)
+        return Recorded(*Progress.get_default_columns(), console=console)
+
+    monkeypatch.setattr(progress, "_new_progress", recorded)
+    monkeypatch.setattr(progress, "AUTO_DELAY_S", 0.0)
+    monkeypatch.setattr(core, "will_compile", lambda d: True)
+    res = simulate(Scenario(sim=TINY), 2, rng=0, progress=flag)
+    shown = flag is True or (flag is None and terminal)
+    text = consoles[0].export_text() if consoles else ""
+    assert (CLOSED_LOOP_NOTICE in text) is shown
+    assert bars == (["closed-loop samples"] if shown else [])
+    assert res.success and progress._SESSION is None and capsys.readouterr().out == ""
+    with pytest.raises(InputTypeError, match="progress must be True, False or None"):
+        simulate(Scenario(sim=TINY), 1, progress="yes")

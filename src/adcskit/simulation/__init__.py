@@ -44,6 +44,7 @@ from adcskit.simulation.scenario import (
     SpacecraftSpec,
     ThrusterSpec,
     load_scenario,
+    scenario_toml,
 )
 from adcskit.simulation.signoff import SignOffTable, check_simulation
 from adcskit.simulation.wheels import (
@@ -68,6 +69,7 @@ __all__ = [
     "METRIC_NAMES", "S3_REFERENCE_A", "WAHBA_CODES", "SimulationResult", "reference_profile", "simulate",
     "ControllerSpec", "DispersionSpec", "DisturbanceSpec", "EstimatorSpec", "GuidanceSpec", "OrbitSpec",
     "Scenario", "SensorSpec", "SimSpec", "SpacecraftSpec", "ThrusterSpec", "load_scenario",
+    "scenario_toml",
     "to_dataset", "write_netcdf", "write_zarr", "read_dataset",
     "envelope_figure", "attitude_error_figure", "body_rate_figure",
     "SignOffTable", "check_simulation",

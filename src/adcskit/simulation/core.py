@@ -33,7 +33,7 @@ import scipy.linalg
 from scipy.spatial.transform import Rotation, Slerp
 
 from adcskit._jit import CLOSED_LOOP_NOTICE, will_compile
-from adcskit._progress import status
+from adcskit._progress import auto_session, progress_flag, status
 from adcskit._targets import TARGET_BACKENDS, resolve_backend
 from adcskit._validation import as_rng, check_flag, check_int
 from adcskit.attitude._kernels import quat_multiply as _quat_multiply
@@ -114,9 +114,10 @@ class SimulationResult:
     controllable : ndarray (N,) bool
         Whether the sample's thrusters (failed ones removed, each with its dispersed
         direction and thrust) can produce torque in every direction (their torques
-        positively span R^3, the test of :func:`adcskit.thrusters.check_controllability`);
-        ``parameters["torque_authority"]`` (N m) is the torque each sample can produce in
-        its weakest direction. Checked before the run; uncontrollable samples are still
+        positively span R^3, the test of :func:`adcskit.thrusters.check_controllability`)
+        with a torque authority in the weakest direction, ``parameters["torque_authority"]``
+        (N m), of at least ``thrusters.min_authority_fraction`` (default 0.05) of the intact
+        nominal layout's. Checked before the run; uncontrollable samples are still
         simulated, with an :class:`adcskit.errors.UncontrollableWarning` and
         ``success=False``. A layout that is uncontrollable without dispersions gives both
         even if some misaligned samples span every direction (with a tiny authority).
@@ -459,8 +460,10 @@ def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> 
     A sample's torque columns are ``F_j (r_j - com) x d_j`` of its non-failed thrusters, with
     its dispersed directions ``d_j`` and thrust levels ``F_j`` (N). ``authority`` (N m) is the
     torque it can produce in *every* direction (:func:`_torque_authority`); the sample is
-    controllable iff that is > 1e-9 of its largest column (positive span). The nominal layout
-    (failed thrusters removed, no dispersion) and the first uncontrollable sample also get
+    controllable iff that is > 1e-9 of its largest column (positive span) and at least
+    ``thrusters.min_authority_fraction`` of ``intact``, the authority of the nominal layout
+    with every thruster (no failure, no dispersion). The nominal layout (failed thrusters
+    removed, no dispersion) and the first uncontrollable sample also get
     :func:`adcskit.thrusters.check_controllability`, whose message names the unreachable
     direction.
     """
@@ -476,13 +479,19 @@ def _controllability(scenario: Scenario, dirs: np.ndarray, flev: np.ndarray) -> 
     nominal = check_controllability(A0) if cols.size else None
     A = np.swapaxes(np.cross(pos[None], dirs), 1, 2)[:, :, cols] * flev[:, None, cols]  # (n, 3, k), N m
     auth = _torque_authority(A)
+    A1 = np.cross(pos, np.asarray(th.directions)).T * th.f_max  # every thruster, no dispersion
+    intact = float(_torque_authority(A1[None])[0])
+    if not intact > 1e-9 * float(np.max(np.linalg.norm(A1, axis=0))):
+        intact = 0.0  # no positive span even intact (rounding-level in-radius): the fraction asks nothing
     big = np.max(np.linalg.norm(A, axis=1), axis=1) if cols.size else np.zeros(n)
-    ok = auth > 1e-9 * big
+    span = auth > 1e-9 * big
+    ok = span & (auth >= th.min_authority_fraction * intact)
     first_bad = None
-    bad = np.flatnonzero(~ok)
+    bad = np.flatnonzero(~span)
     if bad.size and cols.size:
         first_bad = check_controllability(A[bad[0]])
-    return {"controllable": ok, "authority": auth, "nominal": nominal, "first_bad": first_bad}
+    return {"controllable": ok, "span": span, "authority": auth, "intact": intact, "nominal": nominal,
+            "first_bad": first_bad}
 
 
 def _controllability_message(scenario: Scenario, feas: dict[str, Any]) -> str:
@@ -492,17 +501,33 @@ def _controllability_message(scenario: Scenario, feas: dict[str, Any]) -> str:
     failed = f" with thruster(s) {list(th.failed)} failed" if th.failed else ""
     if nominal is None:
         return f"the layout has no working thruster{failed}: no torque can be produced"
-    n_ok = int(np.count_nonzero(ok))
+    span, intact, frac = feas["span"], feas["intact"], th.min_authority_fraction
+    n_ok, n_span = int(np.count_nonzero(ok)), int(np.count_nonzero(span))
+    weak = span & ~ok  # positive span, but below the stated fraction of the intact layout's authority
+    rule = (f"below min_authority_fraction = {frac:g} of the intact layout's {intact:.3g} N m, so counted "
+            "uncontrollable")
     if not nominal.success:
-        tail = ("no sample can produce torque in every direction" if n_ok == 0 else
-                f"{n_ok} of {ok.size} dispersed samples span every direction only through their misalignment, "
-                f"with at most {np.max(auth[ok]):.3g} N m in their weakest direction")
+        if n_span == 0:
+            tail = "no sample can produce torque in every direction"
+        else:
+            top = float(np.max(auth[span]))
+            pct = f" ({100 * top / intact:.2g} % of the intact layout's)" if intact > 0 else ""
+            tail = (f"{n_span} of {ok.size} dispersed samples span every direction only through their misalignment, "
+                    f"with at most {top:.3g} N m{pct} in their weakest direction"
+                    + (f", {rule}" if n_ok == 0 else f"; {n_ok} of them reach min_authority_fraction = {frac:g}"))
         return f"the thruster layout{failed} cannot produce torque in every direction: {nominal.message}; {tail}"
     if n_ok == ok.size:
         return ""
-    why = f" (first such sample: {feas['first_bad'].message})" if feas["first_bad"] is not None else ""
-    return (f"{ok.size - n_ok} of {ok.size} samples cannot produce torque in every direction with their "
-            f"dispersed thrusters{failed} (misalignment or zero thrust){why}")
+    parts = []
+    if n_span < ok.size:
+        why = f" (first such sample: {feas['first_bad'].message})" if feas["first_bad"] is not None else ""
+        parts.append(f"{ok.size - n_span} of {ok.size} samples cannot produce torque in every direction with their "
+                     f"dispersed thrusters{failed} (misalignment or zero thrust){why}")
+    if np.any(weak):
+        parts.append(f"{int(np.count_nonzero(weak))} of {ok.size} samples have at most "
+                     f"{float(np.max(auth[weak])):.3g} N m in their weakest direction with their dispersed "
+                     f"thrusters{failed}, {rule}")
+    return "; ".join(parts)
 
 
 def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
@@ -703,6 +728,7 @@ def simulate(
     chunk_size: int | None = None,
     directory: Any = None,
     backend: str = "cpu",
+    progress: bool | None = None,
 ) -> SimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a closed-loop scenario.
 
@@ -736,6 +762,11 @@ def simulate(
         device is usable and the estimator runs there, else the CPU. On a device the results
         agree with the CPU's to rounding (fused multiply-adds); under numba's CUDA simulator
         they are bit-identical.
+    progress : bool or None
+        Progress bar over the chunks (and the compile notice) on the console: ``None``
+        (default) at a terminal or in a notebook only, ``False`` never, ``True`` always. The
+        bar appears once the run has taken :data:`adcskit._progress.AUTO_DELAY_S` (3 s);
+        inside the ``adcskit`` CLI's display the CLI shows it.
 
     Returns
     -------
@@ -783,6 +814,7 @@ def simulate(
         raise InputTypeError(f"scenario must be a Scenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    progress = progress_flag(progress)
     target = _resolve_backend(backend, scenario)
     if isinstance(rng, np.random.SeedSequence):
         # a copy: the Latin-hypercube draw (scipy.stats.qmc) spawns from the generator's
@@ -810,10 +842,11 @@ def simulate(
         tasks.append(task + ("cuda",) if target == "cuda" else task)
     from adcskit.uncertainty import run_campaign
 
-    if target == "cpu" and will_compile(_k.run_parallel):
-        status(CLOSED_LOOP_NOTICE)
-    camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
-                        description="closed-loop samples")
+    with auto_session(progress):
+        if target == "cpu" and will_compile(_k.run_parallel):
+            status(CLOSED_LOOP_NOTICE)
+        camp = run_campaign(_run_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                            description="closed-loop samples")
     blocks = camp.values
     out = np.concatenate([b["out"] for b in blocks], axis=0)
     tot = np.concatenate([b["tot"] for b in blocks], axis=0)

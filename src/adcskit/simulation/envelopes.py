@@ -328,7 +328,25 @@ def _draw(ax: Any, e: Envelope, v: np.ndarray, worst: np.ndarray, worst_by: str,
         ax.plot(e.t, v[i], color=_WORST_COLOURS[r % len(_WORST_COLOURS)], lw=0.9, alpha=0.85, zorder=3,
                 label=f"worst by {by}: sample {int(i)}" if r == 0 else f"sample {int(i)}")
     ax.set_yscale(yscale)
+    if yscale == "log":
+        _log_floor(ax, [e.p1, e.p5, e.median, e.p95, e.p99] + [v[i] for i in worst])
     ax.grid(True, which="major", alpha=0.3)
+
+
+#: A log-scale panel spans at most this many decades below its largest value: errors at
+#: rounding level (true knowledge before a step: 2e-15 deg) would otherwise stretch the axis
+#: over a dozen empty decades.
+LOG_DECADES = 4
+
+
+def _log_floor(ax: Any, series: list[np.ndarray]) -> None:
+    """Bottom of a log axis: the smallest positive value shown, but at most ``LOG_DECADES``
+    decades below the largest (values below it are clipped at the axis)."""
+    v = np.concatenate([np.asarray(x, dtype=float).ravel() for x in series])
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size:
+        top = float(np.max(v))
+        ax.set_ylim(bottom=max(float(np.min(v)), top * 10.0**-LOG_DECADES) / 1.25, top=top * 1.25)
 
 
 def attitude_error_figure(result: SimulationResult, *, worst: int = 3, worst_by: str = "pointing_max_deg",

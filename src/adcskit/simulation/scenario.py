@@ -48,6 +48,7 @@ __all__ = [
     "SimSpec",
     "Scenario",
     "load_scenario",
+    "scenario_toml",
 ]
 
 Vec3 = tuple[float, float, float]
@@ -160,9 +161,9 @@ class OrbitSpec(_Spec):
 
     Attributes
     ----------
-    altitude_km : float
+    altitude_km : float, km
         Height above the Earth's equatorial radius (GEO: 35786 km; S0: 800 km).
-    inclination_deg, raan_deg, arg_lat0_deg : float
+    inclination_deg, raan_deg, arg_lat0_deg : float, deg
         Inclination, right ascension of the node, initial argument of latitude.
     epoch : str
         UTC start (ISO 8601); sets the sun direction and the field model date.
@@ -203,10 +204,13 @@ class DisturbanceSpec(_Spec):
     Attributes
     ----------
     constant : 3 floats, N m
+        Constant part ``d0`` per body axis.
     amplitude : 3 floats, N m
+        Amplitude ``a`` of the sinusoid per body axis.
     period_s : float, s
         Period of the sinusoid; 0 means one orbit period (solar-pressure-like, S3 §2).
     phase_deg : 3 floats, deg
+        Phase of the sinusoid per body axis.
 
     Examples
     --------
@@ -255,6 +259,18 @@ class ThrusterSpec(_Spec):
     failure_known : bool
         The allocator knows the failures and re-allocates without them (else it keeps
         commanding the failed thrusters, which do not fire).
+    min_authority_fraction : float
+        :func:`adcskit.simulation.simulate`'s per-sample feasibility test: a sample is
+        controllable only if its torque authority in its weakest direction (failed thrusters
+        removed, dispersed directions and thrusts) is at least this fraction of the intact
+        nominal layout's (all thrusters at ``f_max``, no dispersion), in [0, 1). Default 0.05:
+        a lost torque direction that only a misalignment ``delta`` tilts back into reach
+        gives an authority of order ``sin(delta)`` of the nominal (0.9 % at 0.5 deg; up to
+        3.2 % over the closed-loop study's 5000 Q1 samples of S3's reference layout
+        missing one thruster), which the allocator (it knows only the nominal geometry) does not use;
+        an intact layout dispersed by 5 % thrust and 0.5 deg keeps at least 79 % of it
+        (docs/simulation.md, "Feasibility before flight"). 0 keeps only the positive-span test.
+        Not used by :func:`adcskit.simulation.simulate_wheels` (unloading thrusters).
 
     Examples
     --------
@@ -276,6 +292,7 @@ class ThrusterSpec(_Spec):
     com: Vec3 = (0.0, 0.0, 0.0)
     failed: tuple[int, ...] = ()
     failure_known: bool = True
+    min_authority_fraction: float = 0.05
 
     def __post_init__(self) -> None:
         check_flag_fields(self)
@@ -305,6 +322,9 @@ class ThrusterSpec(_Spec):
             if not 0 <= j < n:
                 raise InputError(f"failed must hold thruster indices in [0, {n - 1}]; got {j}")
         object.__setattr__(self, "failed", tuple(sorted(set(failed))))
+        if not 0.0 <= check_finite("min_authority_fraction", self.min_authority_fraction) < 1.0:
+            raise InputError(f"min_authority_fraction must be in [0, 1) (a fraction of the intact layout's torque "
+                             f"authority); got {self.min_authority_fraction!r}")
 
     @property
     def n(self) -> int:
@@ -365,6 +385,31 @@ class SensorSpec(_Spec):
 
     Rates must be whole fractions of the gyro rate, and the gyro rate a whole fraction of
     ``1/dt``.
+
+    Attributes
+    ----------
+    sun_rate_hz : float, Hz
+        Sun-sensor rate (0: off).
+    sun_noise_deg : float, deg
+        Sun-sensor error per component: Gaussian std, or the bound with ``noise="uniform"``.
+    mag_rate_hz : float, Hz
+        Magnetometer rate (0: off).
+    mag_noise_deg : float, deg
+        Magnetometer error per component, relative to ``|B|`` in the angle it subtends.
+    noise : {"gaussian", "uniform"}
+        Error model of the sun sensor and magnetometer.
+    gyro_rate_hz : float, Hz
+        Gyro rate.
+    gyro_arw : float, rad/s^0.5
+        Angle random walk (Farrenkopf ``sigma_v``).
+    gyro_rrw : float, rad/s^1.5
+        Bias random walk (Farrenkopf ``sigma_u``).
+    gyro_bias0_deg_h : float, deg/h
+        Std per axis of the initial gyro bias.
+    star_tracker_rate_hz : float, Hz
+        Star-tracker rate (0: off).
+    star_tracker_noise_arcsec : float, arcsec
+        Star-tracker error per body axis (std).
 
     Examples
     --------
@@ -478,6 +523,7 @@ class GuidanceSpec(_Spec):
     Attributes
     ----------
     kind : {"hold", "step", "table"}
+        Reference attitude: the identity, a step at ``t_step``, or a time table.
     target_rotvec_deg : 3 floats, deg
         ``step``: rotation vector of the target attitude from the identity.
     t_step : float, s
@@ -545,6 +591,28 @@ class ControllerSpec(_Spec):
     exact bounded least squares (``nnls``: a compiled Lawson-Hanson / BVLS active set whose
     torque equals :func:`adcskit.thrusters.allocate`'s ``nnls``); ``lp-min-fuel`` is not
     compiled and serves ``schmitt`` only.
+
+    Attributes
+    ----------
+    kind : {"schmitt", "pwm", "open-loop"}
+        Control law (above).
+    period_s : float, s
+        Command period.
+    kp, ki, kd : 3 floats
+        PID gains per axis: ``schmitt`` dimensionless (1/rad, 1/(rad s), s/rad); ``pwm``
+        N m/rad, N m/(rad s), N m s/rad.
+    u_on : float
+        ``schmitt``: switch-on level of the trigger (dimensionless).
+    off_ratio : float
+        ``schmitt``: switch-off level as a fraction of ``u_on``, in [0, 1].
+    torque_level : 3 floats, N m
+        ``schmitt``: torque demand per axis when the trigger is on.
+    allocation : str
+        Torque allocation (:data:`adcskit.thrusters.ALLOCATION_METHODS`).
+    min_on_time : {"drop", "round"}
+        Pulses shorter than ``thrusters.t_min``: dropped, or rounded to 0 or ``t_min``.
+    on_times : table of floats, s
+        ``open-loop``: on-time per command period (rows) and thruster (columns).
 
     Examples
     --------
@@ -623,6 +691,7 @@ class DispersionSpec(_Spec):
     initial_rate_deg_s : float
         Std per axis of the initial rate.
     sampling : {"lhs", "random"}
+        Latin-hypercube or plain random draws.
 
     Examples
     --------
@@ -657,6 +726,7 @@ class SimSpec(_Spec):
     dt : float, s
         Integration step (RK4; thruster lag exact for a held command).
     t_final : float, s
+        Duration of each sample's run.
     metrics_from_s : float, s
         Pointing statistics (mean, RMS, max, per-axis RMS) and knowledge error over
         ``[metrics_from_s, t_final]``.
@@ -725,9 +795,26 @@ class Scenario(_Spec):
 
     Attributes
     ----------
-    spacecraft, orbit, disturbance, thrusters, sensors, estimator, guidance, controller,
-    dispersions, sim
-        See the part classes.
+    spacecraft : SpacecraftSpec
+        Rigid body (inertia).
+    orbit : OrbitSpec
+        Circular orbit, epoch and environment models.
+    disturbance : DisturbanceSpec
+        Body-frame disturbance torque.
+    thrusters : ThrusterSpec
+        Thruster layout and model.
+    sensors : SensorSpec
+        Sun sensor, magnetometer, gyro and star tracker.
+    estimator : EstimatorSpec
+        Attitude knowledge used by the controller.
+    guidance : GuidanceSpec
+        Reference attitude (hold, step or time table).
+    controller : ControllerSpec
+        Three-axis controller and allocation.
+    dispersions : DispersionSpec
+        Monte-Carlo dispersions.
+    sim : SimSpec
+        Time grid and metrics.
     initial_rotvec_deg : 3 floats, deg
         Nominal initial attitude (rotation vector from the identity).
     initial_rate_deg_s : 3 floats, deg/s
@@ -791,17 +878,118 @@ class Scenario(_Spec):
             raise InputError("thrusters.failed holds an index beyond the layout")
 
 
+def _inherited(scenario: Any) -> dict[str, Any]:
+    """What a partial file inherits from the default ``scenario``, part by part: every key of
+    a part whose class has no default of its own (``ThrusterSpec``: the layout), else the keys
+    where the scenario's default part differs from its class's default (``WheelScenario``'s
+    500 km sun-synchronous orbit). Keys equal to the class default are left to the class, so
+    that values sized by another key follow it (``[wheels]`` with three ``axes`` gets three
+    wheel inertias, not the default pyramid's four)."""
+    from dataclasses import is_dataclass
+
+    from adcskit.config import config_to_dict
+
+    base: dict[str, Any] = {}
+    for f in fields(scenario):
+        part = getattr(scenario, f.name)
+        if not is_dataclass(part):
+            continue
+        mine = config_to_dict(part)
+        try:
+            ref = config_to_dict(type(part)())
+        except TypeError:  # required fields: no class default to fall back on
+            base[f.name] = mine
+            continue
+        differ = {k: v for k, v in mine.items() if v != ref.get(k)}
+        if differ:
+            base[f.name] = differ
+    return base
+
+
+def _load_spec(cls: type, source: Any = None, overrides: Any = None) -> Any:
+    """A scenario of class ``cls`` from a TOML path or a mapping, over ``cls()``'s defaults.
+
+    A table in ``source`` sets only the keys it names: the others keep the default
+    scenario's values (``[thrusters] f_max = 5.0`` keeps the default layout; see
+    :func:`_inherited` for the keys a part's class sizes by another key). ``overrides``
+    (a mapping) goes under ``source``. Unknown keys are a :class:`~adcskit.errors.ConfigError`
+    naming the dotted key and the allowed ones; a missing file is an
+    :class:`~adcskit.errors.InputError`. Used by :func:`load_scenario` and
+    :func:`adcskit.simulation.load_wheel_scenario`.
+    """
+    from collections.abc import Mapping
+
+    from adcskit._validation import check_mapping
+    from adcskit.config import load_config, merge_mappings, read_toml
+    from adcskit.errors import ConfigError
+
+    if source is None:
+        data: Mapping[str, Any] = {}
+    elif isinstance(source, str | Path):
+        if not Path(source).exists():
+            raise InputError(f"scenario file {str(source)!r} does not exist")
+        data = read_toml(source)
+    elif isinstance(source, Mapping):
+        data = source
+    else:
+        raise ConfigError(f"scenario source must be a mapping or a TOML path; got {short_repr(source)}")
+    check_mapping("overrides", overrides, allow_none=True)
+    base = _inherited(cls())
+    if overrides:
+        base = merge_mappings(base, overrides)
+    try:
+        return load_config(cls, merge_mappings(base, data))
+    except ConfigError as exc:
+        if not str(exc).startswith("invalid config"):
+            raise
+        cmd = "adcskit scenario" + (" --wheels" if cls.__name__ == "WheelScenario" else "")
+        raise ConfigError(f"{exc} (the keys a table does not set keep the default scenario's values: "
+                          f"'{cmd}' prints them)") from None
+
+
 def load_scenario(source: Any = None, overrides: Any = None) -> Scenario:
     """A :class:`Scenario` from a TOML file path or a mapping (unknown keys are errors).
+
+    A partial file is completed from ``Scenario()``: a table sets only the keys it names
+    (see :func:`_load_spec`); ``adcskit scenario`` prints the full default
+    (:func:`scenario_toml`).
 
     Examples
     --------
     >>> sc = load_scenario({"sim": {"t_final": 20.0, "metrics_from_s": 10.0}})
     >>> sc.sim.t_final
     20.0
+    >>> load_scenario({"thrusters": {"f_max": 5.0}}).thrusters == Scenario().thrusters.replace(f_max=5.0)
+    True
     """
-    from adcskit.config import load_config
+    return _load_spec(Scenario, source, overrides)
 
-    if isinstance(source, str) and not Path(source).exists():
-        raise InputError(f"scenario file {source!r} does not exist")
-    return load_config(Scenario, source, overrides)
+
+def scenario_toml(scenario: Any = None, *, comments: bool = True) -> str:
+    """A scenario (default: ``Scenario()``) as TOML text that :func:`load_scenario` (or
+    :func:`adcskit.simulation.load_wheel_scenario` for a ``WheelScenario``) reads back to an
+    equal scenario.
+
+    With ``comments`` each key is preceded by a ``#`` line with its type, unit and meaning
+    (from the part classes' docstrings, :func:`adcskit.config.config_help`); an unset
+    optional part (``None``) is written as a comment.
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> text = scenario_toml()
+    >>> "# float, N: Thrust when on (S3 Table 5: 10 N)." in text.splitlines()
+    True
+    >>> load_scenario(tomllib.loads(text)) == Scenario()
+    True
+    """
+    from adcskit._validation import check_flag
+    from adcskit.config import config_help, config_to_dict, dump_toml
+
+    comments = check_flag("comments", comments)
+    if scenario is None:
+        scenario = Scenario()
+    if not isinstance(scenario, _Spec) or not hasattr(scenario, "sim"):
+        raise InputTypeError(f"scenario must be a Scenario or a WheelScenario; got {short_repr(scenario)}")
+    notes = config_help(type(scenario)) if comments else None
+    return dump_toml(config_to_dict(scenario), comments=notes)

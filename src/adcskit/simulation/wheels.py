@@ -69,12 +69,12 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from adcskit._progress import auto_session, progress_flag
 from adcskit._targets import resolve_backend
 from adcskit._validation import (
     as_array,
@@ -99,6 +99,7 @@ from adcskit.simulation.scenario import (
     SpacecraftSpec,
     ThrusterSpec,
     _check_parts,
+    _load_spec,
     _Spec,
     _triangle_ok,
     _vec,
@@ -613,12 +614,25 @@ class WheelScenario(_Spec):
     ----------
     spacecraft : SpacecraftSpec
         Inertia without the wheels' axial inertia, kg m^2.
-    orbit, disturbance, sensors, sim
-        As in :class:`~adcskit.simulation.Scenario` (``sensors.mag_noise_deg`` is the
+    orbit : OrbitSpec
+        Circular orbit, epoch and environment models (as in :class:`~adcskit.simulation.Scenario`).
+    disturbance : DisturbanceSpec
+        Body-frame disturbance torque.
+    sensors : SensorSpec
+        Sun sensor, magnetometer, gyro and star tracker (``mag_noise_deg`` is the
         per-component std relative to ``|B|``, in the angle it subtends).
-    wheels, magnetorquers, control, modes, dispersions
-        See :class:`WheelSpec`, :class:`MagnetorquerSpec`, :class:`WheelControlSpec`,
-        :class:`ModeSpec`, :class:`WheelDispersionSpec`.
+    sim : SimSpec
+        Time grid and metrics.
+    wheels : WheelSpec
+        Reaction wheels.
+    magnetorquers : MagnetorquerSpec
+        Torque rods (B-dot and magnetic unloading).
+    control : WheelControlSpec
+        Wheel control law, gains and allocation.
+    modes : ModeSpec
+        Mode sequence detumble -> sun -> point.
+    dispersions : WheelDispersionSpec
+        Monte-Carlo dispersions.
     estimator : EstimatorSpec or None
         ``None`` (default): the knowledge is the raw sensors' (the last star-tracker
         quaternion propagated with the gyro; the truth without a star tracker) and the
@@ -720,17 +734,17 @@ class WheelScenario(_Spec):
 def load_wheel_scenario(source: Any = None, overrides: Any = None) -> WheelScenario:
     """A :class:`WheelScenario` from a TOML file path or a mapping (unknown keys are errors).
 
+    A partial file is completed from ``WheelScenario()``: a table sets only the keys it names
+    (``[orbit] altitude_km = 600.0`` keeps the reference's sun-synchronous inclination);
+    ``adcskit scenario --wheels`` prints the full default.
+
     Examples
     --------
     >>> sc = load_wheel_scenario({"sim": {"t_final": 60.0, "metrics_from_s": 30.0}})
     >>> sc.sim.t_final, sc.wheels.n
     (60.0, 4)
     """
-    from adcskit.config import load_config
-
-    if isinstance(source, str) and not Path(source).exists():
-        raise InputError(f"scenario file {source!r} does not exist")
-    return load_config(WheelScenario, source, overrides)
+    return _load_spec(WheelScenario, source, overrides)
 
 
 # ------------------------------------------------------------------------------- results
@@ -1266,7 +1280,8 @@ def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shar
 
 def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
                     record: bool = False, chunk_size: int | None = None,
-                    directory: Any = None, backend: str = "cpu") -> WheelSimulationResult:
+                    directory: Any = None, backend: str = "cpu",
+                    progress: bool | None = None) -> WheelSimulationResult:
     """Run ``n_samples`` Monte-Carlo samples of a wheel + magnetorquer scenario.
 
     The samples are split into chunks (tasks of :func:`adcskit.uncertainty.run_campaign`) run
@@ -1301,6 +1316,10 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         device). ``"auto"``: CUDA when a real device is usable, else the CPU. On a device the
         results agree with the CPU's to rounding (the GPU contracts ``a * b + c`` into fused
         multiply-adds); under numba's CUDA simulator they are bit-identical.
+    progress : bool or None
+        Progress bar over the chunks on the console: ``None`` (default) at a terminal or in a
+        notebook only, ``False`` never, ``True`` always; it appears once the run has taken
+        :data:`adcskit._progress.AUTO_DELAY_S` (3 s) (as :func:`adcskit.simulation.simulate`).
 
     Returns
     -------
@@ -1335,6 +1354,7 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
         raise InputTypeError(f"scenario must be a WheelScenario; got {type(scenario).__name__}")
     n_samples = check_int("n_samples", n_samples, minimum=1, maximum=10_000_000)
     record = check_flag("record", record)
+    progress = progress_flag(progress)
     target = resolve_backend(backend)
     if isinstance(rng, np.random.SeedSequence):
         rng = np.random.SeedSequence(rng.entropy, spawn_key=rng.spawn_key, pool_size=rng.pool_size,
@@ -1361,8 +1381,9 @@ def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None
               seeds[lo:lo + chunk_size], record) for lo in range(0, n, chunk_size)]
     from adcskit.uncertainty import run_campaign
 
-    camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
-                        description="wheel samples", shared=sh)
+    with auto_session(progress):
+        camp = run_campaign(_run_wheel_block, tasks, executor=executor, directory=directory, chunk_size=1,
+                            description="wheel samples", shared=sh)
     blocks = camp.values
     OUT = np.concatenate([b["out"] for b in blocks], axis=0)
     REC = np.concatenate([b["rec"] for b in blocks], axis=0) if record else None

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from adcskit._progress import status
 from adcskit._results import to_jsonable
 from adcskit._validation import check_flag, check_int
 from adcskit.config import config_to_dict, load_config
@@ -316,6 +317,9 @@ def run_study(
     owns = not isinstance(executor, Executor)
     ex = make_executor(executor)
     try:
+        # a stage line for every study, also those without stages of their own (shown inside a
+        # progress session, and forwarded to the console by `reproduce --jobs N`)
+        status(f"{name}: started ({'quick' if quick else 'full'} settings, seed {seed})")
         t0 = time.perf_counter()
         result = study.run(cfg, quick=quick, rng=np.random.default_rng(seed), executor=ex)
         runtime = time.perf_counter() - t0
