@@ -1,7 +1,7 @@
 """Per-sample kernels of the multiplicative EKF (MEKF) with gyro-bias estimation.
 
 Private module: the validated public API is :mod:`adcskit.estimation.mekf`. The functions
-below are the *per-sample step* of design.md's batched kernels: plain Python functions that
+below are the *per-sample step* of the batched kernels (docs/architecture.md, "Kernels and targets"): plain Python functions that
 work in place on preallocated ``float64`` arrays, allocate nothing, raise nothing and use only
 ``math`` scalar functions, so the same source compiles
 
@@ -18,7 +18,7 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
 --------------------------------------------------------------------------------------------
 ``q`` (4,)
     Attitude estimate, quaternion scalar last, ``A(q)`` maps reference to body
-    (``b = A(q) r``, design.md), kept unit norm with ``q[3] >= 0`` by every step.
+    (``b = A(q) r``, docs/architecture.md), kept unit norm with ``q[3] >= 0`` by every step.
 ``b`` (3,)
     Gyro-bias estimate [rad/s]: ``omega_meas = omega_true + b + noise``.
 ``P`` (6, 6)
