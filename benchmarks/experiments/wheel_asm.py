@@ -19,9 +19,10 @@ import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
+from kernel_asm import _RELOAD, _SPILL, functions  # noqa: E402
+
 from adcskit.simulation import SimSpec, WheelScenario, simulate_wheels  # noqa: E402
 from adcskit.simulation import _wheel_kernels as _k  # noqa: E402
-from kernel_asm import _RELOAD, _SPILL, functions  # noqa: E402
 
 
 def _short(name):
