@@ -145,7 +145,7 @@ def _g(n, x):
     x < 0.2, 10 below 1). The Horner steps ``s = 1/(2k + n)! - x² s`` from ``k = m - 1`` down
     to 0 are written out (the same operations in the same order as the loop over ``k`` they
     replace, so the same doubles): numba's loop with a run-time trip count and tuple index
-    made the five calls of a propagation 2.5x slower (docs/benchmarks.md, "Two cores per
+    made a propagation several times slower (docs/benchmarks.md, "Two cores per
     CPU-second")."""
     if x < _SERIES_X:
         x2 = x * x
