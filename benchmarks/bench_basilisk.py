@@ -36,7 +36,7 @@ Needs Basilisk (``pip install 'adcskit[validate]'``, i.e. ``bsk`` from PyPI). Ru
 
    Two more per-core ratios compare like with like, because on this 2-vCPU machine our kernel
    ran 5-15 % fewer sample-steps per CPU-second on two threads than on one (medians of 10
-   alternated pairs, with either wait policy; ``benchmarks/two_cores.py``, docs/benchmarks.md
+   alternated pairs, with either wait policy; ``benchmarks/experiments/two_cores.py``, docs/benchmarks.md
    "Two cores per CPU-second"). **One thread each**: ours with ``numba.set_num_threads(1)``,
    the other cores idle, as for Basilisk. **Every core busy**: ours on all threads; Basilisk
    one process per core, started together behind a barrier, counted as the sum of their steps

@@ -1,6 +1,6 @@
 """Two (or more) source trees' closed-loop kernels side by side, for a noisy machine.
 
-``kernel_rates.py`` starts one process per tree and run; on a 2-vCPU VM whose rate moves by
+``experiments/kernel_rates.py`` starts one process per tree and run; on a 2-vCPU VM whose rate moves by
 ±20 % from one minute to the next (the Xeon instance of 2026-12-02: the same run gave 2.8e6 to
 4.4e6 sample-steps per CPU-second), whole-run alternation needs many runs. Here every tree gets
 one persistent worker process (single numba thread, its own numba cache, warmed up), and the

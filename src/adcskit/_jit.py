@@ -22,7 +22,7 @@ from typing import Any
 
 __all__ = ["will_compile", "CLOSED_LOOP_NOTICE"]
 
-#: One-line notice before the closed-loop simulator compiles (measured: 75 CPU-s cold, 2026-12-02; docs/benchmarks.md "Compile time of the kernels").
+#: One-line notice before the closed-loop simulator compiles (the cold compile time is measured in docs/benchmarks.md, "Compile time of the kernels").
 CLOSED_LOOP_NOTICE = "compiling the closed-loop simulator once, about 1-2 min; cached afterwards"
 
 

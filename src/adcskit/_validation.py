@@ -1,7 +1,7 @@
 """Boundary validation helpers shared by every public API.
 
 Public functions call these at their boundary and then hand plain ``float64`` arrays to the
-private kernels (house style rule 1 of ``design.md``). Every failure raises
+private kernels (house style rule 1 of ``docs/architecture.md``). Every failure raises
 :class:`adcskit.errors.InputError` or :class:`adcskit.errors.InputTypeError` with a message
 of the form ``"<name> must be <what is allowed>; got <value>"``.
 """
@@ -369,7 +369,7 @@ def check_int(name: str, value: Any, *, minimum: int | None = None, maximum: int
     return v
 
 
-#: Unit suffixes of config keys (``inertia_kgm2``, ``delay_s``, ...; design.md house style).
+#: Unit suffixes of config keys (``inertia_kgm2``, ``delay_s``, ...; docs/architecture.md, "Conventions").
 UNIT_SUFFIXES = frozenset({
     "s", "ms", "hz", "deg", "rad", "rad_s", "deg_s", "m", "km", "m_s", "n", "nm", "kgm2", "kg", "kg_s",
     "pct", "t", "nm_per_rad", "deg_per_pct",

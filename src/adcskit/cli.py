@@ -22,8 +22,8 @@ timing fields. How ``--jobs`` combines with ``--executor`` (no oversubscription)
   study's numba kernels on ``max(1, cores // N)`` threads (``numba.set_num_threads``; the
   kernels' results do not depend on their thread count). With every worker's kernels on every
   core, a ``prange`` loop's static halves waited for the half that shared its core with the
-  study beside it while the other core idled: 152 % CPU on 2 cores (docs/benchmarks.md, "Full
-  reproduction", the Xeon instance).
+  study beside it while the other core idled (measured in docs/benchmarks.md, "Full
+  reproduction").
 * ``processes`` without a count: each study gets ``max(1, cores // N)`` campaign workers;
   an explicit ``processes:M`` is kept (a warning says when ``N * M`` exceeds the cores).
 * ``dask-local[:M]``: one local cluster, started here and shared by every study (they

@@ -3,7 +3,7 @@
 Every error raised on bad input is a subclass of the built-in :class:`ValueError` or
 :class:`TypeError`, so ``except ValueError`` keeps working for callers that do not know
 adcskit, and its message names the parameter, the offending value and what is allowed
-(house style rule 6 of ``design.md``).
+(house style rule 6 of ``docs/architecture.md``).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Attitude representations and algebra: quaternion, DCM, MRP, Euler sequences, kinematics.
 
-One convention throughout (``design.md``): scalar-last unit quaternion ``q = [e, q4]``,
+One convention throughout (``docs/architecture.md``, "Conventions"): scalar-last unit quaternion ``q = [e, q4]``,
 canonical sign ``q4 >= 0``, attitude matrix ``A(q)`` mapping reference-frame components to
 body-frame components (``b = A r``); ``A(p ⊗ q) = A(p) A(q)``. Every function accepts one item
 or a batch (leading axis ``N``) and returns the same rank. See ``docs/conventions.md``.

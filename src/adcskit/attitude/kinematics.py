@@ -1,7 +1,7 @@
 """Attitude kinematics: quaternion and MRP rates from the body angular velocity.
 
 ``ω`` is the angular velocity of the body frame relative to the reference frame, in body
-components (rad/s). With ``A(q)`` reference → body (design.md), ``Ȧ = −[ω×] A``.
+components (rad/s). With ``A(q)`` reference → body (docs/architecture.md, "Conventions"), ``Ȧ = −[ω×] A``.
 
 References
 ----------

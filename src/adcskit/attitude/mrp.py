@@ -1,6 +1,6 @@
 """Modified Rodrigues parameters (MRPs).
 
-``σ = e tan(Φ/4) = q_v / (1 + q4)`` (scalar-last quaternion, design.md convention) with the
+``σ = e tan(Φ/4) = q_v / (1 + q4)`` (scalar-last quaternion, docs/architecture.md convention) with the
 attitude matrix ``C(σ) = I + (8[σ×]² − 4(1 − σ²)[σ×]) / (1 + σ²)²`` equal to ``A(q)``.
 ``σ`` and its shadow set ``σˢ = −σ/|σ|²`` describe the same attitude; the set with
 ``|σ| <= 1`` (rotation angle ≤ 180°) is returned by the converters, and :func:`mrp_switch`

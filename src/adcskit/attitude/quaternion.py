@@ -1,6 +1,6 @@
 """Quaternions and attitude matrices (DCMs).
 
-Convention (``design.md``): ``q = [q1, q2, q3, q4] = [e, q4]``, vector part first, **scalar
+Convention (``docs/architecture.md``, "Conventions"): ``q = [q1, q2, q3, q4] = [e, q4]``, vector part first, **scalar
 last**, unit norm, canonical sign ``q4 >= 0``. ``q`` represents the attitude matrix
 
 ``A(q) = (q4² − |e|²) I₃ + 2 e eᵀ − 2 q4 [e×]``

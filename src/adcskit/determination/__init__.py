@@ -6,7 +6,7 @@
   min-max goal attainment, NSGA-II Pareto set, and the worst-case (Ahmed & Kerrigan) solver.
 
 Quaternions are scalar last and ``A(q)`` maps reference to body (``b = A r``); see
-``docs/design.md``.
+``docs/architecture.md``.
 """
 
 from adcskit.determination.wahba import (

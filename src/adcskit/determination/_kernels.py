@@ -791,8 +791,8 @@ def solve_one(body_all, ref_all, w_all, kk, kw, method, q_all, out_all, cov_all,
 
     For callers that solve one problem at a time at a low rate (the min-max step
     :func:`adcskit.determination._box.minmax_one`, the closed-loop simulator's Wahba step):
-    numba inlines ``_solve_one`` (every method, with its inlined helpers) at the IR level, which
-    took ≈ 10 CPU-s to compile per inlined copy (six copies in the closed-loop kernel; docs/
+    numba inlines ``_solve_one`` (every method, with its inlined helpers) at the IR level, and
+    each inlined copy compiles for seconds (six copies in the closed-loop kernel; docs/
     benchmarks.md "Compile time of the kernels"); calling this dispatcher instead compiles
     that once and links it (same operations in the same order, so the same numbers).
     """

@@ -1,7 +1,7 @@
 """Per-sample kernels of the multiplicative EKF (MEKF) with gyro-bias estimation.
 
 Private module: the validated public API is :mod:`adcskit.estimation.mekf`. The functions
-below are the *per-sample step* of design.md's batched kernels: plain Python functions that
+below are the *per-sample step* of the batched kernels (docs/architecture.md, "Kernels and targets"): plain Python functions that
 work in place on preallocated ``float64`` arrays, allocate nothing, raise nothing and use only
 ``math`` scalar functions, so the same source compiles
 
@@ -18,7 +18,7 @@ Interface (all arrays ``float64``, C-contiguous or strided views; nothing is all
 --------------------------------------------------------------------------------------------
 ``q`` (4,)
     Attitude estimate, quaternion scalar last, ``A(q)`` maps reference to body
-    (``b = A(q) r``, design.md), kept unit norm with ``q[3] >= 0`` by every step.
+    (``b = A(q) r``, docs/architecture.md), kept unit norm with ``q[3] >= 0`` by every step.
 ``b`` (3,)
     Gyro-bias estimate [rad/s]: ``omega_meas = omega_true + b + noise``.
 ``P`` (6, 6)
@@ -145,7 +145,7 @@ def _g(n, x):
     x < 0.2, 10 below 1). The Horner steps ``s = 1/(2k + n)! - x² s`` from ``k = m - 1`` down
     to 0 are written out (the same operations in the same order as the loop over ``k`` they
     replace, so the same doubles): numba's loop with a run-time trip count and tuple index
-    made the five calls of a propagation 2.5x slower (docs/benchmarks.md, "Two cores per
+    made a propagation several times slower (docs/benchmarks.md, "Two cores per
     CPU-second")."""
     if x < _SERIES_X:
         x2 = x * x

@@ -18,7 +18,7 @@ closed-loop NEES fell from 8.2 to the χ² band); star-tracker updates, linear i
 are not underweighted. The equations are in
 :mod:`adcskit.estimation._mekf_kernels`.
 
-Two entry points (design.md rule 2):
+Two entry points (docs/architecture.md, house style rule 2):
 
 * :class:`MultiplicativeEKF` — a validated stepping filter for one spacecraft
   (``propagate``, ``update_vector``, ``update_quaternion``, ``nees``);
@@ -32,7 +32,7 @@ Hand-written because no maintained Python library provides a MEKF with bias esti
 quaternion additively, without gyro bias, one sample per Python call).
 
 Conventions: quaternion scalar last, ``A(q)`` maps reference to body (``b = A(q) r``),
-canonical sign ``q4 >= 0`` (design.md).
+canonical sign ``q4 >= 0`` (docs/architecture.md, "Conventions").
 
 References
 ----------

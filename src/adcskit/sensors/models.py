@@ -1,7 +1,7 @@
 """Sensor models: sun sensor (with eclipse), three-axis magnetometer, rate gyro.
 
 A sensor turns reference-frame vectors ``r`` and the true attitude matrix ``A``
-(reference -> body, ``b = A r``, design.md convention) into body-frame measurements. The
+(reference -> body, ``b = A r``, docs/architecture.md convention) into body-frame measurements. The
 error chain, applied in this order to ``b = A r``:
 
 1. **misalignment** θ (rotation vector of the sensor frame relative to the body frame, rad):

@@ -230,7 +230,7 @@ class StudyResult:
         return list(self.claims)
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``result.json`` document (schema of ``design.md`` plus report fields)."""
+        """The ``result.json`` document (schema in ``docs/architecture.md``, "Results and the result store")."""
         from adcskit import __version__
 
         return {

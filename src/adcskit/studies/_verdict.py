@@ -1,6 +1,6 @@
 """The verdict model: the paper's claims, decided over seeds and readings.
 
-A study reports three kinds of statement (``design.md``, "Studies and results"):
+A study reports three kinds of statement (``docs/architecture.md``, "The verdict rule"):
 
 * **claims** — the paper's own statements, in the paper's words, with where they are
   (section / table / figure) and the quantity that decides them;

@@ -16,7 +16,7 @@ thread, CPU time per sample-step, best of ``--repeats``:
 
 Run::
 
-    PYTHONPATH=src python benchmarks/kernel_ilp.py [--repeats 3] [--steps 2000000]
+    PYTHONPATH=src python benchmarks/experiments/kernel_ilp.py [--repeats 3] [--steps 2000000]
 
 Results: docs/benchmarks.md, "Closed-loop kernel: several samples at once".
 """

@@ -5,7 +5,7 @@ torque, disturbance, delay from Gaussians, LHS) over 30 s at dt = 1 ms, ``R`` re
 the process (all threads). Prints JSON (median and runs). Compare two trees by starting both
 at the same moment, one numba thread each::
 
-    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/onoff_rates.py 2800 2
+    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/experiments/onoff_rates.py 2800 2
 """
 
 import json
@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
 from adcskit.control import LoopSettings, simulate_batch  # noqa: E402
 from bench_onoff import _params  # noqa: E402
 

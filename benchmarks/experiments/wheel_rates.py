@@ -10,8 +10,8 @@ argument ``mekf`` turns the loop's MEKF on (``EstimatorSpec(kind="mekf")``). To 
 trees, run it alternately in each (one process per tree and run, order swapped every pair,
 medians)::
 
-    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/wheel_rates.py 16 3
-    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/wheel_rates.py 16 3 mekf
+    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/experiments/wheel_rates.py 16 3
+    NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/experiments/wheel_rates.py 16 3 mekf
 """
 
 import json

@@ -8,7 +8,7 @@ prints, per function, the instruction count, the calls, the double spills and re
 an atomic instruction each), then the functions that each one calls. Needs a cold
 compilation (a kernel loaded from the disk cache has no assembly)::
 
-    NUMBA_CACHE_DIR=$(mktemp -d) PYTHONPATH=src python benchmarks/wheel_asm.py /tmp/w.s
+    NUMBA_CACHE_DIR=$(mktemp -d) PYTHONPATH=src python benchmarks/experiments/wheel_asm.py /tmp/w.s
 """
 
 import collections
@@ -18,9 +18,11 @@ import sys
 import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
+from kernel_asm import _RELOAD, _SPILL, functions  # noqa: E402
+
 from adcskit.simulation import SimSpec, WheelScenario, simulate_wheels  # noqa: E402
 from adcskit.simulation import _wheel_kernels as _k  # noqa: E402
-from kernel_asm import _RELOAD, _SPILL, functions  # noqa: E402
 
 
 def _short(name):

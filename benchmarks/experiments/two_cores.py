@@ -20,8 +20,8 @@ policy of this process's environment:
 
 Run::
 
-    env -u OMP_WAIT_POLICY python benchmarks/two_cores.py --rounds 10 --processes 6
-    OMP_WAIT_POLICY=PASSIVE python benchmarks/two_cores.py --rounds 10
+    env -u OMP_WAIT_POLICY python benchmarks/experiments/two_cores.py --rounds 10 --processes 6
+    OMP_WAIT_POLICY=PASSIVE python benchmarks/experiments/two_cores.py --rounds 10
 
 Results: docs/benchmarks.md, "Two cores per CPU-second".
 """
@@ -40,6 +40,7 @@ import numpy as np
 from numba import njit, prange
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
 
 
 @njit(parallel=True)

@@ -11,7 +11,7 @@ that it writes the same bytes as the one-sample loop (``OUT``, ``TOT``) on the a
 captured ``simulate`` call (64 samples of bench_basilisk.py's scenario), and times both
 drivers on one thread, alternated: best and median sample-steps per CPU-second::
 
-    PYTHONPATH=src python benchmarks/kernel_pair.py full 10
+    PYTHONPATH=src python benchmarks/experiments/kernel_pair.py full 10
 
 Results: docs/benchmarks.md, "Two cores per CPU-second" (tried and not kept). Since the
 lane blocks (2026-12-03) the CPU driver runs ``block_loop``, not ``sample_loop``; this script
@@ -36,6 +36,7 @@ from numba import njit, uint64
 from numba.core.errors import NumbaIRAssumptionWarning
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
 from adcskit._targets import PerSample  # noqa: E402
 from adcskit.simulation import _kernels as K  # noqa: E402
 from adcskit.simulation import core, simulate  # noqa: E402

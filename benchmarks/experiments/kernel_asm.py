@@ -10,7 +10,7 @@ instructions, and the symbols that ``block_loop`` itself calls. (Until the lane 
 this script then read; ``sample_loop_jit`` compiles only when called.) Needs a cold compilation, so set ``NUMBA_CACHE_DIR`` to an
 empty folder (a kernel loaded from the disk cache has no assembly)::
 
-    NUMBA_CACHE_DIR=$(mktemp -d) PYTHONPATH=src python benchmarks/kernel_asm.py /tmp/k.s
+    NUMBA_CACHE_DIR=$(mktemp -d) PYTHONPATH=src python benchmarks/experiments/kernel_asm.py /tmp/k.s
 """
 
 import collections
@@ -20,6 +20,7 @@ import sys
 import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
 from adcskit.simulation import _kernels, simulate
 from bench_basilisk import _speed_scenarios
 

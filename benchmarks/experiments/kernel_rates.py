@@ -4,7 +4,7 @@ Variants: full (the full chain), full_rec (with traces), full_nonees (no NEES), 
 (no magnetometer), truth_schmitt (truth estimator), truth_idle (truth, thrusters never
 fire), same (same elements as Basilisk). Prints JSON: per variant [median, runs...]::
 
-    PYTHONPATH=src python benchmarks/kernel_rates.py 3 full,same
+    PYTHONPATH=src python benchmarks/experiments/kernel_rates.py 3 full,same
 """
 
 import json
@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
 from adcskit.simulation import ControllerSpec, EstimatorSpec, simulate
 from bench_basilisk import _speed_scenarios
 

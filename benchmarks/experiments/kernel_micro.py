@@ -3,7 +3,7 @@
 Each piece of :mod:`adcskit.simulation._kernels` (the kernel's own device functions) in a
 small njit loop, best of 3, CPU time. Run::
 
-    PYTHONPATH=src python benchmarks/kernel_micro.py
+    PYTHONPATH=src python benchmarks/experiments/kernel_micro.py
 
 Results and the per-sample-step breakdown: docs/benchmarks.md, "Closed-loop kernel".
 """
