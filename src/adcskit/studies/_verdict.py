@@ -509,7 +509,9 @@ def decide(
     alpha = 1.0 - confidence
     if vals:
         interval = median_interval(vals, confidence)
-    elif not stochastic or n == 0:
+    elif n == 0:
+        interval = (0.0, 1.0)  # no seeds: nothing is known of the fraction
+    elif not stochastic:
         interval = (frac, frac)  # a deterministic computation: no sampling interval
     else:
         from scipy.stats import beta
