@@ -76,6 +76,17 @@ def test_log_scale_margin_is_relative():
         decide(values=[1.0], threshold=0.0, scale="log")
 
 
+def test_a_reading_can_declare_its_own_margin():
+    spec = ClaimSpec(id="fuel", statement="s", where="w", quantity="q", value=lambda m: m, threshold=1.0,
+                     better="below", scale="log", readings=("fixed",), margin=0.05, reading_margins={"fixed": 0.0},
+                     margin_reason="sampling error of random directions; fixed demands: none")
+    c = spec.evaluate({"default": [0.98, 0.8, 0.8, 0.8, 0.8], "fixed": [0.98, 0.8, 0.8, 0.8, 0.8]})
+    assert [r.outcome for r in c.readings] == ["inconclusive", "holds"]  # 0.98 ties only within 0.05
+    with pytest.raises(ValueError, match="reading_margins"):
+        ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m, threshold=1.0,
+                  reading_margins={"x": -1.0})
+
+
 def test_premise_failure_makes_the_reading_inconclusive_with_the_reason():
     torque = Premise(name="equal torque", holds=lambda m: m["missed"] == 0,
                      why=lambda m: f"{m['missed']} of 200 demands missed", readings=("pinv",))

@@ -67,11 +67,12 @@ def test_claims_are_the_papers_and_decided_over_seeds(quick):
     fuel_claim = claims["optimal-layout-less-fuel"]
     assert "0.212 N m" in fuel_claim["quantity"] and "4.1 % of |M|" in fuel_claim["quantity"]
     assert "redraws" in fuel_claim["margin_reason"] and fuel_claim["margin"] > 0
+    assert "design demands, pinv-redistribute, best design: 0 (a factor 1.000)" in fuel_claim["margin_reason"]
     for r in fuel_claim["readings"]:
         if r["premise_failures"]:
             assert r["outcome"] == "inconclusive" and "equal torque" in r["detail"]
-        elif all(math.log(v) < -fuel_claim["margin"] for v in r["values"]):
-            assert r["outcome"] == "holds"  # 5 of 5 seeds below 1 beyond the margin
+        elif all(math.log(v) < -0.5 for v in r["values"]):
+            assert r["outcome"] == "holds"  # 5 of 5 seeds below 1 beyond any margin
     # readings: the fuel claim is decided out of sample with both allocations and both layouts,
     # Table 8 with the single-thruster and the paired-couple impulse bit
     fuel = {r["reading"] for r in claims["optimal-layout-less-fuel"]["readings"]}

@@ -683,6 +683,10 @@ class ClaimSpec:
         ``margin`` is in log units (a relative margin: ``log(1.5)`` is a factor 1.5).
     premises : tuple of Premise
         Checks that are the premises of (some of) the readings, per seed (:class:`Premise`).
+    reading_margins : mapping of str to float
+        A reading's own equivalence margin where it differs from ``margin`` (e.g. a reading on
+        fixed demands has no sampling error of random ones); the reason goes in
+        ``margin_reason``.
 
     Examples
     --------
@@ -711,6 +715,7 @@ class ClaimSpec:
     timing: bool = False
     scale: str = "linear"
     premises: tuple[Premise, ...] = ()
+    reading_margins: Mapping[str, float] = field(default_factory=dict)
     describe: Callable[[Reading], str] | None = field(default=None, repr=False)
 
     _cls = Claim
@@ -722,6 +727,9 @@ class ClaimSpec:
         check_choice("scale", self.scale, ("linear", "log"))
         check_flag("stochastic", self.stochastic)
         object.__setattr__(self, "premises", tuple(self.premises))
+        check_mapping("reading_margins", self.reading_margins)
+        object.__setattr__(self, "reading_margins", {
+            str(k): check_range(f"reading_margins[{k!r}]", v, 0.0, math.inf) for k, v in self.reading_margins.items()})
         for p in self.premises:
             if not isinstance(p, Premise):
                 raise InputError(f"claim {self.id!r}: premises must be Premise objects; got {type(p).__name__}")
@@ -747,7 +755,8 @@ class ClaimSpec:
             raise ValueError(f"claim {self.id!r}: value needs a threshold")
         failed = [f for p in self.premises for f in p.failures(name, runs)]
         r = decide(held, values=vals, threshold=self.threshold, better=self.better, stochastic=self.stochastic,
-                   reading=name, margin=self.margin, scale=self.scale, premise_failures=failed)
+                   reading=name, margin=self.reading_margins.get(name, self.margin), scale=self.scale,
+                   premise_failures=failed)
         if self.describe is not None:
             from dataclasses import replace
 

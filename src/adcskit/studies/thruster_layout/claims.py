@@ -124,7 +124,9 @@ def _optimal_layout_less_fuel(cfg: Config, m: Measurements) -> Declared | None:
 
     mag, tol = float(np.linalg.norm(m.demands[0])), torque_tolerance_nm(cfg)
     z = float(norm.ppf(0.975))
-    sd = max(r.log_ratio_sd for r in m.fuel)
+    # each reading's margin from its own sampling error (the fixed design demands have none)
+    sd = {k: max(r.log_ratio_sd for r in v) for k, v in runs.items()}
+    margins = {k: z * v for k, v in sd.items()}
     equal_torque = Premise(
         name="equal torque",
         holds=lambda r: r.equal_torque,
@@ -143,11 +145,13 @@ def _optimal_layout_less_fuel(cfg: Config, m: Measurements) -> Declared | None:
                  "torque impulse per sample F_max Delta t_min / t_s, S3 eq. 9-10); a seed that misses one is no "
                  "evidence for its reading",
         value=lambda r: r.ratio, threshold=1.0, better="below", unit="-", scale="log",
-        margin=z * sd,
-        margin_reason=f"sampling error of the random directions, measured: each out-of-sample ratio recomputed on "
-                      f"{cfg.fuel_redraws} independent redraws of its {cfg.n_fuel_demands} directions; the largest "
-                      f"standard deviation of a seed's log ratio over its {cfg.fuel_redraws + 1} draws is {sd:.3g}; "
-                      f"margin {z:.2f} x that = {z * sd:.3g} in log ratio (a factor {math.exp(z * sd):.3f})",
+        margin=margins[FUEL_DEFAULT], reading_margins=margins,
+        margin_reason=f"per reading, the sampling error of its random directions, measured: each out-of-sample ratio "
+                      f"recomputed on {cfg.fuel_redraws} independent redraws of its {cfg.n_fuel_demands} directions; "
+                      f"margin = {z:.2f} x the largest standard deviation of a seed's log ratio over its "
+                      f"{cfg.fuel_redraws + 1} draws: "
+                      + "; ".join(f"{k}: {v:.3g} (a factor {math.exp(v):.3f})" for k, v in margins.items())
+                      + " (the fixed design demands are not sampled: 0)",
         readings=tuple(k for k in runs if k != FUEL_DEFAULT),
         protocol_keys=protocol_keys(Config, "optimal-layout-less-fuel"),
         premises=(equal_torque,),

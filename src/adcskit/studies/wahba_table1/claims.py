@@ -37,10 +37,10 @@ __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "READING_FIELDS", "SPEED_MARGIN", "ev
 
 #: Equivalence margin of ``speed-600x``, a factor around its bar of 300: a per-replica ratio in
 #: [200, 450] is a tie. From the measured run-to-run spread of the per-replica ratios (same
-#: seeds, a quiet and a CPU-loaded full run on one machine, docs/benchmarks.md "wahba-table1
-#: load-proof timing"): the largest factor between the two runs' ratios of one replica was
-#: about 1.2 (with repeats); 1.5 also covers the machine-to-machine change of a ratio of two
-#: different codes (the issue's two CPUs moved both NSGA-II and the q-method by 2.7x).
+#: seeds, a quiet and a CPU-loaded full run on one 2-core VM, docs/benchmarks.md "wahba-table1:
+#: load-proof timing"): the largest factor between the two runs' ratios of one replica was 1.29
+#: (over the 4 readings x 5 replicas); 1.5 is that with headroom. It does not cover a CPU whose
+#: relative speed of NSGA-II and min-max differs by more (not measured here).
 SPEED_MARGIN = 1.5
 
 #: Per reading of a claim, the :class:`~.experiment.Replica` field that is its deciding value.
