@@ -36,12 +36,13 @@ from adcskit.studies.wahba_table1.paper import PAPER_TABLE1, paper_ratio
 __all__ = ["CHECKS", "CLAIMS", "FINDINGS", "READING_FIELDS", "SPEED_MARGIN", "evaluate"]
 
 #: Equivalence margin of ``speed-600x``, a factor around its bar of 300: a per-replica ratio in
-#: [200, 450] is a tie. From the measured run-to-run spread of the per-replica ratios (same
-#: seeds, a quiet and a CPU-loaded full run on one 2-core VM, docs/benchmarks.md "wahba-table1:
-#: load-proof timing"): the largest factor between the two runs' ratios of one replica was 1.29
-#: (over the 4 readings x 5 replicas); 1.5 is that with headroom. It does not cover a CPU whose
-#: relative speed of NSGA-II and min-max differs by more (not measured here).
-SPEED_MARGIN = 1.5
+#: [150, 600] is a tie. From the measured run-to-run spread of the per-replica ratios (same
+#: seeds; a quiet run, a run beside two CPU-bound processes and a run inside a 2-job reproduction,
+#: on one 2-core VM; docs/benchmarks.md "wahba-table1: load-proof timing"): the largest factor
+#: between two runs' ratios of one replica was 1.79 (closed form, big budget; 1.30 for the other
+#: readings); 2 covers it. It does not cover a CPU whose relative speed of NSGA-II and min-max
+#: differs by more (not measured here).
+SPEED_MARGIN = 2.0
 
 #: Per reading of a claim, the :class:`~.experiment.Replica` field that is its deciding value.
 READING_FIELDS = {
@@ -100,7 +101,7 @@ CLAIMS = (
         "the big budget (pop_size x nsga2_big_n_gen, default 1.5e5, over the first n_big_epochs of them)",
         value=lambda m: m[0], threshold=300.0, scale="log", margin=math.log(SPEED_MARGIN),
         margin_reason=f"run-to-run spread of the per-replica CPU-time ratios (quiet vs loaded runs, same seeds): a "
-        f"ratio within a factor {SPEED_MARGIN} of the bar (200-450) is a tie",
+        f"ratio within a factor {SPEED_MARGIN:g} of the bar ({300 / SPEED_MARGIN:g}-{300 * SPEED_MARGIN:g}) is a tie",
         premises=(Premise(name="the timing repeats re-ran the same solve", holds=lambda m: m[1],
                           why=lambda m: "a repeat returned another attitude"),),
         paper=round(paper_ratio("nsga2-truth-pick", "minmax", "runtime_s"), 1),
