@@ -19,6 +19,7 @@ from adcskit.studies._pages import (
     resolve,
     snapshot_of,
     study_statements,
+    value_rtol,
 )
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "studies"
@@ -73,6 +74,38 @@ def test_compare_snapshots_ignores_only_timing_values():
     assert compare_snapshots(b, a) == []
     b["claims"][0]["outcome"] = "inconclusive"
     assert compare_snapshots(b, a) == ["claim 'acc': outcome 'holds' -> 'inconclusive'"]
+
+
+def test_compare_snapshots_fails_on_a_flipped_timing_reading():
+    # issue 45: "SLSQP, NSGA-II big budget" went from holds to inconclusive between two CPUs and
+    # `pages --check` passed, since it skipped the readings of timing claims
+    a = _snap()
+    a["claims"][0]["timing"] = True
+    b = json.loads(json.dumps(a))
+    b["claims"][0]["readings"][1]["outcome"] = "inconclusive"
+    b["claims"][0]["measured"] = 9.0  # a time: never compared by value
+    assert compare_snapshots(b, a) == ["claim 'acc': readings {'max': 'holds', 'mean': 'holds'} -> "
+                                       "{'max': 'holds', 'mean': 'inconclusive'}"]
+
+
+def test_compare_snapshots_takes_optimiser_values_to_their_declared_tolerance():
+    # issue 45: another CPU, every outcome equal: de-more-accurate 13.43 vs 13.29 (1.1 %) passes;
+    # a 10 % change or any outcome change still fails; a deterministic value keeps 1e-6
+    old = {"study": "thruster-layout", "claims": [{"id": "de-more-accurate", "outcome": "does not hold",
+                                                   "measured": 13.430967741655056, "readings": []},
+                                                  {"id": "de-faster", "outcome": "holds", "measured": 0.83,
+                                                   "timing": True, "readings": []}],
+           "findings": [{"id": "printed-layouts-realisable", "outcome": "does not hold", "measured": 2.0}],
+           "checks": []}
+    new = json.loads(json.dumps(old))
+    new["claims"][0]["measured"] = 13.29
+    assert compare_snapshots(new, old) == []
+    new["claims"][0]["measured"] = 14.8
+    assert "beyond the declared optimiser tolerance 0.05" in compare_snapshots(new, old)[0]
+    new["claims"][0]["measured"] = 13.43
+    new["findings"][0]["measured"] = 2.0001
+    assert compare_snapshots(new, old) == ["finding 'printed-layouts-realisable': measured 2.0 -> 2.0001"]
+    assert value_rtol("wahba-orbit", "rms-50pct[dipole/dipole][nsga2-knee]") == 0.05
 
 
 @pytest.mark.docs

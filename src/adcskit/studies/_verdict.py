@@ -11,19 +11,30 @@ A study reports three kinds of statement (``docs/architecture.md``, "The verdict
 A claim or finding has exactly one of four outcomes (:data:`OUTCOMES`):
 
 ``"holds"``
-    every independent seed supports it and, where a deciding quantity has a threshold, the
-    confidence interval of its mean lies entirely on the supporting side;
+    the seeds support it beyond chance: every seed supports it, or (on :data:`MIN_SEEDS` or
+    more seeds) the exact one-sided sign test rejects "the claim is as likely false as true" at
+    ``1 - confidence`` (5 of 5 seeds, 9 of 10); where a deciding quantity has a threshold, a
+    seed supports it when its value lies on the supporting side beyond the declared margin;
 ``"does not hold"``
-    the mirror image: no seed supports it and the interval lies on the other side;
+    the mirror image, with the seeds against the claim;
 ``"inconclusive"``
-    the evidence does not separate the two: seeds disagree, the interval straddles the
-    threshold, a seed failed (non-finite value), a deterministic value lies within its
-    declared equivalence margin of the threshold (a tie), a stochastic claim was run on a
-    single seed ("a single-seed pass is not holds"), or one reading is decided while the
-    others are inconclusive;
+    the evidence does not separate the two: too few seeds agree for the sign test, a seed
+    failed (non-finite value), a declared *premise* of the reading failed on a seed (its value
+    is not evidence for that reading, e.g. a fuel ratio at unequal torque), a value lies
+    within its declared equivalence margin of the threshold (a tie), a stochastic claim was
+    run on a single seed ("a single-seed pass is not holds"), or one reading is decided while
+    the others are inconclusive;
 ``"depends on reading"``
     at least one documented reading of an ambiguity of the paper holds and at least one does
     not hold; every reading is listed with its own outcome.
+
+The rule is **monotone**: moving any seed's value further to the supporting side never weakens
+the outcome (the sign test counts seeds; a t-interval of the mean cannot be monotone, since
+moving one supporting seed further out widens it: it is shown, on log ratios for ratios, where
+its assumptions hold, and never decides). Ratios (``scale="log"``) are compared on log ratios,
+so their margin is relative. The interval of a value claim is the sign test's own exact
+interval of the median (one-sided bounds at ``confidence``): a claim holds exactly when that
+interval lies beyond the threshold and its margin.
 
 The rule is symmetric: nothing rescues a claim that nothing could also sink. A stochastic
 outcome on fewer than :data:`MIN_SEEDS` seeds is *indicative* (``Claim.indicative``) and never
@@ -75,6 +86,7 @@ __all__ = [
     "REDUCED_PROTOCOL",
     "CUSTOM_SETTINGS",
     "PROTOCOLS",
+    "Premise",
     "Reading",
     "Claim",
     "Finding",
@@ -83,6 +95,8 @@ __all__ = [
     "decide",
     "combine_readings",
     "mean_interval",
+    "median_interval",
+    "sign_test_p",
     "wilson_interval",
     "tally",
 ]
@@ -167,12 +181,16 @@ class Reading:
     fraction_held : float
         Fraction of seeds that supported the claim.
     interval : (float, float)
-        95 % interval: of the deciding quantity's mean when the claim has one, else the
-        Wilson interval of ``fraction_held``.
+        The deciding interval: the sign test's exact bounds of the deciding quantity's median
+        (:func:`median_interval`, one-sided at 95 % each) when the claim has one, else the
+        exact (Clopper-Pearson) bounds of ``fraction_held``.
     values : tuple of float
         The deciding quantity per seed (empty for a yes/no claim).
     detail : str
         How the outcome was reached.
+    premise_failures : tuple of str
+        One reason per seed whose declared premise failed (:class:`Premise`): such a reading
+        is inconclusive.
 
     Examples
     --------
@@ -188,6 +206,7 @@ class Reading:
     interval: tuple[float, float]
     values: tuple[float, ...] = ()
     detail: str = ""
+    premise_failures: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -198,6 +217,7 @@ class Reading:
             "interval": [_finite_or_none(self.interval[0]), _finite_or_none(self.interval[1])],
             "values": [_finite_or_none(v) for v in self.values],
             "detail": self.detail,
+            "premise_failures": list(self.premise_failures),
         }
 
 
@@ -339,6 +359,66 @@ class Finding(Claim):
     """
 
 
+def sign_test_p(k: int, n: int) -> float:
+    """Exact one-sided sign-test p-value: ``P(X >= k)`` for ``X ~ Binomial(n, 1/2)``.
+
+    The chance that ``k`` or more of ``n`` independent seeds support a claim that is as likely
+    false as true.
+
+    >>> sign_test_p(5, 5), round(sign_test_p(9, 10), 4), sign_test_p(0, 3)
+    (0.03125, 0.0107, 1.0)
+    """
+    if n <= 0 or k <= 0:
+        return 1.0
+    return float(sum(math.comb(n, j) for j in range(k, n + 1)) / 2.0**n)
+
+
+def median_interval(values: Sequence[float], confidence: float = 0.95) -> tuple[float, float]:
+    """Exact distribution-free bounds of the median: the sign test's interval.
+
+    Order statistics ``(x_(r), x_(n+1-r))`` with the largest ``r`` such that each bound is a
+    one-sided ``confidence`` bound (``P(Binomial(n, 1/2) <= r - 1) <= 1 - confidence``). A
+    threshold lies below the lower bound exactly when the sign test says the values lie above
+    it. Below 5 values no such ``r`` exists: the range (less coverage; such a result is
+    indicative). Non-finite values are dropped.
+
+    >>> median_interval([3.0, 1.0, 2.0, 5.0, 4.0])
+    (1.0, 5.0)
+    >>> median_interval(list(range(10)))
+    (1.0, 8.0)
+    """
+    v = sorted(float(x) for x in values if x is not None and math.isfinite(float(x)))
+    n = len(v)
+    if n == 0:
+        return (math.nan, math.nan)
+    alpha = 1.0 - confidence
+    r = 1
+    while r < (n + 1) // 2 and 1.0 - sign_test_p(r + 1, n) <= alpha:  # P(X <= r) <= alpha
+        r += 1
+    return (v[r - 1], v[n - r])
+
+
+def _t_note(vals: Sequence[float], threshold: float | None, confidence: float) -> str:
+    """The t-interval of the mean, on log values when every value is positive, where its
+    assumptions hold (>= 3 finite values, not all equal, Shapiro-Wilk does not reject
+    normality at ``1 - confidence``); otherwise why it is not shown. Never decides."""
+    v = np.asarray([x for x in vals if math.isfinite(x)], dtype=float)
+    if v.size < 3 or np.ptp(v) <= 1e-9 * float(np.max(np.abs(v))):
+        return ""
+    log = bool(np.all(v > 0) and (threshold is None or threshold > 0))
+    w = np.log(v) if log else v
+    from scipy.stats import shapiro
+
+    p = float(shapiro(w).pvalue)
+    what = "geometric mean" if log else "mean"
+    if p < 1.0 - confidence:
+        return f"; no t-interval of the {what}: Shapiro-Wilk rejects normality (p = {p:.2g})"
+    lo, hi = mean_interval(w.tolist(), confidence)
+    if log:
+        lo, hi = math.exp(lo), math.exp(hi)
+    return f"; {confidence:.0%} t-interval of the {what} [{lo:.4g}, {hi:.4g}] (shown, not deciding)"
+
+
 def decide(
     held: Sequence[bool] | None = None,
     *,
@@ -349,25 +429,34 @@ def decide(
     reading: str = "default",
     confidence: float = 0.95,
     margin: float = 0.0,
+    scale: str = "linear",
+    premise_failures: Sequence[str] = (),
 ) -> Reading:
     """Outcome of one reading from per-seed results.
 
-    Either give ``held`` (one bool per seed) or ``values`` with ``threshold`` (a seed holds
-    when its value is above, or below for ``better="below"``, the threshold by more than
-    ``margin``), never both: an extra pass/fail condition must not contradict the interval, so
-    it is its own reading or check.
+    Either give ``held`` (one bool per seed) or ``values`` with ``threshold`` (a seed supports
+    the claim when its value is above, or below for ``better="below"``, the threshold by more
+    than ``margin``; with ``scale="log"`` the comparison is of ``log(value)`` with
+    ``log(threshold)`` and ``margin`` is in log units: a relative margin), never both: an extra
+    pass/fail condition is its own reading or check.
 
-    Rules, symmetric for "holds" and "does not hold":
+    Rules, symmetric for "holds" and "does not hold" and monotone (a seed moved further to the
+    supporting side never weakens the outcome):
 
     * no seeds, or a stochastic claim on a single seed: ``inconclusive``;
-    * any non-finite value (a failed seed): ``inconclusive``, with the count;
-    * a value within ``margin`` of the threshold is a tie (``inconclusive``): the declared
-      equivalence margin of a deterministic comparison (a grid's resolution, a solver's
-      repeatability);
-    * seeds that disagree: ``inconclusive``;
-    * unanimous seeds: ``holds`` / ``does not hold``, unless with a threshold and two or more
-      seeds the ``confidence`` interval of the mean reaches into ``threshold ± margin``
-      (then ``inconclusive``).
+    * any non-finite value (a failed seed; with ``scale="log"`` also a value <= 0):
+      ``inconclusive``, with the count;
+    * ``premise_failures`` (one reason per seed whose declared premise failed, see
+      :class:`Premise`): ``inconclusive``, with the reasons: that seed's value is no evidence;
+    * otherwise, with ``k`` seeds for and ``m`` against (a value within ``margin`` of the
+      threshold is a tie, neither): ``holds`` when all ``n`` seeds support it or, on
+      :data:`MIN_SEEDS` or more seeds of a stochastic claim, when the exact sign test rejects
+      chance at ``1 - confidence`` (:func:`sign_test_p`); ``does not hold`` in the mirror
+      case; else ``inconclusive``.
+
+    The interval is :func:`median_interval` of the values (or the exact Clopper-Pearson
+    bounds of the fraction for ``held``); the t-interval of the mean is described where its
+    assumptions hold, never deciding.
 
     >>> decide([True, True, False, True, True]).outcome
     'inconclusive'
@@ -377,70 +466,102 @@ def decide(
     'does not hold'
     >>> decide(values=[4.56], threshold=4.54, stochastic=False, margin=0.05).outcome
     'inconclusive'
+    >>> decide(values=[380.0, 520.0, 610.0, 450.0, 700.0], threshold=300.0, scale="log", margin=0.5).outcome
+    'inconclusive'
     """
     check_choice("better", better, ("above", "below"))
+    check_choice("scale", scale, ("linear", "log"))
     stochastic = check_flag("stochastic", stochastic)
     confidence = check_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     margin = check_range("margin", margin, 0.0, math.inf)
+    premise_failures = tuple(str(x) for x in premise_failures)
     vals: tuple[float, ...] = ()
-    n_failed = n_tied = 0
+    n_failed = n_tied = n_against = 0
     if values is not None:
         if held is not None:
             raise InputError("decide: give held or values, not both (an extra condition is its own reading or check)")
         if threshold is None:
             raise InputError("decide: values need a threshold")
         threshold = check_finite("threshold", threshold, max_abs=None)
+        if scale == "log" and threshold <= 0:
+            raise InputError(f"decide: scale='log' needs a positive threshold (a ratio's); got {threshold}")
         # NaN / inf values are allowed: a failed seed, which makes the reading inconclusive
         vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
         sign = 1.0 if better == "above" else -1.0
         ok = []
         for v in vals:  # a seed supports, is against, ties (within the margin) or failed
-            if not math.isfinite(v):
+            if not math.isfinite(v) or (scale == "log" and v <= 0):
                 n_failed += 1
                 ok.append(False)
                 continue
-            d = sign * (v - threshold)
+            d = sign * (math.log(v / threshold) if scale == "log" else v - threshold)
             ok.append(d > margin)
             n_tied += int(-margin <= d <= margin)
+            n_against += int(d < -margin)
     elif held is not None:
         ok = [bool(h) for h in held]
+        n_against = len(ok) - sum(ok)
     else:
         raise InputError("decide: give held or values")
     n = len(ok)
     k = sum(ok)
     frac = k / n if n else math.nan
+    alpha = 1.0 - confidence
     if vals:
-        interval = mean_interval(vals, confidence)
+        interval = median_interval(vals, confidence)
+    elif n == 0:
+        interval = (0.0, 1.0)  # no seeds: nothing is known of the fraction
     elif not stochastic:
         interval = (frac, frac)  # a deterministic computation: no sampling interval
     else:
-        interval = wilson_interval(k, n, confidence)
+        from scipy.stats import beta
+
+        interval = (float(beta.ppf(alpha, k, n - k + 1)) if k > 0 else 0.0,
+                    float(beta.ppf(confidence, k + 1, n - k)) if k < n else 1.0)
     why = f"{k}/{n} seeds support it"
+    if n_against and n_against < n:
+        why += f", {n_against} against"
+    if n_tied:
+        unit = f"±{margin:.4g} in log ratio" if scale == "log" else f"±{margin:.4g}"
+        why += f", {n_tied} within the equivalence margin {unit} of {threshold:.4g} (a tie)"
+
+    def decided(count: int) -> bool:  # all seeds, or an exact sign test on enough seeds
+        if count == n:
+            return not stochastic or n >= 2
+        return stochastic and n >= MIN_SEEDS and sign_test_p(count, n) <= alpha
+
     if n == 0:
         outcome, why = INCONCLUSIVE, "no seeds"
     elif n_failed:
         outcome = INCONCLUSIVE
         why += f"; {n_failed}/{n} seeds failed (non-finite value): a failed seed decides nothing"
+    elif premise_failures:
+        outcome = INCONCLUSIVE
+        why += (f"; premise failed on {len(premise_failures)}/{n} seeds, whose values are no evidence for this "
+                "reading: " + "; ".join(premise_failures))
     elif stochastic and n < 2:
         outcome = INCONCLUSIVE
         why += "; a single seed cannot decide a stochastic claim"
-    elif n_tied:
-        outcome = INCONCLUSIVE
-        why += (f"; {n_tied}/{n} within the equivalence margin ±{margin:.4g} of {threshold:.4g}: a tie")
-    elif 0 < k < n:  # failed and tied seeds are handled above: every other seed is for or against
-        outcome = INCONCLUSIVE
-        why += "; seeds disagree"
+    elif decided(k):
+        outcome = HOLDS
+    elif decided(n_against):
+        outcome = DOES_NOT_HOLD
     else:
-        outcome = HOLDS if k == n else DOES_NOT_HOLD
-        if vals and n >= 2 and threshold is not None and all(math.isfinite(x) for x in interval):
-            lo, hi = interval
-            if lo <= threshold + margin and hi >= threshold - margin:
-                outcome = INCONCLUSIVE
-                band = f"{threshold:.4g}" if margin == 0 else f"{threshold:.4g} ± {margin:.4g}"
-                why += f"; the {confidence:.0%} interval of the mean [{lo:.4g}, {hi:.4g}] reaches {band}"
+        outcome = INCONCLUSIVE
+        if stochastic and n >= MIN_SEEDS:
+            why += f"; sign test p = {sign_test_p(max(k, n_against), n):.3g} > {alpha:.2g}: not decided"
+        elif n_tied:
+            why += ": not decided"
+        else:
+            why += "; seeds disagree"
+    if outcome in (HOLDS, DOES_NOT_HOLD) and stochastic and n >= MIN_SEEDS and max(k, n_against) < n:
+        why += f" (exact sign test p = {sign_test_p(max(k, n_against), n):.3g} <= {alpha:.2g})"
+    if vals and stochastic and n >= 3:
+        why += _t_note(vals, threshold, confidence)
     if stochastic and 0 < n < MIN_SEEDS:
         why += f" (indicative: {n} < {MIN_SEEDS} seeds)"
-    return Reading(reading=reading, outcome=outcome, n_seeds=n, fraction_held=frac, interval=interval, values=vals, detail=why)
+    return Reading(reading=reading, outcome=outcome, n_seeds=n, fraction_held=frac, interval=interval, values=vals,
+                   detail=why, premise_failures=premise_failures)
 
 
 def combine_readings(readings: Iterable[Reading]) -> str:
@@ -467,6 +588,58 @@ def combine_readings(readings: Iterable[Reading]) -> str:
     if HOLDS in outcomes and DOES_NOT_HOLD in outcomes:
         return DEPENDS_ON_READING
     return INCONCLUSIVE
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Premise:
+    """A check that is the premise of a claim's readings, evaluated per seed.
+
+    When ``holds(measurement)`` is False on a seed, that seed's value is not evidence for the
+    reading (a fuel ratio at unequal torque, a time of a solve that did not converge, a sample
+    that is not controllable): the reading is ``inconclusive``, with ``why(measurement)`` as
+    the reason, in ``result.json`` (``readings[].premise_failures``) and the claim's detail.
+
+    Parameters
+    ----------
+    name : str
+        The premise in words (``"equal torque"``).
+    holds : callable
+        ``holds(measurement) -> bool`` for one seed's measurement.
+    why : callable, optional
+        ``why(measurement) -> str``: the evidence when it fails.
+    readings : tuple of str or None
+        The readings it is a premise of (None: every reading).
+
+    Examples
+    --------
+    >>> p = Premise(name="converged", holds=lambda m: m["ok"], why=lambda m: "solver stopped at max_iter")
+    >>> spec = ClaimSpec(id="c", statement="s", where="w", quantity="q", value=lambda m: m["r"], threshold=1.0,
+    ...                  premises=(p,))
+    >>> runs = [{"r": 2.0, "ok": True}] * 4 + [{"r": 2.0, "ok": False}]
+    >>> c = spec.evaluate({"default": runs})
+    >>> c.outcome, "converged" in c.detail
+    ('inconclusive', True)
+    """
+
+    name: str
+    holds: Callable[[Any], bool]
+    why: Callable[[Any], str] | None = field(default=None, repr=False)
+    readings: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        check_callable("holds", self.holds)
+        check_callable("why", self.why, allow_none=True)
+        if not str(self.name).strip():
+            raise InputError("Premise: name must be a non-empty description (e.g. 'equal torque')")
+        if self.readings is not None:
+            object.__setattr__(self, "readings", tuple(self.readings))
+
+    def failures(self, reading: str, runs: Sequence[Any]) -> list[str]:
+        """One reason per seed of ``runs`` on which this premise of ``reading`` fails."""
+        if self.readings is not None and reading not in self.readings:
+            return []
+        return [f"seed {i}: {self.name} fails" + (f" ({self.why(m)})" if self.why is not None else "")
+                for i, m in enumerate(runs) if not bool(self.holds(m))]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -504,7 +677,16 @@ class ClaimSpec:
         Why the margin has that size.
     timing : bool
         The deciding quantity is a measured time (CPU or wall): a re-run is compared with the
-        page's snapshot by outcome only.
+        page's snapshot by its outcome and its readings' outcomes, not by value.
+    scale : {"linear", "log"}
+        ``"log"`` for a ratio: seeds are compared with the threshold on log ratios and
+        ``margin`` is in log units (a relative margin: ``log(1.5)`` is a factor 1.5).
+    premises : tuple of Premise
+        Checks that are the premises of (some of) the readings, per seed (:class:`Premise`).
+    reading_margins : mapping of str to float
+        A reading's own equivalence margin where it differs from ``margin`` (e.g. a reading on
+        fixed demands has no sampling error of random ones); the reason goes in
+        ``margin_reason``.
 
     Examples
     --------
@@ -531,6 +713,9 @@ class ClaimSpec:
     margin: float = 0.0
     margin_reason: str = ""
     timing: bool = False
+    scale: str = "linear"
+    premises: tuple[Premise, ...] = ()
+    reading_margins: Mapping[str, float] = field(default_factory=dict)
     describe: Callable[[Reading], str] | None = field(default=None, repr=False)
 
     _cls = Claim
@@ -539,7 +724,15 @@ class ClaimSpec:
         check_callable("value", self.value, allow_none=True)
         check_callable("held", self.held, allow_none=True)
         check_choice("better", self.better, ("above", "below"))
+        check_choice("scale", self.scale, ("linear", "log"))
         check_flag("stochastic", self.stochastic)
+        object.__setattr__(self, "premises", tuple(self.premises))
+        check_mapping("reading_margins", self.reading_margins)
+        object.__setattr__(self, "reading_margins", {
+            str(k): check_range(f"reading_margins[{k!r}]", v, 0.0, math.inf) for k, v in self.reading_margins.items()})
+        for p in self.premises:
+            if not isinstance(p, Premise):
+                raise InputError(f"claim {self.id!r}: premises must be Premise objects; got {type(p).__name__}")
         object.__setattr__(self, "timing", check_flag("timing", self.timing))
         object.__setattr__(self, "margin", check_range("margin", self.margin, 0.0, math.inf))
         if self.threshold is not None:
@@ -560,8 +753,10 @@ class ClaimSpec:
         held = [bool(self.held(m)) for m in runs] if self.held is not None else None
         if vals is not None and self.threshold is None:
             raise ValueError(f"claim {self.id!r}: value needs a threshold")
+        failed = [f for p in self.premises for f in p.failures(name, runs)]
         r = decide(held, values=vals, threshold=self.threshold, better=self.better, stochastic=self.stochastic,
-                   reading=name, margin=self.margin)
+                   reading=name, margin=self.reading_margins.get(name, self.margin), scale=self.scale,
+                   premise_failures=failed)
         if self.describe is not None:
             from dataclasses import replace
 
@@ -588,7 +783,10 @@ class ClaimSpec:
         measured = float(np.mean(main.values)) if main.values else main.fraction_held
         text = detail or main.detail
         if len(per) > 1:
-            text += " | readings: " + "; ".join(f"{r.reading}: {r.outcome}" for r in per)
+            text += " | readings: " + "; ".join(
+                f"{r.reading}: {r.outcome}"
+                + (f" (premise failed on {len(r.premise_failures)} seeds: no evidence)" if r.premise_failures else "")
+                for r in per)
         return self._cls(
             id=self.id,
             statement=self.statement,

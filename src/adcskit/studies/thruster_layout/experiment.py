@@ -8,8 +8,8 @@ miss on random layouts. Claims, figures and tables are pure functions of its
 :class:`Measurements` (``claims.py``, ``figures.py``, ``report.py``).
 
 The random stream is one :class:`numpy.random.SeedSequence` drawn from ``rng``; its spawn
-order (designs, miss, fuel directions, paired designs) fixes every number, so it must not
-change.
+order (designs, miss, fuel directions, paired designs, fuel redraws) fixes every number, so it
+must not change.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ __all__ = [
     "EminSeed",
     "FUEL_DEFAULT",
     "FuelRun",
+    "OUT_OF_SAMPLE",
     "Measurements",
     "MissQuantiles",
     "MissStats",
@@ -55,7 +56,10 @@ _FUEL_READINGS = {
     "lp": "out of sample, lp-min-fuel, best design",
     "design": "design demands, pinv-redistribute, best design",
     "de": "out of sample, pinv-redistribute, DE design",
+    "lp-de": "out of sample, lp-min-fuel, DE design",
 }
+#: Readings whose demands are random directions (their ratios carry a sampling error).
+OUT_OF_SAMPLE = ("default", "lp", "de", "lp-de")
 _MISS_METHODS = ("pinv-redistribute", "nnls", "lp-min-fuel")
 
 
@@ -256,6 +260,19 @@ class FuelRun(Result):
     opt_n_missed: int  # demands the optimal layout misses by more than :func:`torque_tolerance_nm`
     ref_n_missed: int
     n_demands: int
+    ratio_redraws: tuple[float, ...] = ()  # the same ratio on independent redraws of the directions
+
+    @property
+    def equal_torque(self) -> bool:
+        """Both layouts meet every demand within :func:`torque_tolerance_nm` (the premise of the ratio)."""
+        return self.opt_n_missed == 0 and self.ref_n_missed == 0
+
+    @property
+    def log_ratio_sd(self) -> float:
+        """Sampling error of ``log(ratio)``: its standard deviation over this draw and the redraws
+        of the directions (0 without redraws: design demands are not sampled)."""
+        draws = (self.ratio, *self.ratio_redraws)
+        return float(np.std(np.log(draws), ddof=1)) if len(draws) > 1 else 0.0
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -532,34 +549,48 @@ def _paper_layouts(cfg: Config, demands, half) -> dict[str, PaperLayoutScore]:
     return out
 
 
-def _fuel(cfg: Config, runs, demands, fuel_seeds) -> tuple[tuple[FuelRun, ...], tuple[str, ...]]:
-    """Optimal vs reference per seed, out of sample and on the design demands, both allocations."""
+def _fuel(cfg: Config, runs, demands, fuel_seeds, redraw_seeds=None) -> tuple[tuple[FuelRun, ...], tuple[str, ...]]:
+    """Optimal vs reference per seed, out of sample and on the design demands, both allocations.
+
+    Each out-of-sample ratio is recomputed on ``cfg.fuel_redraws`` independent draws of the
+    directions (``redraw_seeds[s]``): its sampling error (:attr:`FuelRun.log_ratio_sd`).
+    """
     if 6 not in cfg.n_thrusters:
         return (), ()
     mag = float(np.linalg.norm(demands[0]))
     names = dict(_FUEL_READINGS)
     if "de" not in cfg.algorithms or len(cfg.algorithms) == 1:
         names.pop("de")
+        names.pop("lp-de")
+
+    def directions(seed) -> np.ndarray:
+        dirs = np.random.default_rng(seed).standard_normal((cfg.n_fuel_demands, 3))
+        return mag * dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+
     rows = []
     for s in range(cfg.n_seeds):
-        g = np.random.default_rng(fuel_seeds[s])
-        dirs = g.standard_normal((cfg.n_fuel_demands, 3))
-        rand = mag * dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+        rand = directions(fuel_seeds[s])
+        redraws = [directions(ss) for ss in redraw_seeds[s].spawn(cfg.fuel_redraws)] if redraw_seeds else []
         six = {a: next(r for r in runs if r.n == 6 and r.alg == a and r.seed_index == s) for a in cfg.algorithms}
         best = min(six.values(), key=lambda r: r.f_best)
-        cases = {"default": (best, rand, "pinv-redistribute"), "lp": (best, rand, "lp-min-fuel"),
-                 "design": (best, demands, "pinv-redistribute")}
-        if "de" in names:
-            cases["de"] = (six["de"], rand, "pinv-redistribute")
-        for key, (lay, D, method) in cases.items():
+        cases = {"default": (best, "pinv-redistribute"), "lp": (best, "lp-min-fuel"),
+                 "design": (best, "pinv-redistribute"), "de": (six.get("de"), "pinv-redistribute"),
+                 "lp-de": (six.get("de"), "lp-min-fuel")}
+        for key in names:
+            lay, method = cases[key]
+            A = np.asarray(lay.torque_matrix)
+            D = demands if key == "design" else rand
             ref = _alloc_stats(A_REF, D, method, cfg)
-            opt = _alloc_stats(np.asarray(lay.torque_matrix), D, method, cfg)
+            opt = _alloc_stats(A, D, method, cfg)
+            again = () if key == "design" else tuple(
+                _alloc_stats(A, R, method, cfg).sum_tp_s / _alloc_stats(A_REF, R, method, cfg).sum_tp_s
+                for R in redraws)
             rows.append(FuelRun(
                 reading=names[key], seed_index=s, layout=f"{lay.alg.upper()} seed {s}",
                 sum_tp_ref_s=ref.sum_tp_s, sum_tp_opt_s=opt.sum_tp_s, ratio=opt.sum_tp_s / ref.sum_tp_s,
                 opt_error_nm=opt.error_nm, ref_error_nm=ref.error_nm,
                 opt_max_error_nm=opt.max_error_nm, ref_max_error_nm=ref.max_error_nm,
-                opt_n_missed=opt.n_missed, ref_n_missed=ref.n_missed, n_demands=len(D),
+                opt_n_missed=opt.n_missed, ref_n_missed=ref.n_missed, n_demands=len(D), ratio_redraws=again,
             ))
     return tuple(rows), tuple(names.values())
 
@@ -615,6 +646,7 @@ def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measuremen
     miss_seed = root.spawn(1)[0]  # spawned second, as before the paired reading existed
     fuel_seeds = root.spawn(cfg.n_seeds)  # random demand directions, one set per seed
     tasks += _paired_tasks(cfg, tasks, root)
+    redraw_seeds = root.spawn(cfg.n_seeds)  # spawned last: every number before it is unchanged
     tasks += _timing_tasks(cfg, tasks)  # no new seeds: the stream above is unchanged
     all_runs = tuple(ex.map(_design_task, tasks, description="thruster layouts"))
     timing_runs = tuple(r for r in all_runs if r.repeat > 0)
@@ -623,7 +655,7 @@ def measure(cfg: Config, *, rng: Any = None, executor: Any = None) -> Measuremen
     setting_runs = tuple(r for r in all_runs if r.setting is not None)
     paired_runs = tuple(r for r in all_runs if r.paired)
     agg, best_per_n = _summaries(cfg, runs, demands)
-    fuel, fuel_readings = _fuel(cfg, runs, demands, fuel_seeds)
+    fuel, fuel_readings = _fuel(cfg, runs, demands, fuel_seeds, redraw_seeds)
     e_min, e_min_ns = _e_min(cfg, runs, paired_runs)
     return Measurements(
         demands=demands, half=half, runs=runs, timing_runs=timing_runs, setting_runs=setting_runs,

@@ -80,6 +80,6 @@ STUDY = Study(
     config_cls=Config,
     run=run,
     quick={"n_seeds": 2, "n_trials": 12, "n_iterative": 3, "pop_size": 24, "n_gen": 20, "nsga2_big_n_gen": 60,
-           "n_big_epochs": 3, "sweep_bounds": (0.02, 0.1, 0.2), "sweep_trials": 6},
+           "timing_epochs": 2, "n_big_epochs": 1, "timing_repeats": 3, "sweep_bounds": (0.02, 0.1, 0.2), "sweep_trials": 6},
     doc="docs/studies/wahba-table1.md",
 )

@@ -9,28 +9,40 @@ framework's ``decide_declared`` (the checks' declaration in every study). "Holds
 factor means the measured factor reaches at least half the paper's factor; the two NSGA-II vs
 min-max claims, which print no factor, hold when NSGA-II is better (ratio above 1).
 
-``speed-600x`` is a timing claim (``timing=True``): its ratios are of median CPU times per epoch
-(``time.thread_time`` of the solving thread, see :mod:`~.experiment`), so machine load does not
-move them as wall times did.
+``speed-600x`` is a timing claim (``timing=True``): its ratios are of CPU times per epoch, each
+the median of interleaved, single-threaded repeats of the same solve (:mod:`~.timing`), decided
+on log ratios with the declared margin :data:`SPEED_MARGIN` (a ratio within it of the bar is a
+tie, inconclusive, not a flip on another machine); that every repeat re-ran the same solve is
+its premise.
 
 Examples
 --------
 >>> from adcskit.studies.wahba_table1.claims import CHECKS, CLAIMS, FINDINGS
 >>> [c.id for c in CLAIMS], len(FINDINGS), len(CHECKS)
-(['error-7x', 'nsga2-error', 'sensitivity-200x', 'speed-600x', 'nsga2-beats-minmax', 'nsga2-variance'], 4, 4)
+(['error-7x', 'nsga2-error', 'sensitivity-200x', 'speed-600x', 'nsga2-beats-minmax', 'nsga2-variance'], 4, 5)
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from adcskit.studies._base import Check, protocol_keys
-from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec
+from adcskit.studies._verdict import Claim, ClaimSpec, Finding, FindingSpec, Premise
 from adcskit.studies.wahba_table1.config import Config
 from adcskit.studies.wahba_table1.experiment import Measurements
 from adcskit.studies.wahba_table1.paper import PAPER_TABLE1, paper_ratio
 
-__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "READING_FIELDS", "evaluate"]
+__all__ = ["CHECKS", "CLAIMS", "FINDINGS", "READING_FIELDS", "SPEED_MARGIN", "evaluate"]
+
+#: Equivalence margin of ``speed-600x``, a factor around its bar of 300: a per-replica ratio in
+#: [150, 600] is a tie. From the measured run-to-run spread of the per-replica ratios (same
+#: seeds; a quiet run, a run beside two CPU-bound processes and a run inside a 2-job reproduction,
+#: on one 2-core VM; docs/benchmarks.md "wahba-table1: load-proof timing"): the largest factor
+#: between two runs' ratios of one replica was 1.79 (closed form, big budget; 1.30 for the other
+#: readings); 2 covers it. It does not cover a CPU whose relative speed of NSGA-II and min-max
+#: differs by more (not measured here).
+SPEED_MARGIN = 2.0
 
 #: Per reading of a claim, the :class:`~.experiment.Replica` field that is its deciding value.
 READING_FIELDS = {
@@ -81,12 +93,17 @@ CLAIMS = (
         statement="Using the min-max algorithm has reduced the execution time of the algorithm (about 600 "
         "times) compared to the NSGA II algorithm.",
         where="S0 abstract; Table 1 run times (124.58 s / 0.287 s = 434x, not 600x)",
-        quantity="median CPU time per epoch (time.thread_time of the solving thread), NSGA-II / min-max, same "
-        "epochs and process; >= 300 (half of 600). Readings: min-max solved iteratively (SLSQP goal attainment "
+        quantity="CPU time per epoch (time.thread_time, numba and BLAS pinned to one thread; per epoch the median "
+        "of timing_repeats interleaved repeats of the same solve, per replica the median over its timed epochs), "
+        "NSGA-II / min-max, same epochs; >= 300 (half of 600), on log ratios with a margin. Readings: min-max solved iteratively (SLSQP goal attainment "
         "on (q, α, β, γ) from TRIAD, the paper's kind of solver; the default) or by our closed form; NSGA-II at "
-        "our budget (pop_size x n_gen, default 1e4 evaluations per epoch, over the n_iterative epochs) or at "
-        "the big budget (pop_size x nsga2_big_n_gen, default 1.5e5, over the first n_big_epochs epochs)",
-        value=float, threshold=300.0,
+        "our budget (pop_size x n_gen, default 1e4 evaluations per epoch, over the timing_epochs epochs) or at "
+        "the big budget (pop_size x nsga2_big_n_gen, default 1.5e5, over the first n_big_epochs of them)",
+        value=lambda m: m[0], threshold=300.0, scale="log", margin=math.log(SPEED_MARGIN),
+        margin_reason=f"run-to-run spread of the per-replica CPU-time ratios (quiet vs loaded runs, same seeds): a "
+        f"ratio within a factor {SPEED_MARGIN:g} of the bar ({300 / SPEED_MARGIN:g}-{300 * SPEED_MARGIN:g}) is a tie",
+        premises=(Premise(name="the timing repeats re-ran the same solve", holds=lambda m: m[1],
+                          why=lambda m: "a repeat returned another attitude"),),
         paper=round(paper_ratio("nsga2-truth-pick", "minmax", "runtime_s"), 1),
         readings=("SLSQP, NSGA-II budget", "SLSQP, NSGA-II big budget", "closed form, NSGA-II budget",
                   "closed form, NSGA-II big budget"),
@@ -198,8 +215,19 @@ def _noise_model(cfg: Config, m: Measurements) -> Check:
     )
 
 
+def _timing_repeats(cfg: Config, m: Measurements) -> Check:
+    spread = max(r.timing_spread for r in m.replicas)
+    return Check(
+        name="speed-600x timing: every repeat re-ran the same solve (identical attitude), single-threaded",
+        passed=all(r.timing_identical for r in m.replicas),
+        detail=f"{len(m.timed)} timed epochs x {cfg.timing_repeats} interleaved repeats per method; largest "
+        f"(max - min) / median of one solve's repeats: {spread:.2f}",
+        kind="check",
+    )
+
+
 #: Our consistency checks, in report order.
-CHECKS = (_exact_vectors, _sanity_rows, _minmax_solvers_agree, _noise_model)
+CHECKS = (_exact_vectors, _sanity_rows, _minmax_solvers_agree, _noise_model, _timing_repeats)
 
 
 def evaluate(specs: Sequence[ClaimSpec], m: Measurements) -> list[Claim | Finding]:
@@ -218,7 +246,11 @@ def evaluate(specs: Sequence[ClaimSpec], m: Measurements) -> list[Claim | Findin
     """
     out = []
     for spec in specs:
-        if spec.readings:
+        if spec.readings and spec.premises:  # a premise reads the replica: (value, premise holds)
+            runs = {rd: [(getattr(rep, READING_FIELDS[rd]), rep.timing_identical) for rep in m.replicas]
+                    for rd in spec.readings}
+            out.append(spec.evaluate(runs, default=spec.readings[0]))
+        elif spec.readings:
             runs = {rd: [getattr(rep, READING_FIELDS[rd]) for rep in m.replicas] for rd in spec.readings}
             out.append(spec.evaluate(runs, default=spec.readings[0]))
         else:

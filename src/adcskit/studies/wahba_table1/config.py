@@ -40,9 +40,15 @@ class Config:
         Generations of the big-budget NSGA-II reading of ``speed-600x`` (population
         ``pop_size``; default 1500: 1.5e5 evaluations per epoch, 15x ours: about what S0's
         124.58 s per epoch would buy on our machine). Timed only, on ``n_big_epochs`` epochs.
+    timing_epochs : int
+        Epochs per replica timed for ``speed-600x`` (the first ones of the iterative trials): each
+        compared method solves each of them ``timing_repeats`` times, interleaved, single-threaded.
     n_big_epochs : int
-        Epochs per replica on which the big-budget NSGA-II runs (>= 3: its per-replica time is a
-        median); the first ones of the iterative trials.
+        Of the timed epochs, those (the first ones) on which the big-budget NSGA-II also runs.
+    timing_repeats : int
+        Repeats of the same solve per method and timed epoch; the epoch's time is their median
+        (>= 5 at full settings).
+
     sweep_bounds : tuple of float
         Noise bounds of the sensitivity sweep (slope reading).
     sweep_trials : int
@@ -67,7 +73,9 @@ class Config:
     n_gen: int = field(default=100, metadata=protocol("nsga2-error", "speed-600x", "nsga2-beats-minmax",
                                                       "nsga2-variance", paper=NOT_PRINTED))
     nsga2_big_n_gen: int = field(default=1500, metadata=protocol("speed-600x", paper=NOT_PRINTED))
-    n_big_epochs: int = field(default=3, metadata=NEUTRAL)
+    timing_epochs: int = field(default=3, metadata=protocol("speed-600x", paper=NOT_PRINTED))
+    n_big_epochs: int = field(default=1, metadata=protocol("speed-600x", paper=NOT_PRINTED))
+    timing_repeats: int = field(default=5, metadata=protocol("speed-600x", paper=NOT_PRINTED))
     sweep_bounds: tuple[float, ...] = field(default=(0.01, 0.02, 0.05, 0.1, 0.2, 0.3),
                                             metadata=protocol("sensitivity-200x", paper=NOT_PRINTED))
     sweep_trials: int = field(default=30, metadata=protocol("sensitivity-200x", paper=NOT_PRINTED))
@@ -76,14 +84,16 @@ class Config:
         from adcskit.errors import ConfigError
 
         for name, lo in (("n_seeds", 1), ("n_trials", 2), ("sweep_trials", 2), ("n_iterative", 3),
-                         ("n_big_epochs", 3), ("nsga2_big_n_gen", 4)):
+                         ("timing_epochs", 1), ("n_big_epochs", 1), ("timing_repeats", 1), ("nsga2_big_n_gen", 4)):
             v = getattr(self, name)
             if not (isinstance(v, int) and v >= lo):
                 raise ConfigError(f"{name} must be an integer >= {lo}; got {v!r}")
         if self.n_iterative > self.n_trials:
             raise ConfigError(f"n_iterative must be <= n_trials ({self.n_trials}); got {self.n_iterative}")
-        if self.n_big_epochs > self.n_iterative:
-            raise ConfigError(f"n_big_epochs must be <= n_iterative ({self.n_iterative}); got {self.n_big_epochs}")
+        if self.timing_epochs > self.n_iterative:
+            raise ConfigError(f"timing_epochs must be <= n_iterative ({self.n_iterative}); got {self.timing_epochs}")
+        if self.n_big_epochs > self.timing_epochs:
+            raise ConfigError(f"n_big_epochs must be <= timing_epochs ({self.timing_epochs}); got {self.n_big_epochs}")
         for name in ("pop_size", "n_gen"):
             v = getattr(self, name)
             if not (isinstance(v, int) and v >= 4):

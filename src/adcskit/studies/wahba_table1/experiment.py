@@ -10,10 +10,13 @@ and with the paper's pick by the true attitude (not deployable), the worst-case 
 (Ahmed & Kerrigan), and QUEST/SVD as sanity rows. A noise-bound sweep gives the slope reading
 of the "200× less dependence on input accuracy" claim.
 
-Run times are **CPU times of the solving thread** (``time.thread_time``: the CPU seconds the
-calling thread spent in the solve, so other processes' load and other executor threads do not
-count; wall times on the shared machine moved the speed ratio by 2x between runs). A row's time
-per replica is the median over that replica's epochs (>= 3 timed solves).
+Run times of the rows the speed claim compares (:data:`~.timing.TIMED`) come from a separate
+timing phase (:mod:`~.timing`): on the first ``timing_epochs`` epochs of each replica, each
+method solves the same epoch ``timing_repeats`` times, interleaved with the others, single-
+threaded, and its time on an epoch is the median of those repeats (CPU time of the solving
+thread, ``time.thread_time``); a row's time per replica is the median over its timed epochs.
+The big-budget NSGA-II runs only there, on the first ``n_big_epochs`` epochs. Other rows'
+times are single solves (informative only).
 
 Interval given to the robust solvers: midpoint = the measured (noisy, normalised) vector,
 radius = ``noise_bound`` × |measured component| (S0 §4-1: "bounds ±b^r, ±r^r ... 20 % of
@@ -33,7 +36,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -42,9 +45,10 @@ from adcskit._results import Result
 from adcskit.determination import robust_wahba, solve_wahba
 from adcskit.studies.wahba_table1.config import Config
 from adcskit.studies.wahba_table1.paper import B_EXACT, PAPER_TABLE1, R_EXACT, q_exact
+from adcskit.studies.wahba_table1.timing import TIMED, TimedEpoch, time_epochs
 
 __all__ = ["CHEAP_ROWS", "ITER_ROWS", "ROWS", "SWEEP_ROWS", "ExactVectors", "Measurements", "Replica", "RowStats",
-           "Solve", "Trial", "angle_deg", "measure", "perturb", "perturb_raw", "qmethod_in_box", "trial"]
+           "Solve", "Trial", "angle_deg", "epoch_inputs", "measure", "perturb", "perturb_raw", "qmethod_in_box", "trial"]
 
 #: Rows run on every trial (cheap). The two "box-at" rows are diagnostics, NOT deployable:
 #: the min-max search box centred on the noise-free answer.
@@ -187,6 +191,8 @@ class Replica(Result):
     box_truth_mean_deg: float
     box_truth_closer: bool
     box_truth_var_deg2: float
+    timing_spread: float = 0.0  # largest (max - min) / median over the timing repeats of one solve
+    timing_identical: bool = True  # every timing repeat returned the same attitude as its first solve
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
@@ -212,6 +218,7 @@ class Measurements(Result):
     frac_in_box: float
     cf_vs_slsqp_max_deg: float
     exact: ExactVectors
+    timed: tuple[TimedEpoch, ...] = ()  # the timing phase of speed-600x
 
     @property
     def pooled(self) -> list[Trial]:
@@ -224,6 +231,20 @@ def _timed(fn):
     t0 = time.thread_time()
     out = fn()
     return out, time.thread_time() - t0
+
+
+def epoch_inputs(seed: np.random.SeedSequence, bound: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """The noisy vectors of one epoch and its NSGA-II seed, drawn from ``seed`` (as :func:`trial` does).
+
+    Examples
+    --------
+    >>> b, r, s = epoch_inputs(np.random.SeedSequence(0), 0.2)
+    >>> b.shape, r.shape, isinstance(s, int)
+    ((2, 3), (2, 3), True)
+    """
+    rng = np.random.default_rng(seed)
+    b, r = perturb(rng, bound)
+    return b, r, int(rng.integers(2**31 - 1))
 
 
 def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, ...]]) -> Trial:
@@ -240,9 +261,7 @@ def trial(task: tuple[np.random.SeedSequence, float, dict[str, Any], tuple[str, 
     (['q-method', 'quest'], True)
     """
     seed, bound, cfg, rows = task
-    rng = np.random.default_rng(seed)
-    b, r = perturb(rng, bound)
-    seed_ns = int(rng.integers(2**31 - 1))
+    b, r, seed_ns = epoch_inputs(seed, bound)
     qt = q_exact()
     br, rr = bound * np.abs(b), bound * np.abs(r)
     sr = cfg["search_range"]
@@ -311,18 +330,39 @@ def _sweep_mean(points: list[list[Trial]], m: str) -> float:
     return float(np.mean([res.solves[m].error_deg for pt in points for res in pt]))
 
 
-def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray, n_iter: int, n_big: int) -> Replica:
+def _timed_stats(timed: list[TimedEpoch], method: str) -> RowStats:
+    """A row's statistics over timed epochs: errors of the answers, median of per-epoch medians."""
+    rows = [t for t in timed if method in t.times]
+    e = np.array([t.error_deg[method] for t in rows])
+    return RowStats(mean_deg=float(e.mean()), var_deg2=float(e.var(ddof=1)) if e.size > 1 else float("nan"),
+                    max_deg=float(e.max()), runtime_s=float(np.median([t.median(method) for t in rows])),
+                    n_trials=int(e.size), nfev=float(np.median([t.nfev[method] for t in rows])))
+
+
+def _with_timed_runtimes(stats: dict[str, RowStats], timed: list[TimedEpoch]) -> dict[str, RowStats]:
+    """``stats`` with the timed rows' run times replaced by the timing phase's medians."""
+    out = dict(stats)
+    for m in TIMED:
+        if m in out and any(m in t.times for t in timed):
+            out[m] = replace(out[m], runtime_s=_timed_stats(timed, m).runtime_s)
+    return out
+
+
+def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray, n_iter: int,
+             timed: list[TimedEpoch]) -> Replica:
     """The deciding quantities of one replica (one seed of the whole pipeline).
 
-    Speed ratios are ratios of median CPU times per epoch on the same epochs: the ``n_iter``
-    iterative epochs for the budget readings, the first ``n_big`` of them for the big-budget
-    readings.
+    Speed ratios are ratios of CPU times per epoch on the same epochs (each the median of
+    interleaved repeats of the same solve, :mod:`~.timing`): all timed epochs for the budget
+    readings, the big-budget epochs for the big-budget readings.
     """
     st = _stats(results, CHEAP_ROWS)
     sub = results[:n_iter]
-    si = _stats(sub, ("q-method", "minmax", *ITER_ROWS))
-    sb = _stats(results[:n_big], ("minmax", "minmax-slsqp", "nsga2-big-knee"))
-    big = sb["nsga2-big-knee"].runtime_s
+    si = _with_timed_runtimes(_stats(sub, ("q-method", "minmax", *ITER_ROWS[:3])), timed)
+    big_epochs = [t for t in timed if "nsga2-big-knee" in t.times]
+    si["nsga2-big-knee"] = _timed_stats(big_epochs, "nsga2-big-knee")
+    sb = {m: _timed_stats(big_epochs, m) for m in ("minmax", "minmax-slsqp")}
+    big = si["nsga2-big-knee"].runtime_s
     sw = {m: [_sweep_mean([pt], m) for pt in sweep] for m in SWEEP_ROWS}
     slopes = {m: float(np.polyfit(bounds, np.array(sw[m]), 1)[0]) for m in SWEEP_ROWS}
     q, mm, paper_mm = st["q-method"], st["minmax"], PAPER_TABLE1["minmax"]["mean_deg"]
@@ -351,6 +391,8 @@ def _replica(results: list[Trial], sweep: list[list[Trial]], bounds: np.ndarray,
         box_truth_mean_deg=st["minmax-box-at-truth"].mean_deg,
         box_truth_closer=abs(st["minmax-box-at-truth"].mean_deg - paper_mm) < abs(mm.mean_deg - paper_mm),
         box_truth_var_deg2=st["minmax-box-at-truth"].var_deg2,
+        timing_spread=max(t.spread(m) for t in timed for m in t.times),
+        timing_identical=all(t.identical for t in timed),
     )
 
 
@@ -373,10 +415,10 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
     Examples
     --------
     >>> cfg = Config(n_seeds=1, n_trials=3, n_iterative=3, pop_size=4, n_gen=4, nsga2_big_n_gen=6,
-    ...              n_big_epochs=3, sweep_bounds=(0.1, 0.2), sweep_trials=2)
+    ...              timing_epochs=2, n_big_epochs=1, timing_repeats=2, sweep_bounds=(0.1, 0.2), sweep_trials=2)
     >>> m = measure(cfg, rng=0)
-    >>> len(m.replicas), m.stats["nsga2-knee"].n_trials, m.stats["nsga2-big-knee"].nfev
-    (1, 3, 24.0)
+    >>> len(m.replicas), m.stats["nsga2-knee"].n_trials, m.stats["nsga2-big-knee"].nfev, len(m.timed)
+    (1, 3, 24.0, 2)
     """
     from adcskit.uncertainty.executor import make_executor
 
@@ -387,14 +429,15 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
     root = np.random.SeedSequence(int(rng.integers(2**63 - 1)))
     bounds = np.array(config.sweep_bounds, float)
     nb, n_iter = len(bounds), config.n_iterative
-    tasks, where = [], []
+    tasks, where, to_time = [], [], []
     for j, rep in enumerate(root.spawn(config.n_seeds)):
         main_ss, sweep_ss = rep.spawn(2)
         for i, s in enumerate(main_ss.spawn(config.n_trials)):
             rows = CHEAP_ROWS + ITER_ROWS[:3] if i < n_iter else CHEAP_ROWS
-            rows += ("nsga2-big-knee",) if i < config.n_big_epochs else ()
             tasks.append((s, config.noise_bound, cfg, rows))
             where.append((j, "table", 0))
+            if i < config.timing_epochs:
+                to_time.append((j, i, s, config.noise_bound))
         for k, ss in enumerate(sweep_ss.spawn(nb)):
             for s in ss.spawn(config.sweep_trials):
                 tasks.append((s, float(bounds[k]), cfg, SWEEP_ROWS))
@@ -404,10 +447,15 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
     sweep: list[list[list[Trial]]] = [[[] for _ in range(nb)] for _ in range(config.n_seeds)]
     for (j, kind, k), res in zip(where, out):
         (table[j] if kind == "table" else sweep[j][k]).append(res)
-    reps = tuple(_replica(table[j], sweep[j], bounds, n_iter, config.n_big_epochs) for j in range(config.n_seeds))
+    # speed-600x: repeats of the same solves, interleaved, single-threaded, after the map (serial)
+    timed = time_epochs(to_time, cfg, repeats=config.timing_repeats, n_big=config.n_big_epochs)
+    reps = tuple(_replica(table[j], sweep[j], bounds, n_iter, [t for t in timed if t.replica == j])
+                 for j in range(config.n_seeds))
     # pooled statistics (all replicas' trials)
     stats = _stats([res for rep in table for res in rep], CHEAP_ROWS)
-    stats.update(_stats([r for rep in table for r in rep[:n_iter]], ITER_ROWS))
+    stats.update(_stats([r for rep in table for r in rep[:n_iter]], ITER_ROWS[:3]))
+    stats = _with_timed_runtimes(stats, list(timed))
+    stats["nsga2-big-knee"] = _timed_stats(list(timed), "nsga2-big-knee")
     sweep_mean = {m: [_sweep_mean([sweep[j][k] for j in range(config.n_seeds)], m) for k in range(nb)]
                   for m in SWEEP_ROWS}
     return Measurements(
@@ -421,4 +469,5 @@ def measure(config: Config, *, rng: Any = None, executor: Any = None) -> Measure
         frac_in_box=float(np.mean([res.in_box for rep in table for res in rep])),
         cf_vs_slsqp_max_deg=max(m.cf_vs_slsqp_max_deg for m in reps),
         exact=_exact_vectors(),
+        timed=timed,
     )
