@@ -106,7 +106,7 @@ def _both(prep, seeds, monkeypatch):
     task = (prep["shared"], prep["per_sample"], seeds, True)
     lanes = core._run_block(task)
     with monkeypatch.context() as m:
-        m.setattr(K, "run_parallel", _per_sample_python)
+        m.setattr(K, "run_cpu", _per_sample_python)
         ref = core._run_block(task)
     return lanes, ref
 

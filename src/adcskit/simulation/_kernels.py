@@ -45,8 +45,9 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
-from numba import get_num_threads, int64, njit, prange
+from numba import int64, njit, prange
 from numba.extending import register_jitable
 
 from adcskit._stack import stack_f64
@@ -1398,15 +1399,16 @@ block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy
 
 
 @njit(parallel=True, cache=True, nogil=True)
-def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
+def run_parallel(size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
                  AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
                  SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
     """CPU driver: blocks of up to :data:`LANES` samples in parallel (``prange``), each through
     :func:`block_loop` (what :func:`sample_loop` computes, bit for bit: the GPU driver's
     per-sample function and the reference of tests/simulation/test_lanes.py).
-    :func:`block_size` sets the block size from the sample and thread counts."""
+    ``size``: samples per block (:func:`run_cpu` passes :func:`block_size` of the sample and
+    thread counts: numba's in-kernel ``get_num_threads`` is a ctypes function pointer, a
+    dynamic global that would stop numba from caching this driver on disk)."""
     n = P.shape[0]
-    size = block_size(n, get_num_threads())
     for b in prange((n + size - 1) // size):
         # the block's scratch: a few hundred bytes, once per block of LANES x n_steps
         FS = np.empty((LANES, N_FS))
@@ -1418,6 +1420,12 @@ def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, AT
                        QREF, WREF, ATAB, ANOM, FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB,
                        VR, WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC,
                        TOT, FS, IS, SS)
+
+
+def run_cpu(*args):
+    """CPU driver entry: :func:`run_parallel` with the block size for this call's sample count
+    and numba's thread count (read here, in Python: see :func:`run_parallel`)."""
+    return run_parallel(block_size(args[0].shape[0], numba.get_num_threads()), *args)
 
 
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)

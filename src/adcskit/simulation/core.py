@@ -649,7 +649,7 @@ def _run_block(task: tuple[Any, ...]) -> dict[str, Any]:
     ``task`` is ``(shared, per_sample, seeds, record)``, plus ``"cuda"`` as a fifth item for the
     GPU driver (a CPU task keeps its four items: the same campaign keys as before)."""
     shared, ps, seeds, record = task[:4]
-    run = _k.run_cuda if len(task) > 4 and task[4] == "cuda" else _k.run_parallel
+    run = _k.run_cuda if len(task) > 4 and task[4] == "cuda" else _k.run_cpu
     C = shared["C"]
     n = ps["P"].shape[0]
     nt = shared["POS"].shape[0]
