@@ -318,14 +318,15 @@ class PerSample:
 
 def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *, n: int, chunk: int,
                    threads: int, shared: frozenset[str] | set[str] = frozenset(),
-                   outputs: tuple[str, ...] = ()) -> None:
+                   outputs: tuple[str, ...] = (), pack: Callable[..., Any] | None = None) -> None:
     """Run a one-thread-per-sample CUDA ``kernel`` over ``n`` samples in chunks of ``chunk``.
 
     ``args`` maps each of ``names`` (the kernel's parameters, in order) to a host array. The
     ``shared`` ones are copied to the device once; every other array has one row per sample and
     goes in row slices ``[lo:hi]`` per chunk. After each launch the ``outputs`` slices are copied
     back into their host arrays in place. Zero-size arrays become empty device arrays of the same
-    shape. This is the chunk loop of every GPU driver (:mod:`adcskit.simulation._kernels`,
+    shape. With ``pack`` (e.g. a named-tuple class) the kernel gets one argument,
+    ``pack(*arrays)``, instead of the arrays as separate arguments. This is the chunk loop of every GPU driver (:mod:`adcskit.simulation._kernels`,
     :mod:`adcskit.simulation._wheel_kernels`).
     """
     cuda = import_cuda()
@@ -338,7 +339,12 @@ def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *,
     for lo in range(0, n, chunk):
         hi = min(n, lo + chunk)
         dev = {a: on_device[a] if a in on_device else put(args[a][lo:hi]) for a in names}
-        kernel[(hi - lo + threads - 1) // threads, threads](*(dev[a] for a in names))
+        dev_args = tuple(dev[a] for a in names)
+        launch = kernel[(hi - lo + threads - 1) // threads, threads]
+        if pack is None:
+            launch(*dev_args)
+        else:
+            launch(pack(*dev_args))
         for a in outputs:
             args[a][lo:hi] = dev[a].copy_to_host()
 

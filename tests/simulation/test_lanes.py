@@ -94,16 +94,16 @@ def one_thread():
     numba.set_num_threads(before)
 
 
-def _per_sample_python(*args):
+def _per_sample_python(A):
     """The one-sample loop (plain Python; its compiled helpers as compiled) over every sample."""
     with np.errstate(over="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # SplitMix64's uint64 wrap-around
-        for i in range(args[0].shape[0]):
-            K.SAMPLE.py(i, *args)
+        for i in range(A.P.shape[0]):
+            K.SAMPLE.py(i, A)
 
 
 def _both(prep, seeds, monkeypatch):
-    task = (prep["shared"], prep["per_sample"], seeds, True)
+    task = core._Block(prep["shared"], prep["per_sample"], seeds, True)
     lanes = core._run_block(task)
     with monkeypatch.context() as m:
         m.setattr(K, "run_cpu", _per_sample_python)
