@@ -645,9 +645,7 @@ def sample_loop(i, A):
     dist = (A.P[i, P_D0], A.P[i, P_D0 + 1], A.P[i, P_D0 + 2], A.P[i, P_DAMP], A.P[i, P_DAMP + 1],
             A.P[i, P_DAMP + 2], A.P[i, P_DPH], A.P[i, P_DPH + 1], A.P[i, P_DPH + 2])
     # settling: |error| > band decided without atan2 away from the band's edge (exact there)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_lo = tb2 * (1.0 - 1e-6)
-    tb_hi = tb2 * (1.0 + 1e-6)
+    tb_lo, tb_hi = settle_bounds(band)
     n2orb = A.C[N2ORB]
     d_omega = A.C[D_OMEGA]
     q = (A.P[i, P_Q0], A.P[i, P_Q0 + 1], A.P[i, P_Q0 + 2], A.P[i, P_Q0 + 3])
@@ -727,7 +725,7 @@ def sample_loop(i, A):
         rec_now = record and kk % rec_every == 0
         if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
             e = qerr(q0, q1, q2, q3, A.QREF[kk, 0], A.QREF[kk, 1], A.QREF[kk, 2], A.QREF[kk, 3])
-        if _outside(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3], band, tb_lo, tb_hi):
+        if outside(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3], band, tb_lo, tb_hi):
             last_out = kk
         wn2 = w0n * w0n + w1n * w1n + w2n * w2n  # max |w| = sqrt(max |w|^2): one sqrt
         if wn2 > wmax2:
@@ -1049,11 +1047,28 @@ def _finish(OUT, i, mt, last_out, wmax2, err, kacc2, nkw, prop, fire, ec, n_step
 
 
 @register_jitable
-def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
+def settle_bounds(band):
+    """``(tb_lo, tb_hi)`` of :func:`outside` for the settling band ``band`` (rad):
+    ``tan(band/2)^2 (1 -/+ 1e-6)``, or negative (always the exact test) for ``band >= 3``."""
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    return tb2 * (1.0 - 1e-6), tb2 * (1.0 + 1e-6)
+
+
+@register_jitable
+def qangle(d0, d1, d2, d3):
+    """Rotation angle (rad, in [0, pi]) of the quaternion ``d``."""
+    return 2.0 * math.atan2(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), abs(d3))
+
+
+@register_jitable
+def outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
     """Whether the angle of ``q (x) r^-1`` exceeds ``band`` (rad): exactly
-    ``qerr(q, r)[3] > band``, with the ``atan2`` only within a relative 1e-6 of the edge
-    (``tan(angle/2)^2`` against ``tb_lo``/``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)``; a
-    negative ``tb_hi`` always takes the exact path)."""
+    ``qangle(*qdiff(q, r)) > band`` (the angle of :func:`adcskit.attitude._device.qerr`, whose
+    ``qdiff`` has ``d4 >= 0``), with the ``atan2`` and the square root only within a relative
+    1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
+    ``tb_lo`` / ``tb_hi`` (:func:`settle_bounds`; rounding of the squares: ~1e-16 relative); a
+    non-positive ``tb_hi`` always takes the exact path, as do NaNs (both comparisons false).
+    The settling test of both closed-loop kernels (thrusters and wheels)."""
     # the sign that qdiff fixes (q4 >= 0) does not change the squares below
     d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
     e2 = d0 * d0 + d1 * d1 + d2 * d2
@@ -1063,8 +1078,7 @@ def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
             return True
         if e2 < tb_lo * c2:
             return False
-    _, _, _, ang = qerr(q0, q1, q2, q3, r0, r1, r2, r3)
-    return ang > band
+    return qangle(d0, d1, d2, d3) > band
 
 
 @register_jitable
@@ -1232,52 +1246,14 @@ def _lanes_rk4(X, JG, T, WS, nl, dt, general):
             _lane_store(X, WS, l, _lane_principal(X, JG, T, l, dt))
 
 
-def block_loop(i0, size, A, FS, IS, SS):
-    """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(size, n - i0)``, ``size <= LANES``)
-    over all steps: what
-    :func:`sample_loop` computes for each of them, bit for bit, with the steps interleaved.
-
-    At each step a pass over the lanes runs each sample's metrics of the previous step and its
-    sensors, estimation, control, thrusters and environment torques (the step functions of
-    :func:`sample_loop`, in its order for each sample), then :func:`_lanes_rk4` advances every
-    lane's rigid body in one vectorised loop when the block's inertias are all diagonal
-    (the general step when none is; in a block that mixes the two, each sample's step in
-    turn). Between the passes a lane's state lives in arrays:
-    on this function's stack (:func:`adcskit._stack.stack_f64`, which is what lets LLVM
-    vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JG`` (18 x
-    LANES: J and J^-1 row-major) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
-    scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
-    ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F.*`` / ``_I.*``), and
-    ``SS`` (LANES, uint64): the noise state.
-    The counters that every sample shares (gyro and command instants, window counts) are the
-    block's.
-    """
-    n = A.POS.shape[0]
-    nl = min(size, A.P.shape[0] - i0)
-    X = stack_f64(7, LANES)
-    T = stack_f64(3, LANES)
-    WS = stack_f64(3, LANES)
-    JG = stack_f64(18, LANES)
-    dt = A.C[DT]
-    n_steps = int(A.C[N_STEPS])
-    h_ctrl = int(A.C[H_CTRL])
-    h_gyro = int(A.C[H_GYRO])
-    est_mode = int(A.C[EST_MODE])
-    k_win = int(A.C[K_WIN])
-    band = A.C[SETTLE_BAND]
-    rec_every = int(A.C[REC_EVERY])
-    bmask = int(A.C[BUF_MASK])
+@register_jitable(inline="always")
+def _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk):
+    """The lanes of :func:`block_loop` at the start: each sample's scratch (:func:`_init`),
+    state, inertia, delay, disturbance, counters and first trace row. Returns whether the
+    block's inertias are all diagonal, and whether none is."""
+    n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi = blk
     record = A.REC.shape[0] > 0
-    lag = (A.C[A11], A.C[B1], A.C[A21], A.C[A22], A.C[B2], A.C[V1], A.C[V2], A.C[VU])
-    thr = (A.QREF, A.WREF, A.ATAB, A.ANOM, A.FNOM, A.AMASK)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_lo = tb2 * (1.0 - 1e-6)
-    tb_hi = tb2 * (1.0 + 1e-6)
-    n2orb = A.C[N2ORB]
-    d_omega = A.C[D_OMEGA]
     x2o = n
-    so = 9 * n
-    qf = (A.QREF[n_steps, 0], A.QREF[n_steps, 1], A.QREF[n_steps, 2], A.QREF[n_steps, 3])
     all_diag = True
     all_full = True
     for l in range(nl):
@@ -1327,6 +1303,175 @@ def block_loop(i0, size, A, FS, IS, SS):
         if record:
             _record(A.REC, i, 0, e[0], e[1], e[2], e[3], A.QE[i], q0, q1, q2, q3, X[4, l], X[5, l],
                     X[6, l], math.nan, 0.0, ts, x2o, n)
+    return all_diag, all_full
+
+
+@register_jitable(inline="always")
+def _lane_step(i, l, k, A, X, T, WS, FS, IS, SS, at, blk):
+    """Lane ``l`` (sample ``i``) at step ``k`` of :func:`block_loop`: the metrics of the step
+    that ended at ``k`` and the trace row, then (the step functions of :func:`sample_loop`, in
+    its order) the estimation, the metrics at the last step, or the control, the thrusters and
+    the environment torques into ``T[:, l]``. ``at``: the block's step flags and counters
+    (shared by its lanes); ``blk``: the block's constants."""
+    post, rec_now, win, need_e, gyro, know, last, ctrl, nwin, nkw, kc, tk = at
+    n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi = blk
+    x2o = n
+    so = 9 * n
+    q = (X[0, l], X[1, l], X[2, l], X[3, l])
+    w = (X[4, l], X[5, l], X[6, l])
+    qe = A.QE[i]
+    ts = A.TS[i]
+    if post:  # (the settling and rate tests do not read the pointing error)
+        if outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
+                    tb_hi):
+            IS[l, _I.LAST_OUT] = k
+        wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+        if wn2 > FS[l, _F.WMAX2]:
+            FS[l, _F.WMAX2] = wn2
+    if need_e:
+        e = qerr(q[0], q[1], q[2], q[3], A.QREF[k, 0], A.QREF[k, 1], A.QREF[k, 2], A.QREF[k, 3])
+        FS[l, _F.E] = e[0]
+        FS[l, _F.E + 1] = e[1]
+        FS[l, _F.E + 2] = e[2]
+        FS[l, _F.E + 3] = e[3]
+        if win:
+            mt = _window((FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
+                          FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin), e)
+            FS[l, _F.MT] = mt[0]
+            FS[l, _F.MT + 1] = mt[1]
+            FS[l, _F.MT + 2] = mt[2]
+            FS[l, _F.MT + 3] = mt[3]
+            FS[l, _F.MT + 4] = mt[4]
+            FS[l, _F.MT + 5] = mt[5]
+        if rec_now:
+            _record(A.REC, i, k // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2],
+                    q[3], w[0], w[1], w[2], FS[l, _F.NEES], FS[l, _F.PROP], ts, x2o, n)
+    if est_mode == EST_TRUTH:
+        qe[0] = q[0]
+        qe[1] = q[1]
+        qe[2] = q[2]
+        qe[3] = q[3]
+        FS[l, _F.WE] = w[0]
+        FS[l, _F.WE + 1] = w[1]
+        FS[l, _F.WE + 2] = w[2]
+    elif gyro:
+        est = (qe, A.BE[i], A.PE[i], A.WK[i], A.GY[i], A.BIAS[i], A.SQ[i])
+        obs = (A.VB[i], A.VR[i], A.WW[i])
+        ws = (WS[0, l], WS[1, l], WS[2, l])
+        ec = (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N], IS[l, _I.NEES_N + 1],
+              IS[l, _I.NEES_N + 2])
+        s, we, ec, nobs = _sense_estimate(k, A.C, A.ENV, q, w, SS[l], ws, ec, est, obs)
+        if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
+            det = (A.VB, A.VR, A.WW, A.WQ, A.WO, A.WC, A.SB[i], A.SR[i], A.SQP[i], A.SBB[i], A.SFF[i], A.SKK[i],
+                   A.SAA[i], A.SBK[i], A.RS[i])
+            ec = _determine(i, A.C, qe, ec, det)
+        SS[l] = s
+        FS[l, _F.WE] = we[0]
+        FS[l, _F.WE + 1] = we[1]
+        FS[l, _F.WE + 2] = we[2]
+        FS[l, _F.NEES] = ec[0]
+        FS[l, _F.NEES + 1] = ec[1]
+        IS[l, _I.NEES_N] = ec[2]
+        IS[l, _I.NEES_N + 1] = ec[3]
+        IS[l, _I.NEES_N + 2] = ec[4]
+        WS[0, l] = 0.0
+        WS[1, l] = 0.0
+        WS[2, l] = 0.0
+    if know:  # knowledge error at t_k, after this epoch's estimation
+        kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
+        FS[l, _F.KACC2] += kerr * kerr
+    if last:
+        _finish(A.OUT, i, (FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
+                         FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin),
+                IS[l, _I.LAST_OUT], FS[l, _F.WMAX2], FS[l, _F.E + 3], FS[l, _F.KACC2], nkw,
+                FS[l, _F.PROP], (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]),
+                (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N],
+                 IS[l, _I.NEES_N + 1], IS[l, _I.NEES_N + 2]), n_steps, dt)
+        return
+    if ctrl:
+        scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
+               ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
+        ctl, fire = _control(
+            i, k, A.C, qe, (FS[l, _F.WE], FS[l, _F.WE + 1], FS[l, _F.WE + 2]),
+            (FS[l, _F.CTL], FS[l, _F.CTL + 1], FS[l, _F.CTL + 2], FS[l, _F.CTL + 3],
+             FS[l, _F.CTL + 4], FS[l, _F.CTL + 5]),
+            (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]), thr, scr, ts, A.TOT, n)
+        FS[l, _F.CTL] = ctl[0]
+        FS[l, _F.CTL + 1] = ctl[1]
+        FS[l, _F.CTL + 2] = ctl[2]
+        FS[l, _F.CTL + 3] = ctl[3]
+        FS[l, _F.CTL + 4] = ctl[4]
+        FS[l, _F.CTL + 5] = ctl[5]
+        FS[l, _F.FIRE] = fire[0]
+        FS[l, _F.FIRE + 1] = fire[1]
+    t0, t1, t2, prop = _actuate(i, k, k - kc, IS[l, _I.ND], FS[l, _F.DFRAC], ts, A.BUF[i],
+                                bmask, A.FAILED, A.FLEV, A.MDOT, lag, dt, FS[l, _F.PROP], n)
+    FS[l, _F.PROP] = prop
+    # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
+    d0 = FS[l, _F.DIST]
+    d1 = FS[l, _F.DIST + 1]
+    d2 = FS[l, _F.DIST + 2]
+    a0 = FS[l, _F.DIST + 3]
+    a1 = FS[l, _F.DIST + 4]
+    a2 = FS[l, _F.DIST + 5]
+    t0 += d0 + a0 * math.sin(d_omega * tk + FS[l, _F.DIST + 6]) if a0 != 0.0 else d0
+    t1 += d1 + a1 * math.sin(d_omega * tk + FS[l, _F.DIST + 7]) if a1 != 0.0 else d1
+    t2 += d2 + a2 * math.sin(d_omega * tk + FS[l, _F.DIST + 8]) if a2 != 0.0 else d2
+    if n2orb > 0.0:
+        c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], A.ENV[k, 0], A.ENV[k, 1], A.ENV[k, 2])
+        h0, h1, h2 = _inertia_times(A.P[i, P_J:P_J + 9], IS[l, _I.DIAG] != 0, c0, c1, c2)
+        t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+        t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+        t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+    T[0, l] = t0
+    T[1, l] = t1
+    T[2, l] = t2
+
+
+def block_loop(i0, size, A, FS, IS, SS):
+    """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(size, n - i0)``, ``size <= LANES``)
+    over all steps: what
+    :func:`sample_loop` computes for each of them, bit for bit, with the steps interleaved.
+
+    At each step a pass over the lanes runs each sample's metrics of the previous step and its
+    sensors, estimation, control, thrusters and environment torques (the step functions of
+    :func:`sample_loop`, in its order for each sample), then :func:`_lanes_rk4` advances every
+    lane's rigid body in one vectorised loop when the block's inertias are all diagonal
+    (the general step when none is; in a block that mixes the two, each sample's step in
+    turn). Between the passes a lane's state lives in arrays:
+    on this function's stack (:func:`adcskit._stack.stack_f64`, which is what lets LLVM
+    vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JG`` (18 x
+    LANES: J and J^-1 row-major) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
+    scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
+    ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F.*`` / ``_I.*``), and
+    ``SS`` (LANES, uint64): the noise state.
+    The counters that every sample shares (gyro and command instants, window counts) are the
+    block's.
+    """
+    n = A.POS.shape[0]
+    nl = min(size, A.P.shape[0] - i0)
+    X = stack_f64(7, LANES)
+    T = stack_f64(3, LANES)
+    WS = stack_f64(3, LANES)
+    JG = stack_f64(18, LANES)
+    dt = A.C[DT]
+    n_steps = int(A.C[N_STEPS])
+    h_ctrl = int(A.C[H_CTRL])
+    h_gyro = int(A.C[H_GYRO])
+    est_mode = int(A.C[EST_MODE])
+    k_win = int(A.C[K_WIN])
+    band = A.C[SETTLE_BAND]
+    rec_every = int(A.C[REC_EVERY])
+    bmask = int(A.C[BUF_MASK])
+    record = A.REC.shape[0] > 0
+    lag = (A.C[A11], A.C[B1], A.C[A21], A.C[A22], A.C[B2], A.C[V1], A.C[V2], A.C[VU])
+    thr = (A.QREF, A.WREF, A.ATAB, A.ANOM, A.FNOM, A.AMASK)
+    tb_lo, tb_hi = settle_bounds(band)
+    n2orb = A.C[N2ORB]
+    d_omega = A.C[D_OMEGA]
+    qf = (A.QREF[n_steps, 0], A.QREF[n_steps, 1], A.QREF[n_steps, 2], A.QREF[n_steps, 3])
+    blk = (n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi)
+    all_diag, all_full = _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk)
     k_gyro = 0  # next gyro epoch
     k_ctrl = 0  # next command instant
     kc = 0
@@ -1351,117 +1496,9 @@ def block_loop(i0, size, A, FS, IS, SS):
             k_ctrl += h_ctrl
             kc = k
         tk = k * dt
+        at = (post, rec_now, win, need_e, gyro, know, last, ctrl, nwin, nkw, kc, tk)
         for l in range(nl):
-            i = i0 + l
-            q = (X[0, l], X[1, l], X[2, l], X[3, l])
-            w = (X[4, l], X[5, l], X[6, l])
-            qe = A.QE[i]
-            ts = A.TS[i]
-            if post:  # (the settling and rate tests do not read the pointing error)
-                if _outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
-                            tb_hi):
-                    IS[l, _I.LAST_OUT] = k
-                wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-                if wn2 > FS[l, _F.WMAX2]:
-                    FS[l, _F.WMAX2] = wn2
-            if need_e:
-                e = qerr(q[0], q[1], q[2], q[3], A.QREF[k, 0], A.QREF[k, 1], A.QREF[k, 2], A.QREF[k, 3])
-                FS[l, _F.E] = e[0]
-                FS[l, _F.E + 1] = e[1]
-                FS[l, _F.E + 2] = e[2]
-                FS[l, _F.E + 3] = e[3]
-                if win:
-                    mt = _window((FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
-                                  FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin), e)
-                    FS[l, _F.MT] = mt[0]
-                    FS[l, _F.MT + 1] = mt[1]
-                    FS[l, _F.MT + 2] = mt[2]
-                    FS[l, _F.MT + 3] = mt[3]
-                    FS[l, _F.MT + 4] = mt[4]
-                    FS[l, _F.MT + 5] = mt[5]
-                if rec_now:
-                    _record(A.REC, i, k // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2],
-                            q[3], w[0], w[1], w[2], FS[l, _F.NEES], FS[l, _F.PROP], ts, x2o, n)
-            if est_mode == EST_TRUTH:
-                qe[0] = q[0]
-                qe[1] = q[1]
-                qe[2] = q[2]
-                qe[3] = q[3]
-                FS[l, _F.WE] = w[0]
-                FS[l, _F.WE + 1] = w[1]
-                FS[l, _F.WE + 2] = w[2]
-            elif gyro:
-                est = (qe, A.BE[i], A.PE[i], A.WK[i], A.GY[i], A.BIAS[i], A.SQ[i])
-                obs = (A.VB[i], A.VR[i], A.WW[i])
-                ws = (WS[0, l], WS[1, l], WS[2, l])
-                ec = (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N], IS[l, _I.NEES_N + 1],
-                      IS[l, _I.NEES_N + 2])
-                s, we, ec, nobs = _sense_estimate(k, A.C, A.ENV, q, w, SS[l], ws, ec, est, obs)
-                if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
-                    det = (A.VB, A.VR, A.WW, A.WQ, A.WO, A.WC, A.SB[i], A.SR[i], A.SQP[i], A.SBB[i], A.SFF[i], A.SKK[i],
-                           A.SAA[i], A.SBK[i], A.RS[i])
-                    ec = _determine(i, A.C, qe, ec, det)
-                SS[l] = s
-                FS[l, _F.WE] = we[0]
-                FS[l, _F.WE + 1] = we[1]
-                FS[l, _F.WE + 2] = we[2]
-                FS[l, _F.NEES] = ec[0]
-                FS[l, _F.NEES + 1] = ec[1]
-                IS[l, _I.NEES_N] = ec[2]
-                IS[l, _I.NEES_N + 1] = ec[3]
-                IS[l, _I.NEES_N + 2] = ec[4]
-                WS[0, l] = 0.0
-                WS[1, l] = 0.0
-                WS[2, l] = 0.0
-            if know:  # knowledge error at t_k, after this epoch's estimation
-                kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
-                FS[l, _F.KACC2] += kerr * kerr
-            if last:
-                _finish(A.OUT, i, (FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
-                                 FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin),
-                        IS[l, _I.LAST_OUT], FS[l, _F.WMAX2], FS[l, _F.E + 3], FS[l, _F.KACC2], nkw,
-                        FS[l, _F.PROP], (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]),
-                        (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N],
-                         IS[l, _I.NEES_N + 1], IS[l, _I.NEES_N + 2]), n_steps, dt)
-                continue
-            if ctrl:
-                scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
-                       ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
-                ctl, fire = _control(
-                    i, k, A.C, qe, (FS[l, _F.WE], FS[l, _F.WE + 1], FS[l, _F.WE + 2]),
-                    (FS[l, _F.CTL], FS[l, _F.CTL + 1], FS[l, _F.CTL + 2], FS[l, _F.CTL + 3],
-                     FS[l, _F.CTL + 4], FS[l, _F.CTL + 5]),
-                    (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]), thr, scr, ts, A.TOT, n)
-                FS[l, _F.CTL] = ctl[0]
-                FS[l, _F.CTL + 1] = ctl[1]
-                FS[l, _F.CTL + 2] = ctl[2]
-                FS[l, _F.CTL + 3] = ctl[3]
-                FS[l, _F.CTL + 4] = ctl[4]
-                FS[l, _F.CTL + 5] = ctl[5]
-                FS[l, _F.FIRE] = fire[0]
-                FS[l, _F.FIRE + 1] = fire[1]
-            t0, t1, t2, prop = _actuate(i, k, k - kc, IS[l, _I.ND], FS[l, _F.DFRAC], ts, A.BUF[i],
-                                        bmask, A.FAILED, A.FLEV, A.MDOT, lag, dt, FS[l, _F.PROP], n)
-            FS[l, _F.PROP] = prop
-            # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
-            d0 = FS[l, _F.DIST]
-            d1 = FS[l, _F.DIST + 1]
-            d2 = FS[l, _F.DIST + 2]
-            a0 = FS[l, _F.DIST + 3]
-            a1 = FS[l, _F.DIST + 4]
-            a2 = FS[l, _F.DIST + 5]
-            t0 += d0 + a0 * math.sin(d_omega * tk + FS[l, _F.DIST + 6]) if a0 != 0.0 else d0
-            t1 += d1 + a1 * math.sin(d_omega * tk + FS[l, _F.DIST + 7]) if a1 != 0.0 else d1
-            t2 += d2 + a2 * math.sin(d_omega * tk + FS[l, _F.DIST + 8]) if a2 != 0.0 else d2
-            if n2orb > 0.0:
-                c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], A.ENV[k, 0], A.ENV[k, 1], A.ENV[k, 2])
-                h0, h1, h2 = _inertia_times(A.P[i, P_J:P_J + 9], IS[l, _I.DIAG] != 0, c0, c1, c2)
-                t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
-                t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
-                t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-            T[0, l] = t0
-            T[1, l] = t1
-            T[2, l] = t2
+            _lane_step(i0 + l, l, k, A, X, T, WS, FS, IS, SS, at, blk)
         if last:
             break
         if all_diag or all_full:
