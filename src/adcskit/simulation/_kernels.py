@@ -54,7 +54,15 @@ from numba import int64, njit, prange
 from numba.extending import register_jitable
 
 from adcskit._stack import stack_f64
-from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked, rebound
+from adcskit._targets import (
+    LazyKernels,
+    PerSample,
+    import_cuda,
+    lane_block_size,
+    lane_slots,
+    launch_chunked,
+    rebound,
+)
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -1158,19 +1166,9 @@ sample_loop_jit = SAMPLE.cpu
 #: lanes". 16 measured no faster.
 LANES = 8
 
-def _slots(name, **widths):
-    """Consecutive slots of the given widths: a named tuple of their offsets (``name``) and the
-    total width."""
-    offsets, o = [], 0
-    for w in widths.values():
-        offsets.append(o)
-        o += w
-    return namedtuple(name, list(widths))(*offsets), o
-
-
 # The per-lane scalar state of block_loop (what sample_loop keeps in locals), one line per
 # variable (name=width): FS[lane, _F.NAME + k] (float) and IS[lane, _I.NAME + k] (int).
-_F, N_FS = _slots(
+_F, N_FS = lane_slots(
     "FloatSlots",
     WE=3,  # estimated rate
     CTL=6,  # Schmitt outputs, PID integrals
@@ -1184,7 +1182,7 @@ _F, N_FS = _slots(
     DIST=9,  # disturbance constant, amplitude, phase
     DFRAC=1,  # fractional delay
 )
-_I, N_IS = _slots(
+_I, N_IS = lane_slots(
     "IntSlots",
     NEES_N=3,  # NEES count, determinations, box active
     LAST_OUT=1,  # last step outside the settling band
@@ -1246,7 +1244,7 @@ def _lanes_rk4(X, JG, T, WS, nl, dt, general):
             _lane_store(X, WS, l, _lane_principal(X, JG, T, l, dt))
 
 
-@register_jitable(inline="always")
+@register_jitable
 def _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk):
     """The lanes of :func:`block_loop` at the start: each sample's scratch (:func:`_init`),
     state, inertia, delay, disturbance, counters and first trace row. Returns whether the
@@ -1306,7 +1304,7 @@ def _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk):
     return all_diag, all_full
 
 
-@register_jitable(inline="always")
+@register_jitable
 def _lane_step(i, l, k, A, X, T, WS, FS, IS, SS, at, blk):
     """Lane ``l`` (sample ``i``) at step ``k`` of :func:`block_loop`: the metrics of the step
     that ended at ``k`` and the trace row, then (the step functions of :func:`sample_loop`, in
@@ -1515,34 +1513,10 @@ def block_loop(i0, size, A, FS, IS, SS):
                 _lane_store(X, WS, l, x)
 
 
-@register_jitable
-def _busiest(n, size, threads):
-    """Samples on the busiest thread when ``n`` samples run in blocks of ``size`` on ``threads``
-    threads: ``prange`` gives each thread a contiguous run of ``ceil(blocks / threads)`` blocks
-    at most."""
-    return min(n, ((n + size - 1) // size + threads - 1) // threads * size)
-
-
-@register_jitable
 def block_size(n, threads):
-    """Samples per lane block for ``n`` samples on ``threads`` threads.
-
-    :data:`LANES` (a full vector loop) unless whole blocks would load the busiest thread
-    (:func:`_busiest`) more than 5/4 of an even share: ``n = 64`` on 16 threads makes 8 blocks
-    of 8 and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one thread).
-    Then the size (at most :data:`LANES`, the largest on a tie) that minimises the busiest
-    thread's samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than 8
-    samples run their RK4 steps partly scalar; the results do not depend on the size
-    (tests/simulation/test_lanes.py)."""
-    if n < 1:
-        return 1
-    if threads <= 1 or 4 * _busiest(n, LANES, threads) * threads <= 5 * n:
-        return LANES
-    best = LANES
-    for size in range(LANES - 1, 0, -1):
-        if _busiest(n, size, threads) < _busiest(n, best, threads):
-            best = size
-    return best
+    """Samples per lane block for ``n`` samples on ``threads`` threads: blocks of at most
+    :data:`LANES` (:func:`adcskit._targets.lane_block_size`)."""
+    return lane_block_size(n, threads, LANES)
 
 
 block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy", _nrt=False)(block_loop)
