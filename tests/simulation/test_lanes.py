@@ -192,3 +192,14 @@ def test_single_sample_and_exact_blocks(monkeypatch):
         seeds = np.random.SeedSequence(5).generate_state(n, dtype=np.uint64)
         lanes, ref = _both(prep, seeds, monkeypatch)
         _assert_same(lanes, ref, f"n={n}")
+
+
+def test_lane_slots_are_consecutive_and_validated():
+    from adcskit._targets import lane_slots
+    from adcskit.errors import InputError
+
+    slots, width = lane_slots("S", a=3, b=1, c=2)
+    assert (slots.a, slots.b, slots.c, width) == (0, 3, 4, 6)
+    assert (K.N_FS, K.N_IS) == (36, 6)  # the block rows' widths of the kernel's declared slots
+    with pytest.raises(InputError, match="width of b"):
+        lane_slots("S", a=3, b=0)
