@@ -156,7 +156,8 @@ def test_balanced_blocks_on_two_threads(monkeypatch):
 
 def _busiest(n, size, threads):
     """Samples on the busiest thread: prange's contiguous runs of ceil(blocks / threads)."""
-    return min(n, -(-(-(-n // size)) // threads) * size)
+    blocks = -(-n // size)  # ceil(n / size)
+    return min(n, -(-blocks // threads) * size)
 
 
 @settings(max_examples=300, deadline=None)

@@ -1,6 +1,6 @@
 """Private batch kernel of the closed-loop simulator: samples in parallel lanes.
 
-The per-sample step is written as plain functions (design.md "one source, two targets"):
+The per-sample step is written as plain functions (docs/architecture.md; :mod:`adcskit._targets`):
 scalars, ``math`` functions and indexing of arrays passed in; no allocation, no NumPy calls,
 no Python objects inside :func:`sample_loop` and its helpers. :func:`sample_loop` is declared
 as a :class:`adcskit._targets.PerSample` (``SAMPLE``), the GPU driver's per-sample function.
@@ -11,8 +11,9 @@ block's RK4 steps in one loop that LLVM vectorises across the lanes; bit for bit
 docs/design-notes.md, "Two loops"). The helpers are
 ``register_jitable`` / :func:`adcskit._targets.device` functions, the quaternion ones and the
 S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
-kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The scratch
-memory of a lane is passed in by the driver (:mod:`adcskit.simulation.core` allocates it).
+kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The kernel's
+arrays (inputs, per-sample scratch, outputs) are declared once, in :data:`ARGS`; they travel
+as one named tuple (:data:`Arrays`) that :mod:`adcskit.simulation.core` allocates from it.
 The GPU driver :func:`run_cuda` runs the same source, one CUDA thread per sample: its
 compilation binds the names that the CPU build resolves to CPU-only dispatchers (the MEKF
 steps, the gyro model, the rotation-vector update) to device compilations of the same
@@ -606,8 +607,8 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
 def sample_loop(i, A):
     """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
 
-    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
-    this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
+    ``A``: the kernel's arrays (:data:`Arrays`; shapes in :data:`ARGS`); every array indexed
+    ``[i]`` is this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
     :func:`_sense_estimate` (at gyro epochs; :func:`_determine` after it for the Wahba and
     min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
     environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
@@ -1072,8 +1073,9 @@ def qangle(d0, d1, d2, d3):
 def outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
     """Whether the angle of ``q (x) r^-1`` exceeds ``band`` (rad): exactly
     ``qangle(*qdiff(q, r)) > band`` (the angle of :func:`adcskit.attitude._device.qerr`, whose
-    ``qdiff`` has ``d4 >= 0``), with the ``atan2`` and the square root only within a relative
-    1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
+    ``qdiff`` has ``d4 >= 0``: the same double except for ``d = (0, 0, 0, -0.0)``, a zero
+    quaternion, where ``qerr``'s ``atan2(0, -0.0)`` gives 2 pi), with the ``atan2`` and the
+    square root only within a relative 1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
     ``tb_lo`` / ``tb_hi`` (:func:`settle_bounds`; rounding of the squares: ~1e-16 relative); a
     non-positive ``tb_hi`` always takes the exact path, as do NaNs (both comparisons false).
     The settling test of both closed-loop kernels (thrusters and wheels)."""
@@ -1557,9 +1559,9 @@ principal_jit = njit(cache=True, nogil=True)(principal)
 
 
 # --- CUDA driver -----------------------------------------------------------------------------
-# One thread per sample over the same argument list as run_parallel. The scratch stays the
-# per-sample rows of global arrays that the CPU driver gets (core.py allocates them): the loop
-# indexes BUF[i], TS[i], PE[i]..., whose lengths depend on the thruster count and the delay
+# One thread per sample over the same arrays as run_parallel (one Arrays tuple). The scratch
+# stays the per-sample rows of global arrays that the CPU driver gets (allocated from ARGS):
+# the loop indexes A.BUF[i], A.TS[i], A.PE[i]..., whose lengths depend on the thruster count and the delay
 # line (runtime values), so no change to the one source is needed and no kernel is compiled
 # per layout; each row is touched by its own thread only.
 THREADS_PER_BLOCK = 128
