@@ -1306,7 +1306,7 @@ def _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk):
     return all_diag, all_full
 
 
-@register_jitable(inline="always")
+@njit(inline="always")
 def _lane_step(i, l, k, A, X, T, WS, FS, IS, SS, at, blk):
     """Lane ``l`` (sample ``i``) at step ``k`` of :func:`block_loop`: the metrics of the step
     that ended at ``k`` and the trace row, then (the step functions of :func:`sample_loop`, in
