@@ -287,7 +287,8 @@ def test_reference_mode_sequence_runs_detumble_sun_nadir():
 
 
 def test_python_reference_path_agrees_with_the_compiled_kernel():
-    # the per-sample function is one source: plain Python (PerSample.py) and numba compile it
+    # the per-sample function is one source: plain Python (SAMPLE.device_source(), every step
+    # function as Python) and numba compile it
     sc = WheelScenario(sim=SimSpec(dt=0.1, t_final=3.0, metrics_from_s=0.0, record_every=1))
     _check_one_source(sc)
 
@@ -302,7 +303,9 @@ def _check_one_source(sc):
     A = _k.allocate_arrays({**sh, "P": prep["P"], "AX": prep["AX"], "SEEDS": seeds}, dims)
     rec = A.REC
     with np.errstate(over="ignore"):  # SplitMix64 wraps around 2^64 on purpose
-        _k.SAMPLE.py(0, A)
+        # the plain source with its step functions as Python (the CUDA target's source; the CPU
+        # compilation inlines the same step functions, wheel_sample's globals, as numba code)
+        _k.SAMPLE.device_source()(0, A)
     np.testing.assert_allclose(rec, res.trace, rtol=1e-12, atol=1e-15, equal_nan=True)
     return res
 

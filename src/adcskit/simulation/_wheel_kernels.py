@@ -60,7 +60,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from adcskit._targets import LazyKernels, PerSample, device, import_cuda, launch_chunked
+from adcskit._targets import LazyKernels, PerSample, device, import_cuda, launch_chunked, rebound
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, rotate, unit_q4_pos
 from adcskit.estimation import _mekf_kernels as _mk
 from adcskit.estimation._mekf_kernels import (
@@ -412,7 +412,16 @@ def thrust_step(THR, TF, nt, t_in, tp, dt):
     return c0 / dt, c1 / dt, c2 / dt, imp, prop, on
 
 
-@device(inline="always")
+def _step(fn):
+    """A step function of :func:`wheel_sample`: numba inlines it into the CPU compilation at the
+    untyped IR (``njit(inline="always")``: compiled once, with the loop; as a call it would get
+    the kernel's named tuple of arrays as about 200 flattened scalars each step, and numba's
+    typed inlining, ``device(inline="always")``, compiles it on its own first: 8 CPU-s more);
+    the CUDA compilation takes the plain function (``SAMPLE``'s ``device_names``)."""
+    return njit(inline="always")(fn)
+
+
+@_step
 def _rows(i, A):
     """Sample ``i``'s views, made once per sample: the gyrostat state and RK4 scratch rows, the
     motor torques, J and J^-1 (row-major), the wheel axes; the unloading thrusters' on-times
@@ -430,7 +439,7 @@ def _rows(i, A):
     return rows, jets, kf
 
 
-@device(inline="always")
+@_step
 def _init(i, A, rows, kf):
     """Sample ``i``'s initial gyrostat state (``X`` row), zero motor torques and, with the
     filter, its initial estimate (the truth turned by a Gaussian rotation vector of sigma
@@ -467,7 +476,7 @@ def _init(i, A, rows, kf):
     return s, (qe0, qe1, qe2, qe3)
 
 
-@device(inline="always")
+@_step
 def _truth(k, A, rows, q, w, qe, mode, rrow, grid, ctrl, in_win, band, tb, mt):
     """The truth quantities of step ``k`` that a metric or the trace reads (each only where it
     is read): pointing and knowledge errors, rate, wheel momentum and speeds, inertial total
@@ -594,7 +603,7 @@ def _record(i, r, A, rows, w, mode, perr, kerr, rate, mt, dip, nees, jet):
         REC[i, r, rec_thr + RT_PROP] = prop
 
 
-@device(inline="always")
+@_step
 def _gyro(s, w, sig_g, sig_b, bias):
     """Gyro reading at a gyro epoch: the true rate plus the bias and white noise (sigma
     ``sig_g``), then the bias random walk (sigma ``sig_b``). Returns the noise state, the
@@ -609,7 +618,7 @@ def _gyro(s, w, sig_g, sig_b, bias):
     return s, wm, eg, (b0 + sig_b * z3, b1 + sig_b * z4, b2 + sig_b * z5)
 
 
-@device(inline="always")
+@_step
 def _vectors(k, A, kf, q, s, ns, sun_due, mag_due, firing, sun, mag, dip):
     """Sun sensor (when lit) and magnetometer at step ``k`` when due (the magnetometer blanked
     or corrupted while the rods were on, ``firing``), each followed by the filter's vector
@@ -663,7 +672,7 @@ def _vectors(k, A, kf, q, s, ns, sun_due, mag_due, firing, sun, mag, dip):
     return s, (sv, s0, s1, s2), (nmag, bm0, bm1, bm2, bp0, bp1, bp2, tmag, tprev, newmag)
 
 
-@device(inline="always")
+@_step
 def _modes(C, md, t, rm, sun):
     """The mode sequence at a control instant ``t``: detumble -> sun once the measured rate
     ``rm`` stayed below ``RATE_THR``, sun -> pointing once the sun stayed within the
@@ -692,7 +701,7 @@ def _modes(C, md, t, rm, sun):
     return mode, dwell, t_det, t_acq
 
 
-@device(inline="always")
+@_step
 def _law(k, A, mode, qe, wc, sun):
     """The attitude law's body acceleration demand (sun pointing or quaternion feedback on the
     reference of step ``k``, ``pd`` or ``wie`` with its rate clip), without the gyroscopic
@@ -735,7 +744,7 @@ def _law(k, A, mode, qe, wc, sun):
     return -e0 - cc_ * (wc0 - o0), -e1 - cc_ * (wc1 - o1), -e2 - cc_ * (wc2 - o2)
 
 
-@device(inline="always")
+@_step
 def _control(k, A, rows, jets, mode, qe, wc, sun, mag, unl):
     """Control at the control instant ``k``: wheel motor torques (``TM`` row) and the dipole for
     the mode (open loop, B-dot detumbling, or the attitude law with the gyroscopic term, thruster
@@ -801,7 +810,7 @@ def _control(k, A, rows, jets, mode, qe, wc, sun, mag, unl):
     return (m0, m1, m2), tfire, (on, n_unl, t_unl)
 
 
-@device(inline="always")
+@_step
 def _external(i, k, A, q, Ji, has_sine, rods_on, dip):
     """The external torque held over step ``k`` (N m, body): gravity gradient, the sample's
     disturbance (constant and, when ``has_sine``, sinusoidal) and, while the rods are on, the
@@ -879,7 +888,7 @@ def _finish(i, A, Xi, AXi, mt, md, dip_max, unl, jet, thr, nees):
     OUT[i, M_NEES_N] = nees[2]
 
 
-@device(inline="always")
+@_step
 def _knowledge(k, A, rows, kf, q, qe, wm, eg, kst, kc, krec):
     """The attitude knowledge after the step from ``q`` (step ``k``) to the ``X`` row's new
     attitude: with the filter its propagation (a rate-integrating gyro: the step's mean rate
@@ -1121,7 +1130,11 @@ def allocate_arrays(inputs: dict[str, np.ndarray], d: Dims) -> Arrays:
 #: no zero-divisor test and exception branch at each division (as the thruster kernel); the loop
 #: never divides by zero (inertias > 0, normalised vectors, guarded quotients), so the numbers are
 #: the same, and a zero divisor would give inf / NaN instead of a ZeroDivisionError.
-SAMPLE = PerSample(wheel_sample, inline="never", error_model="numpy", nrt=False)
+#: The CUDA compilation's step functions: the plain sources (``_control`` calling ``_law``'s).
+_DEVICE_STEPS = {name: device(globals()[name].py_func)
+                 for name in ("_rows", "_init", "_truth", "_gyro", "_vectors", "_modes", "_external", "_knowledge")}
+_DEVICE_STEPS["_control"] = device(rebound(_control.py_func, {"_law": device(_law.py_func)}))
+SAMPLE = PerSample(wheel_sample, inline="never", error_model="numpy", nrt=False, device_names=_DEVICE_STEPS)
 wheel_sample_jit = SAMPLE.cpu
 
 
