@@ -427,8 +427,11 @@ def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> An
     fn : callable, optional
         The helper; without it, ``device(inline=...)`` returns the decorator.
     inline : {"never", "always"}
-        numba's IR inlining into the caller (LLVM may still inline a small helper). Either
-        choice computes the same floating-point operations in the same order.
+        numba's inlining into the caller (LLVM may still inline a small helper). Either
+        choice computes the same floating-point operations in the same order. ``"always"`` is
+        numba's inlining of a typed overload, which types the helper on its own first: for a
+        large CPU-only helper ``numba.njit(inline="always")`` (untyped IR inlining) compiles
+        faster (docs/benchmarks.md, "Kernel plumbing (issue 41)").
 
     Returns
     -------
