@@ -141,7 +141,7 @@ def profile(argv: list[str]) -> dict[str, Any]:
             return res
         return wrapped
 
-    core._run_block = kernel(core._run_block, lambda task: task[0]["n_steps"])
+    core._run_block = kernel(core._run_block, lambda task: task.shared["n_steps"])
     wheels._run_wheel_block = kernel(wheels._run_wheel_block, lambda task, shared: shared["n_steps"])
 
     # ------------------------------------------------------------------ Python parts

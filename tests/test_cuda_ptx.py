@@ -75,9 +75,7 @@ _CHILD = textwrap.dedent(
     from adcskit.control import _onoff_kernels as ok
     compile_kernel("onoff", ok._make_cuda_kernel(32), (f2, f1, i8, i8, i8, f3, f2))
     from adcskit.simulation import _wheel_kernels as wk
-    compile_kernel("wheels", wk._make_cuda_kernel(),
-                   (f2, f3, f1, f2, f2, f2, f2, f1, f2, f1, t.uint64[::1], f2, f2, f2, f2, f2, f2, f3,
-                    f2, f3, f2))  # THR, KP, KW: thruster unloading and the MEKF compile too
+    compile_kernel("wheels", wk._make_cuda_kernel(), wk._cuda_signature())  # thruster unloading and MEKF too
     from adcskit.simulation import _kernels as sk
     compile_kernel("closed_loop", sk._make_cuda_kernel(), sk._cuda_signature())
     print(json.dumps(report))

@@ -31,7 +31,6 @@ import time
 import warnings
 
 import numba
-import numpy as np
 from numba import njit, uint64
 from numba.core.errors import NumbaIRAssumptionWarning
 
@@ -85,26 +84,26 @@ def build():
     loop = K.sample_loop_jit
 
     @njit(nogil=True)
-    def run_pairs(P, *a):
-        for h in range(P.shape[0] // 2):
-            pair(uint64(2 * h), uint64(2 * h + 1), P, *a)
+    def run_pairs(A):
+        for h in range(A.P.shape[0] // 2):
+            pair(uint64(2 * h), uint64(2 * h + 1), A)
 
     @njit(nogil=True)
-    def run_single(P, *a):
-        for h in range(P.shape[0]):
-            loop(uint64(h), P, *a)
+    def run_single(A):
+        for h in range(A.P.shape[0]):
+            loop(uint64(h), A)
 
     return run_single, run_pairs
 
 
-def captured_args(scenario) -> list:
-    """The arguments of the kernel call of ``simulate(scenario, 64)`` (one chunk)."""
+def captured_args(scenario):
+    """The kernel's arrays (``K.Arrays``) of the call of ``simulate(scenario, 64)`` (one chunk)."""
     box = {}
     orig = core._k.run_parallel
 
-    def spy(*a):
-        box["args"] = [x.copy() if isinstance(x, np.ndarray) else x for x in a]
-        return orig(*a)
+    def spy(size, A):
+        box["args"] = K.Arrays(*(x.copy() for x in A))
+        return orig(size, A)
 
     core._k.run_parallel = spy
     try:
@@ -124,23 +123,23 @@ def main() -> None:
     args = captured_args(scenario)
 
     def fresh():
-        return [x.copy() if isinstance(x, np.ndarray) else x for x in args]
+        return K.Arrays(*(x.copy() for x in args))
 
     run_single, run_pairs = build()
     a1, a2 = fresh(), fresh()
-    run_single(*a1)
-    run_pairs(*a2)
+    run_single(a1)
+    run_pairs(a2)
     for name in ("OUT", "TOT"):
-        j = K._ARG_NAMES.index(name)
-        print(f"{name}: the same bytes from both drivers: {a1[j].tobytes() == a2[j].tobytes()}")
-    steps = args[0].shape[0] * int(args[1][K.N_STEPS])
+        same = getattr(a1, name).tobytes() == getattr(a2, name).tobytes()
+        print(f"{name}: the same bytes from both drivers: {same}")
+    steps = args.P.shape[0] * int(args.C[K.N_STEPS])
     rates = {"single": [], "pairs": []}
     for r in range(rounds):
         order = ("single", "pairs") if r % 2 == 0 else ("pairs", "single")
         for name in order:
             a = fresh()
             c0 = time.process_time()
-            (run_single if name == "single" else run_pairs)(*a)
+            (run_single if name == "single" else run_pairs)(a)
             rates[name].append(steps / (time.process_time() - c0))
     s, p = rates["single"], rates["pairs"]
     print(f"one sample: best {max(s):.3g}, median {statistics.median(s):.3g}; two interleaved: best "

@@ -1,12 +1,12 @@
-"""One kernel source, two compile targets: numba's CPU (``prange``) and CUDA (a thread per sample).
+"""One kernel source, three compile targets: numba's CPU per sample, CPU lane blocks, and CUDA.
 
 The pattern
 -----------
 A batched simulation (many independent samples, a scalar state per sample, no
 communication) is written **once**, as a plain per-sample Python function::
 
-    def _sample(i, P, C, ..., scratch, out):
-        # simulate sample i: read P[i, :], loop over time, write out[i, :]
+    def _sample(i, A):
+        # simulate sample i: read A.P[i, :], loop over time, write A.OUT[i, :]
         ...
 
 Rules for that function (so that both numba targets accept it and compute the same
@@ -15,21 +15,44 @@ floating-point operations in the same order):
 * scalars, ``math`` functions, indexing of the arrays it receives, ``range`` loops only;
   no allocation (``np.zeros``...), no ``prange``, no NumPy calls, no Python objects;
 * any per-sample scratch memory (a delay line, a small state vector) is *passed in* by the
-  driver: on the CPU the driver allocates it with :func:`numpy.empty`, on the GPU it is
-  ``cuda.local.array(L, dtype)`` with a compile-time length ``L`` (per-thread local memory);
-* results are written to ``out[i, ...]`` (one row per sample).
+  driver as rows of arrays allocated on the host (or, on the GPU, ``cuda.local.array(L,
+  dtype)`` with a compile-time length ``L``);
+* results are written to ``out[i, ...]`` (one row per sample);
+* never a ctypes function (numba's in-kernel ``get_num_threads`` is one) or another dynamic
+  global: numba then refuses to cache the kernel on disk and every process recompiles it.
+
+A kernel with many arrays declares them once, as a table (``ARGS`` of
+:mod:`adcskit.simulation._kernels` and :mod:`adcskit.simulation._wheel_kernels`), and passes
+them as one named tuple built from it (numba passes a named tuple of arrays as one argument,
+on both targets; :func:`launch_chunked`'s ``pack``).
 
 It is wrapped in :class:`PerSample`, which compiles it with ``numba.njit`` for the CPU and
-— only when asked — with ``numba.cuda.jit(device=True)`` for the GPU. Two small *drivers*
-call it:
+— only when asked — with ``numba.cuda.jit(device=True)`` for the GPU. The drivers, one per
+target:
 
-* CPU: an ``njit(parallel=True)`` function with ``for i in numba.prange(n)`` that allocates
-  the scratch and calls ``_SAMPLE.cpu(i, ...)`` (compiled with ``inline="always"``, so numba
-  inlines it into the driver: the same single-thread speed as the former hand-inlined
-  kernel, measured in CPU time);
-* GPU: a ``cuda.jit`` kernel built by a factory on first use (cached by
+* **CPU, per sample**: a compiled driver calls ``SAMPLE.cpu(i, ...)`` for each sample, in
+  a ``numba.prange`` loop (the on-off loop with traces, :mod:`adcskit.control._onoff_kernels`)
+  or serially in a compiled block driver that a thread pool runs on numba's threads (the wheel
+  loop, :func:`adcskit.simulation._wheel_kernels.run_wheels`: the same parallelism, a fraction
+  of a ``prange`` driver's compile time);
+* **CPU, lane blocks**: a ``prange`` over blocks of up to ``LANES`` samples that advances
+  the block's samples together: at each step a pass over the lanes runs each sample's step
+  functions, then the state the compiler should vectorise (the rigid body's RK4 step) is
+  advanced in one loop over the lanes. That state lives on the block function's stack
+  (:func:`adcskit._stack.stack_f64`: LLVM vectorises a loop over stack arrays, not over
+  argument arrays it cannot prove distinct); a lane's other scalars live between the passes
+  in the block's rows, at offsets declared once with :func:`lane_slots`; the block size comes
+  from :func:`lane_block_size` (computed in Python and passed in). The same operations in the
+  same order per sample as the per-sample function, so the numbers are the same bit for bit.
+  Users: the thruster closed loop (:func:`adcskit.simulation._kernels.block_loop`, whose step
+  functions are the per-sample loop's own: tested bit for bit against it by
+  tests/simulation/test_lanes.py) and the on-off loop without traces
+  (:func:`adcskit.control._onoff_kernels._lanes`, a second source tested against ``_sample``);
+  the wheel loop does not use it yet;
+* **GPU**: a ``cuda.jit`` kernel built by a factory on first use (cached by
   :class:`LazyKernels`, keyed by its compile-time constants such as ``L``) that does
-  ``i = cuda.grid(1); if i < n: _SAMPLE.cuda()(i, ...)``.
+  ``i = cuda.grid(1); if i < n: _SAMPLE.cuda()(i, ...)``, launched in chunks by
+  :func:`launch_chunked`.
 
 ``numba.cuda`` is imported only inside :func:`import_cuda`, so CPU-only users never load it.
 The kernel factory binds it to a *module global* named ``cuda`` of the kernel module
@@ -55,8 +78,11 @@ ones under the CUDA simulator and compiled to PTX for sm_90 by ``tests/test_cuda
 
 * :mod:`adcskit.control._onoff_kernels` (the on-off loop);
 * :mod:`adcskit.simulation._wheel_kernels` (the wheel / magnetorquer simulator): its
-  per-sample scratch rows stay global arrays passed in by the driver, as on the CPU;
-* :mod:`adcskit.simulation._kernels` (the thruster closed-loop simulator): its loop calls the
+  per-sample scratch rows stay global arrays passed in by the driver, as on the CPU; its
+  per-sample function is a sequence of step functions (sensors, modes, control, environment
+  torques, RK4, knowledge, metrics);
+* :mod:`adcskit.simulation._kernels` (the thruster closed-loop simulator; lane blocks on the
+  CPU): its loop calls the
   MEKF steps and the gyro model through CPU-only ``njit`` dispatchers (compiled once, cached
   on disk); the CUDA compilation rebinds those names to the device sources they were built
   from (``PerSample(device_names=...)``, the same code object with other globals), and the
@@ -76,6 +102,7 @@ from __future__ import annotations
 
 import threading
 import types
+from collections import namedtuple
 from collections.abc import Callable
 from typing import Any
 
@@ -97,6 +124,8 @@ __all__ = [
     "simulator_enabled",
     "resolve_backend",
     "launch_chunked",
+    "lane_slots",
+    "lane_block_size",
 ]
 
 TARGET_BACKENDS = ("cpu", "cuda", "auto")
@@ -318,14 +347,15 @@ class PerSample:
 
 def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *, n: int, chunk: int,
                    threads: int, shared: frozenset[str] | set[str] = frozenset(),
-                   outputs: tuple[str, ...] = ()) -> None:
+                   outputs: tuple[str, ...] = (), pack: Callable[..., Any] | None = None) -> None:
     """Run a one-thread-per-sample CUDA ``kernel`` over ``n`` samples in chunks of ``chunk``.
 
     ``args`` maps each of ``names`` (the kernel's parameters, in order) to a host array. The
     ``shared`` ones are copied to the device once; every other array has one row per sample and
     goes in row slices ``[lo:hi]`` per chunk. After each launch the ``outputs`` slices are copied
     back into their host arrays in place. Zero-size arrays become empty device arrays of the same
-    shape. This is the chunk loop of every GPU driver (:mod:`adcskit.simulation._kernels`,
+    shape. With ``pack`` (e.g. a named-tuple class) the kernel gets one argument,
+    ``pack(*arrays)``, instead of the arrays as separate arguments. This is the chunk loop of every GPU driver (:mod:`adcskit.simulation._kernels`,
     :mod:`adcskit.simulation._wheel_kernels`).
     """
     cuda = import_cuda()
@@ -338,7 +368,12 @@ def launch_chunked(kernel: Any, args: dict[str, Any], names: tuple[str, ...], *,
     for lo in range(0, n, chunk):
         hi = min(n, lo + chunk)
         dev = {a: on_device[a] if a in on_device else put(args[a][lo:hi]) for a in names}
-        kernel[(hi - lo + threads - 1) // threads, threads](*(dev[a] for a in names))
+        dev_args = tuple(dev[a] for a in names)
+        launch = kernel[(hi - lo + threads - 1) // threads, threads]
+        if pack is None:
+            launch(*dev_args)
+        else:
+            launch(pack(*dev_args))
         for a in outputs:
             args[a][lo:hi] = dev[a].copy_to_host()
 
@@ -392,8 +427,11 @@ def device(fn: Callable[..., Any] | None = None, *, inline: str = "never") -> An
     fn : callable, optional
         The helper; without it, ``device(inline=...)`` returns the decorator.
     inline : {"never", "always"}
-        numba's IR inlining into the caller (LLVM may still inline a small helper). Either
-        choice computes the same floating-point operations in the same order.
+        numba's inlining into the caller (LLVM may still inline a small helper). Either
+        choice computes the same floating-point operations in the same order. ``"always"`` is
+        numba's inlining of a typed overload, which types the helper on its own first: for a
+        large CPU-only helper ``numba.njit(inline="always")`` (untyped IR inlining) compiles
+        faster (docs/benchmarks.md, "Kernel plumbing (issue 41)").
 
     Returns
     -------
@@ -443,3 +481,59 @@ class LazyKernels:
             if key not in self._cache:
                 self._cache[key] = self._factory(*key)
             return self._cache[key]
+
+
+def lane_slots(name: str, **widths: int) -> tuple[Any, int]:
+    """Offsets of consecutive slots of the given widths in a lane block's row, and the row's
+    width: one line ``NAME=width`` per per-lane variable (the lane-block target, module
+    docstring). The offsets are a named tuple (``name``) that numba freezes as constants when a
+    kernel reads it as a module global (``FS[l, _F.NAME + k]``).
+
+    Examples
+    --------
+    >>> slots, width = lane_slots("Slots", rate=3, prop=1, err=4)
+    >>> slots.rate, slots.prop, slots.err, width
+    (0, 3, 4, 8)
+    """
+    offsets, o = [], 0
+    for key, w in widths.items():
+        if not isinstance(w, int) or isinstance(w, bool) or w < 1:
+            raise InputError(f"lane_slots width of {key} must be a positive integer; got {w!r}")
+        offsets.append(o)
+        o += w
+    return namedtuple(name, list(widths))(*offsets), o
+
+
+def _busiest(n: int, size: int, threads: int) -> int:
+    """Samples on the busiest thread when ``n`` samples run in blocks of ``size`` on ``threads``
+    threads: ``prange`` gives each thread a contiguous run of ``ceil(blocks / threads)`` blocks
+    at most."""
+    return min(n, ((n + size - 1) // size + threads - 1) // threads * size)
+
+
+def lane_block_size(n: int, threads: int, lanes: int) -> int:
+    """Samples per lane block for ``n`` samples on ``threads`` threads, blocks of at most
+    ``lanes``.
+
+    ``lanes`` (a full vector loop) unless whole blocks would load the busiest thread
+    (:func:`_busiest`) more than 5/4 of an even share: ``n = 64`` on 16 threads in blocks of 8
+    makes 8 blocks and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one
+    thread). Then the size (at most ``lanes``, the largest on a tie) that minimises the busiest
+    thread's samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than
+    ``lanes`` samples run their vector loops partly scalar; a lane-block kernel's results do not
+    depend on the size.
+
+    Examples
+    --------
+    >>> lane_block_size(64, 16, 8), lane_block_size(24, 2, 8), lane_block_size(64, 2, 8)
+    (4, 6, 8)
+    """
+    if n < 1:
+        return 1
+    if threads <= 1 or 4 * _busiest(n, lanes, threads) * threads <= 5 * n:
+        return lanes
+    best = lanes
+    for size in range(lanes - 1, 0, -1):
+        if _busiest(n, size, threads) < _busiest(n, best, threads):
+            best = size
+    return best

@@ -94,19 +94,19 @@ def one_thread():
     numba.set_num_threads(before)
 
 
-def _per_sample_python(*args):
+def _per_sample_python(A):
     """The one-sample loop (plain Python; its compiled helpers as compiled) over every sample."""
     with np.errstate(over="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # SplitMix64's uint64 wrap-around
-        for i in range(args[0].shape[0]):
-            K.SAMPLE.py(i, *args)
+        for i in range(A.P.shape[0]):
+            K.SAMPLE.py(i, A)
 
 
 def _both(prep, seeds, monkeypatch):
-    task = (prep["shared"], prep["per_sample"], seeds, True)
+    task = core._Block(prep["shared"], prep["per_sample"], seeds, True)
     lanes = core._run_block(task)
     with monkeypatch.context() as m:
-        m.setattr(K, "run_parallel", _per_sample_python)
+        m.setattr(K, "run_cpu", _per_sample_python)
         ref = core._run_block(task)
     return lanes, ref
 
@@ -156,7 +156,8 @@ def test_balanced_blocks_on_two_threads(monkeypatch):
 
 def _busiest(n, size, threads):
     """Samples on the busiest thread: prange's contiguous runs of ceil(blocks / threads)."""
-    return min(n, -(-(-(-n // size)) // threads) * size)
+    blocks = -(-n // size)  # ceil(n / size)
+    return min(n, -(-blocks // threads) * size)
 
 
 @settings(max_examples=300, deadline=None)
@@ -192,3 +193,14 @@ def test_single_sample_and_exact_blocks(monkeypatch):
         seeds = np.random.SeedSequence(5).generate_state(n, dtype=np.uint64)
         lanes, ref = _both(prep, seeds, monkeypatch)
         _assert_same(lanes, ref, f"n={n}")
+
+
+def test_lane_slots_are_consecutive_and_validated():
+    from adcskit._targets import lane_slots
+    from adcskit.errors import InputError
+
+    slots, width = lane_slots("S", a=3, b=1, c=2)
+    assert (slots.a, slots.b, slots.c, width) == (0, 3, 4, 6)
+    assert (K.N_FS, K.N_IS) == (36, 6)  # the block rows' widths of the kernel's declared slots
+    with pytest.raises(InputError, match="width of b"):
+        lane_slots("S", a=3, b=0)

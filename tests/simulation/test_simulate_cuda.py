@@ -173,7 +173,7 @@ needs_gpu = pytest.mark.skipif(not _targets.cuda_usable(), reason="no CUDA devic
 @needs_gpu
 def test_real_gpu_matches_cpu_kernel():
     # FMA contraction on the GPU: a rounding difference can move a Schmitt switch, after which
-    # a sample's limit cycle differs, so the comparison is statistical (design.md "seeded
+    # a sample's limit cycle differs, so the comparison is statistical (docs/architecture.md "seeded
     # statistical bounds"): over the same 4096 samples (same parameters and noise seeds) the
     # mean pointing RMS and propellant agree within 4 standard errors of the difference of
     # two means (a bound that holds even if every sample decorrelated); the fraction of

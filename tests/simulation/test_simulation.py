@@ -191,7 +191,7 @@ def _outside_args(band):
 @given(st.lists(st.floats(-1.0, 1.0), min_size=8, max_size=8),
        st.floats(1e-9, 3.1), st.floats(-1e-5, 1e-5))
 def test_settling_test_without_atan2_equals_the_exact_one(c, band, rel):
-    # the kernel's settling decision (_outside: tan^2 of the half angle against the band's,
+    # the kernels' settling decision (outside: tan^2 of the half angle against the band's,
     # atan2 only within 1e-6 of the edge) must equal qerr(q, r)[3] > band exactly, also for
     # errors at the band's edge (rel ~ +-1e-5 around it) and for unnormalised quaternions
     q = np.array(c[:4]) + np.array([0.0, 0.0, 0.0, 1e-3])
@@ -199,7 +199,7 @@ def test_settling_test_without_atan2_equals_the_exact_one(c, band, rel):
     edge = _rotvec_q(np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * band * (1 + rel))
     for a, b in ((q, r), (edge, np.array([0.0, 0.0, 0.0, 1.0])), (_k._tmp4(np.empty(4), *edge), edge)):
         exact = qerr(*a, *b)[3] > band
-        assert _k._outside(*a, *b, *_outside_args(band)) == exact
+        assert _k.outside(*a, *b, *_outside_args(band)) == exact
 
 
 def test_per_sample_error_model_option():

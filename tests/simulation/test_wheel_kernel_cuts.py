@@ -19,8 +19,9 @@ import numpy as np
 import pytest
 
 from adcskit._targets import device
-from adcskit.attitude._device import qdiff, qdot, unit_q4_pos
+from adcskit.attitude._device import qdiff, qdot, qerr, unit_q4_pos
 from adcskit.simulation import _wheel_kernels as _k
+from adcskit.simulation._kernels import outside, settle_bounds
 from adcskit.simulation._wheel_kernels import COULOMB_EPS, _mat3
 
 
@@ -57,7 +58,7 @@ def _exact(q0, q1, q2, q3, r0, r1, r2, r3, band):
     return _k._angle(d0, d1, d2, d3) > band
 
 
-_outside = _k._outside
+_outside = outside  # the settling test of both closed-loop kernels
 
 
 @numba.njit(cache=False)
@@ -70,17 +71,18 @@ def _both(x, band, tb_lo, tb_hi, out):
 
 @pytest.mark.parametrize("band_deg", [1e-6, 0.02, 0.5, 5.0, 90.0, 170.0, 179.9])
 def test_settling_test_from_tan_squared_equals_the_exact_angle(band_deg):
-    # the kernel's _outside is exactly _angle(qdiff(q, r)) > band: away from the edge by more
+    # the kernels' outside() is exactly _angle(qdiff(q, r)) > band: away from the edge by more
     # than 1e-6 relative the tan^2 comparison cannot flip (its rounding is ~1e-16 relative), and
-    # within it (and for band >= 3 rad, where tb_hi <= 0) the atan2 path decides
+    # within it (and for band >= 3 rad, where tb_hi <= 0) the atan2 path decides; and that angle
+    # is qerr's (the thruster kernel's own exact test before the two kernels shared this one)
     band = math.radians(band_deg)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_hi, tb_lo = tb2 * (1.0 + 1e-6), tb2 * (1.0 - 1e-6)
+    tb_lo, tb_hi = settle_bounds(band)
     rng = np.random.default_rng(2024)
     q, r = _pairs_near(rng, 400, band)
     x = np.hstack([q, r])
-    py = np.array([[_k._outside(*row, band, tb_lo, tb_hi), _exact(*row, band)] for row in x])
+    py = np.array([[outside(*row, band, tb_lo, tb_hi), _exact(*row, band)] for row in x])
     np.testing.assert_array_equal(py[:, 0], py[:, 1])
+    np.testing.assert_array_equal(py[:, 1], [qerr(*row)[3] > band for row in x])
     out = np.empty((x.shape[0], 2), dtype=np.bool_)
     _both(x, band, tb_lo, tb_hi, out)
     np.testing.assert_array_equal(out[:, 0], out[:, 1])

@@ -287,7 +287,8 @@ def test_reference_mode_sequence_runs_detumble_sun_nadir():
 
 
 def test_python_reference_path_agrees_with_the_compiled_kernel():
-    # the per-sample function is one source: plain Python (PerSample.py) and numba compile it
+    # the per-sample function is one source: plain Python (SAMPLE.device_source(), every step
+    # function as Python) and numba compile it
     sc = WheelScenario(sim=SimSpec(dt=0.1, t_final=3.0, metrics_from_s=0.0, record_every=1))
     _check_one_source(sc)
 
@@ -298,15 +299,13 @@ def _check_one_source(sc):
     prep, _ = _w._prepare(sc, 1, g)
     seeds = np.random.SeedSequence(int(g.integers(2**63))).generate_state(1, dtype=np.uint64)
     sh = prep["shared"]
-    ns = 7 + 4
-    rec = np.full(res.trace.shape, np.nan)
-    out = np.empty((1, _k.N_METRICS))
-    filt = sc.estimator is not None
+    dims = _k.Dims(n=1, nw=4, nt=sh["THR"].shape[1], n_rec=res.trace.shape[1], filt=sc.estimator is not None)
+    A = _k.allocate_arrays({**sh, "P": prep["P"], "AX": prep["AX"], "SEEDS": seeds}, dims)
+    rec = A.REC
     with np.errstate(over="ignore"):  # SplitMix64 wraps around 2^64 on purpose
-        _k.SAMPLE.py(0, prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
-                     sh["WPAR"], sh["JW"], seeds, np.zeros((1, ns)), np.zeros((1, ns)), np.zeros((1, ns)),
-                     np.zeros((1, ns)), np.zeros((1, _k.tm_len(4, sh["THR"].shape[1]))), out, rec, sh["THR"],
-                     np.zeros((1, 6, 6) if filt else (1, 0, 0)), np.zeros((1, _k.N_KW if filt else 0)))
+        # the plain source with its step functions as Python (the CUDA target's source; the CPU
+        # compilation inlines the same step functions, wheel_sample's globals, as numba code)
+        _k.SAMPLE.device_source()(0, A)
     np.testing.assert_allclose(rec, res.trace, rtol=1e-12, atol=1e-15, equal_nan=True)
     return res
 
@@ -513,11 +512,10 @@ def test_results_do_not_depend_on_threads_or_blocks():
     seeds = np.arange(1, 10, dtype=np.uint64)
     outs = []
     for nt in (1, 2):
-        out = np.empty((9, _k.N_METRICS))
-        z = [np.zeros((9, 11)) for _ in range(4)]
-        _k.run_wheels(prep["P"], prep["AX"], sh["C"], sh["ENV"], sh["AXN"], sh["PINV"], sh["NULLP"], sh["HSTAR"],
-                      sh["WPAR"], sh["JW"], seeds, *z, np.zeros((9, 4)), out, np.empty((9, 0, 25)), n_threads=nt)
-        outs.append(out)
+        dims = _k.Dims(n=9, nw=4, nt=0, n_rec=0, filt=False)
+        A = _k.allocate_arrays({**sh, "P": prep["P"], "AX": prep["AX"], "SEEDS": seeds}, dims)
+        _k.run_wheels(A, n_threads=nt)
+        outs.append(A.OUT)
     np.testing.assert_array_equal(outs[0], outs[1])
 
 

@@ -137,7 +137,7 @@ needs_gpu = pytest.mark.skipif(not _targets.cuda_usable(), reason="no CUDA devic
 @needs_gpu
 def test_real_gpu_matches_cpu_driver():
     # FMA contraction on the GPU, and the torque quantisation of the wheel electronics can move
-    # a level on a rounding difference, so the comparison is statistical (design.md "seeded
+    # a level on a rounding difference, so the comparison is statistical (docs/architecture.md "seeded
     # statistical bounds"): over the same 512 samples (same parameters and noise seeds) the
     # metric means agree within 4 standard errors of the difference of two means, and every
     # sample ends in the same mode

@@ -1,6 +1,6 @@
 """Private batch kernel of the closed-loop simulator: samples in parallel lanes.
 
-The per-sample step is written as plain functions (docs/architecture.md, "Kernels and targets"):
+The per-sample step is written as plain functions (docs/architecture.md, "Kernels and targets"; :mod:`adcskit._targets`):
 scalars, ``math`` functions and indexing of arrays passed in; no allocation, no NumPy calls,
 no Python objects inside :func:`sample_loop` and its helpers. :func:`sample_loop` is declared
 as a :class:`adcskit._targets.PerSample` (``SAMPLE``), the GPU driver's per-sample function.
@@ -11,8 +11,9 @@ block's RK4 steps in one loop that LLVM vectorises across the lanes; bit for bit
 docs/decisions/0015-kernels-one-idiom-shared-device-helpers-the-simulator-s-loop.md). The helpers are
 ``register_jitable`` / :func:`adcskit._targets.device` functions, the quaternion ones and the
 S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
-kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The scratch
-memory of a lane is passed in by the driver (:mod:`adcskit.simulation.core` allocates it).
+kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The kernel's
+arrays (inputs, per-sample scratch, outputs) are declared once, in :data:`ARGS`; they travel
+as one named tuple (:data:`Arrays`) that :mod:`adcskit.simulation.core` allocates from it.
 The GPU driver :func:`run_cuda` runs the same source, one CUDA thread per sample: its
 compilation binds the names that the CPU build resolves to CPU-only dispatchers (the MEKF
 steps, the gyro model, the rotation-vector update) to device compilations of the same
@@ -44,13 +45,25 @@ and delay).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
+from collections.abc import Callable
+from typing import NamedTuple
 
+import numba
 import numpy as np
-from numba import get_num_threads, int64, njit, prange
+from numba import int64, njit, prange
 from numba.extending import register_jitable
 
 from adcskit._stack import stack_f64
-from adcskit._targets import LazyKernels, PerSample, import_cuda, launch_chunked, rebound
+from adcskit._targets import (
+    LazyKernels,
+    PerSample,
+    import_cuda,
+    lane_block_size,
+    lane_slots,
+    launch_chunked,
+    rebound,
+)
 from adcskit.attitude._device import compose_rotvec, qdiff, qdot, qerr, rotate, unit_q4_pos
 from adcskit.control._actuator import delay_mix, lag_step, schmitt
 from adcskit.determination._box import minmax_one
@@ -124,6 +137,105 @@ N_REC_FIXED = 10  # + one channel per thruster (delivered thrust fraction)
 # thruster a0, a1, a2), then S (9), r (3), y (3), idx (3)
 N_TS_PER_THR = 9
 N_TS_EXTRA = 18
+
+
+# ----------------------------------------------------------------- the kernel's arrays
+class Dims(NamedTuple):
+    """The sizes that the kernel's array shapes depend on (one kernel call)."""
+
+    n: int  # samples
+    nt: int  # thrusters
+    buf_len: int  # delay-line length (a power of two)
+    n_rec: int  # trace rows (0 when not recording)
+
+
+class Arg(NamedTuple):
+    """One array of the kernel's argument tuple (:data:`ARGS`).
+
+    ``role``: ``"in"`` (filled by :mod:`adcskit.simulation.core`), ``"scratch"`` (allocated
+    per call, not read back) or ``"out"`` (allocated per call, read back). ``rows``: one row
+    per sample (a GPU chunk gets its rows; otherwise the array goes to the device once).
+    ``shape`` (scratch and outputs): the shape for :class:`Dims`; ``fill``: ``"empty"``,
+    ``"zeros"``, ``"ones"`` or ``"nan"``."""
+
+    name: str
+    dtype: str
+    ndim: int
+    role: str
+    rows: bool
+    shape: Callable[[Dims], tuple[int, ...]] | None = None
+    fill: str = "empty"
+
+    def allocate(self, d: Dims) -> np.ndarray:
+        """A new array of this argument's shape for ``d``, filled as declared."""
+        shape = self.shape(d)
+        if self.fill == "nan":
+            return np.full(shape, np.nan)
+        return {"empty": np.empty, "zeros": np.zeros, "ones": np.ones}[self.fill](shape, self.dtype)
+
+
+def _rec_shape(d: Dims) -> tuple[int, ...]:
+    return (d.n if d.n_rec else 0, d.n_rec, N_REC_FIXED + d.nt)
+
+
+#: Every array the kernel takes, in argument order: the one declaration from which the argument
+#: tuple (:data:`Arrays`), the allocations of :mod:`adcskit.simulation.core`, the CUDA
+#: signature (:func:`_cuda_signature`) and the GPU driver's transfers (:func:`run_cuda`) are
+#: made. Adding a scratch array is one line here (and its use in the step functions).
+ARGS = (
+    Arg("P", "f8", 2, "in", True),  # per-sample parameters (P_* columns)
+    Arg("C", "f8", 1, "in", False),  # shared coefficients (the constants above)
+    Arg("SEEDS", "u8", 1, "in", True),  # SplitMix64 seed per sample
+    Arg("DIRS", "f8", 3, "in", True),  # dispersed thrust directions (n, nt, 3)
+    Arg("FLEV", "f8", 2, "in", True),  # dispersed thrust levels, N
+    Arg("POS", "f8", 2, "in", False),  # thruster positions about the centre of mass (nt, 3)
+    Arg("MDOT", "f8", 2, "in", True),  # mass flow per thruster, kg/s
+    Arg("FAILED", "f8", 1, "in", False),  # 1: the thruster never fires
+    Arg("ENV", "f8", 2, "in", False),  # per-step environment (orbit frame, sun, field, lit)
+    Arg("QREF", "f8", 2, "in", False),  # reference attitude per step
+    Arg("WREF", "f8", 2, "in", False),  # reference rate per step
+    Arg("ATAB", "f8", 2, "in", False),  # Schmitt table / open-loop on-times
+    Arg("ANOM", "f8", 2, "in", False),  # nominal torque matrix (3, nt)
+    Arg("FNOM", "f8", 1, "in", False),  # nominal thrust, N
+    Arg("AMASK", "f8", 1, "in", False),  # 1: the allocator may use the thruster
+    Arg("BUF", "f8", 3, "scratch", True, lambda d: (d.n, d.buf_len, d.nt), "zeros"),  # delay line
+    Arg("TS", "f8", 2, "scratch", True, lambda d: (d.n, N_TS_PER_THR * d.nt + N_TS_EXTRA), "zeros"),
+    Arg("QE", "f8", 2, "scratch", True, lambda d: (d.n, 4)),  # attitude estimate
+    Arg("BE", "f8", 2, "scratch", True, lambda d: (d.n, 3)),  # gyro-bias estimate
+    Arg("PE", "f8", 3, "scratch", True, lambda d: (d.n, 6, 6)),  # MEKF covariance
+    Arg("WK", "f8", 2, "scratch", True, lambda d: (d.n, _mk.WORK_SIZE)),  # MEKF work
+    Arg("GY", "f8", 2, "scratch", True, lambda d: (d.n, 12)),  # gyro reading, rate, noise draws
+    Arg("BIAS", "f8", 2, "scratch", True, lambda d: (d.n, 3)),  # true gyro bias
+    Arg("VB", "f8", 3, "scratch", True, lambda d: (d.n, 2, 3), "zeros"),  # body vectors
+    Arg("VR", "f8", 3, "scratch", True, lambda d: (d.n, 2, 3), "zeros"),  # reference vectors
+    Arg("WW", "f8", 2, "scratch", True, lambda d: (d.n, 2), "ones"),  # their weights
+    Arg("WQ", "f8", 2, "scratch", True, lambda d: (d.n, 4)),  # Wahba / min-max quaternion
+    Arg("WO", "f8", 2, "scratch", True, lambda d: (d.n, 3)),  # their status outputs
+    Arg("WC", "f8", 3, "scratch", False, lambda d: (1, 0, 0)),  # (unused covariance output)
+    Arg("SB", "f8", 3, "scratch", True, lambda d: (d.n, 2, 3)),  # determination solver scratch
+    Arg("SR", "f8", 3, "scratch", True, lambda d: (d.n, 2, 3)),
+    Arg("SQ", "f8", 2, "scratch", True, lambda d: (d.n, 4)),  # star-tracker quaternion
+    Arg("SBB", "f8", 3, "scratch", True, lambda d: (d.n, 3, 3)),
+    Arg("SFF", "f8", 3, "scratch", True, lambda d: (d.n, 3, 3)),
+    Arg("SKK", "f8", 3, "scratch", True, lambda d: (d.n, 4, 4)),
+    Arg("SAA", "f8", 3, "scratch", True, lambda d: (d.n, 3, 3)),
+    Arg("SBK", "f8", 3, "scratch", True, lambda d: (d.n, 3, 3)),
+    Arg("SQP", "f8", 2, "scratch", True, lambda d: (d.n, 8)),
+    Arg("RS", "f8", 2, "scratch", True, lambda d: (d.n, 16)),  # min-max box search
+    Arg("OUT", "f8", 2, "out", True, lambda d: (d.n, N_METRICS)),  # metrics (M_* columns)
+    Arg("REC", "f8", 3, "out", True, _rec_shape, "nan"),  # traces (R_* channels), or empty
+    Arg("TOT", "f8", 2, "out", True, lambda d: (d.n, d.nt)),  # on-time per thruster, s
+)
+
+#: The kernel's argument tuple: one field per :data:`ARGS` entry (numba passes it as one
+#: argument; ``A.P``, ``A.C``... inside the kernel).
+Arrays = namedtuple("Arrays", [a.name for a in ARGS])
+
+
+def allocate_arrays(inputs: dict[str, np.ndarray], d: Dims) -> Arrays:
+    """The kernel's argument tuple: the ``"in"`` arrays from ``inputs`` (by name), the others
+    allocated for ``d`` as :data:`ARGS` declares."""
+    return Arrays(*(inputs[a.name] if a.role == "in" else a.allocate(d) for a in ARGS))
 
 @register_jitable
 def _noise(s, uniform):
@@ -492,13 +604,11 @@ def bvls_allocate(A, m0, m1, m2, fmax, mask, F, state, G, rhs, y, idx, eps):
     return nit
 
 
-def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
-                FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
-                SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
+def sample_loop(i, A):
     """Simulate sample ``i`` over all steps; write ``OUT[i]``, ``TOT[i]`` and ``REC[i]``.
 
-    See :mod:`adcskit.simulation.core` for the array shapes; every array indexed ``[i]`` is
-    this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
+    ``A``: the kernel's arrays (:data:`Arrays`; shapes in :data:`ARGS`); every array indexed
+    ``[i]`` is this lane's own memory. :func:`_init` and :func:`_finish` around the loop; a step is
     :func:`_sense_estimate` (at gyro epochs; :func:`_determine` after it for the Wahba and
     min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
     environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
@@ -510,51 +620,49 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     diagonal, :func:`rk4_step` (a call) otherwise: the same doubles, a quarter fewer operations
     (docs/benchmarks.md, "Principal axes").
     """
-    n = POS.shape[0]
-    dt = C[DT]
-    n_steps = int(C[N_STEPS])
-    h_ctrl = int(C[H_CTRL])
-    h_gyro = int(C[H_GYRO])
-    est_mode = int(C[EST_MODE])
-    k_win = int(C[K_WIN])
-    band = C[SETTLE_BAND]
-    rec_every = int(C[REC_EVERY])
-    bmask = int(C[BUF_MASK])
-    record = REC.shape[0] > 0
-    lag = (C[A11], C[B1], C[A21], C[A22], C[B2], C[V1], C[V2], C[VU])
-    J = P[i, P_J:P_J + 9]
-    Ji = P[i, P_JI:P_JI + 9]
+    n = A.POS.shape[0]
+    dt = A.C[DT]
+    n_steps = int(A.C[N_STEPS])
+    h_ctrl = int(A.C[H_CTRL])
+    h_gyro = int(A.C[H_GYRO])
+    est_mode = int(A.C[EST_MODE])
+    k_win = int(A.C[K_WIN])
+    band = A.C[SETTLE_BAND]
+    rec_every = int(A.C[REC_EVERY])
+    bmask = int(A.C[BUF_MASK])
+    record = A.REC.shape[0] > 0
+    lag = (A.C[A11], A.C[B1], A.C[A21], A.C[A22], A.C[B2], A.C[V1], A.C[V2], A.C[VU])
+    J = A.P[i, P_J:P_J + 9]
+    Ji = A.P[i, P_JI:P_JI + 9]
     diag = principal(J, Ji)  # body axes = principal axes: the RK4 step without the zero terms
     jd, jid = (J[0], J[4], J[8]), (Ji[0], Ji[4], Ji[8])
-    buf = BUF[i]
-    ts = TS[i]
+    buf = A.BUF[i]
+    ts = A.TS[i]
     x2o = n
     so = 9 * n
     scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
            ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
-    qe = QE[i]
+    qe = A.QE[i]
     # this lane's views, made once per sample and passed grouped: estimator state and gyro
     # scratch, vector observations; the determination solvers' arrays (Wahba / min-max only)
-    est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
-    obs = (VB[i], VR[i], WW[i])
-    det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i], SAA[i], SBK[i],
-           RS[i])
-    thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
-    _init(i, P, DIRS, POS, buf, ts, est, TOT, n)
-    dist = (P[i, P_D0], P[i, P_D0 + 1], P[i, P_D0 + 2], P[i, P_DAMP], P[i, P_DAMP + 1],
-            P[i, P_DAMP + 2], P[i, P_DPH], P[i, P_DPH + 1], P[i, P_DPH + 2])
+    est = (qe, A.BE[i], A.PE[i], A.WK[i], A.GY[i], A.BIAS[i], A.SQ[i])
+    obs = (A.VB[i], A.VR[i], A.WW[i])
+    det = (A.VB, A.VR, A.WW, A.WQ, A.WO, A.WC, A.SB[i], A.SR[i], A.SQP[i], A.SBB[i], A.SFF[i], A.SKK[i], A.SAA[i], A.SBK[i],
+           A.RS[i])
+    thr = (A.QREF, A.WREF, A.ATAB, A.ANOM, A.FNOM, A.AMASK)
+    _init(i, A.P, A.DIRS, A.POS, buf, ts, est, A.TOT, n)
+    dist = (A.P[i, P_D0], A.P[i, P_D0 + 1], A.P[i, P_D0 + 2], A.P[i, P_DAMP], A.P[i, P_DAMP + 1],
+            A.P[i, P_DAMP + 2], A.P[i, P_DPH], A.P[i, P_DPH + 1], A.P[i, P_DPH + 2])
     # settling: |error| > band decided without atan2 away from the band's edge (exact there)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_lo = tb2 * (1.0 - 1e-6)
-    tb_hi = tb2 * (1.0 + 1e-6)
-    n2orb = C[N2ORB]
-    d_omega = C[D_OMEGA]
-    q = (P[i, P_Q0], P[i, P_Q0 + 1], P[i, P_Q0 + 2], P[i, P_Q0 + 3])
-    w = (P[i, P_W0], P[i, P_W0 + 1], P[i, P_W0 + 2])
-    delay_steps = P[i, P_DELAY] / dt
+    tb_lo, tb_hi = settle_bounds(band)
+    n2orb = A.C[N2ORB]
+    d_omega = A.C[D_OMEGA]
+    q = (A.P[i, P_Q0], A.P[i, P_Q0 + 1], A.P[i, P_Q0 + 2], A.P[i, P_Q0 + 3])
+    w = (A.P[i, P_W0], A.P[i, P_W0 + 1], A.P[i, P_W0 + 2])
+    delay_steps = A.P[i, P_DELAY] / dt
     nd = int(math.floor(delay_steps))
     dfrac = delay_steps - nd
-    s = SEEDS[i]
+    s = A.SEEDS[i]
     we = (0.0, 0.0, 0.0)  # estimated rate
     ws = (0.0, 0.0, 0.0)  # integrated true rate since the last gyro epoch
     ctl = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # Schmitt outputs, PID integrals
@@ -564,14 +672,14 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
     kacc2 = 0.0
     nkw = 0
     ec = (math.nan, 0.0, 0, 0, 0)  # last NEES, NEES sum and count, determinations, box active
-    qf = (QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2], QREF[n_steps, 3])
-    e = qerr(q[0], q[1], q[2], q[3], QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
+    qf = (A.QREF[n_steps, 0], A.QREF[n_steps, 1], A.QREF[n_steps, 2], A.QREF[n_steps, 3])
+    e = qerr(q[0], q[1], q[2], q[3], A.QREF[0, 0], A.QREF[0, 1], A.QREF[0, 2], A.QREF[0, 3])
     errf = qerr(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3])[3]
     mt = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0)  # acc, acc2, ax2, ay2, az2, emax, nwin
     last_out = 0 if errf > band else -1
     wmax2 = 0.0
     if record:
-        _record(REC, i, 0, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3], w[0], w[1], w[2],
+        _record(A.REC, i, 0, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3], w[0], w[1], w[2],
                 math.nan, 0.0, ts, x2o, n)
     k_gyro = 0  # next gyro epoch
     k_ctrl = 0  # next command instant
@@ -584,9 +692,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
             we = w
         elif k == k_gyro:
             k_gyro += h_gyro
-            s, we, ec, nobs = _sense_estimate(k, C, ENV, q, w, s, ws, ec, est, obs)
+            s, we, ec, nobs = _sense_estimate(k, A.C, A.ENV, q, w, s, ws, ec, est, obs)
             if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
-                ec = _determine(i, C, qe, ec, det)
+                ec = _determine(i, A.C, qe, ec, det)
             ws = (0.0, 0.0, 0.0)
         if k >= k_win:  # knowledge error at t_k, after this epoch's estimation
             kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
@@ -597,8 +705,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         if k == k_ctrl:
             k_ctrl += h_ctrl
             kc = k
-            ctl, fire = _control(i, k, C, qe, we, ctl, fire, thr, scr, ts, TOT, n)
-        t0, t1, t2, prop = _actuate(i, k, k - kc, nd, dfrac, ts, buf, bmask, FAILED, FLEV, MDOT,
+            ctl, fire = _control(i, k, A.C, qe, we, ctl, fire, thr, scr, ts, A.TOT, n)
+        t0, t1, t2, prop = _actuate(i, k, k - kc, nd, dfrac, ts, buf, bmask, A.FAILED, A.FLEV, A.MDOT,
                                     lag, dt, prop, n)
         # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
         tk = k * dt
@@ -606,7 +714,7 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         t1 += dist[1] + dist[4] * math.sin(d_omega * tk + dist[7]) if dist[4] != 0.0 else dist[1]
         t2 += dist[2] + dist[5] * math.sin(d_omega * tk + dist[8]) if dist[5] != 0.0 else dist[2]
         if n2orb > 0.0:
-            c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
+            c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], A.ENV[k, 0], A.ENV[k, 1], A.ENV[k, 2])
             h0, h1, h2 = _inertia_times(J, diag, c0, c1, c2)
             t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
             t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
@@ -625,8 +733,8 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         kk = k + 1
         rec_now = record and kk % rec_every == 0
         if kk >= k_win or rec_now or kk == n_steps:  # used in the window, traces, final error
-            e = qerr(q0, q1, q2, q3, QREF[kk, 0], QREF[kk, 1], QREF[kk, 2], QREF[kk, 3])
-        if _outside(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3], band, tb_lo, tb_hi):
+            e = qerr(q0, q1, q2, q3, A.QREF[kk, 0], A.QREF[kk, 1], A.QREF[kk, 2], A.QREF[kk, 3])
+        if outside(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3], band, tb_lo, tb_hi):
             last_out = kk
         wn2 = w0n * w0n + w1n * w1n + w2n * w2n  # max |w| = sqrt(max |w|^2): one sqrt
         if wn2 > wmax2:
@@ -634,9 +742,9 @@ def sample_loop(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, 
         if kk >= k_win:
             mt = _window(mt, e)
         if rec_now:
-            _record(REC, i, kk // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3],
+            _record(A.REC, i, kk // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2], q[3],
                     w[0], w[1], w[2], ec[0], prop, ts, x2o, n)
-    _finish(OUT, i, mt, last_out, wmax2, e[3], kacc2, nkw, prop, fire, ec, n_steps, dt)
+    _finish(A.OUT, i, mt, last_out, wmax2, e[3], kacc2, nkw, prop, fire, ec, n_steps, dt)
 
 
 @register_jitable
@@ -948,11 +1056,29 @@ def _finish(OUT, i, mt, last_out, wmax2, err, kacc2, nkw, prop, fire, ec, n_step
 
 
 @register_jitable
-def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
+def settle_bounds(band):
+    """``(tb_lo, tb_hi)`` of :func:`outside` for the settling band ``band`` (rad):
+    ``tan(band/2)^2 (1 -/+ 1e-6)``, or negative (always the exact test) for ``band >= 3``."""
+    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
+    return tb2 * (1.0 - 1e-6), tb2 * (1.0 + 1e-6)
+
+
+@register_jitable
+def qangle(d0, d1, d2, d3):
+    """Rotation angle (rad, in [0, pi]) of the quaternion ``d``."""
+    return 2.0 * math.atan2(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), abs(d3))
+
+
+@register_jitable
+def outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
     """Whether the angle of ``q (x) r^-1`` exceeds ``band`` (rad): exactly
-    ``qerr(q, r)[3] > band``, with the ``atan2`` only within a relative 1e-6 of the edge
-    (``tan(angle/2)^2`` against ``tb_lo``/``tb_hi`` = ``tan(band/2)^2 (1 -/+ 1e-6)``; a
-    negative ``tb_hi`` always takes the exact path)."""
+    ``qangle(*qdiff(q, r)) > band`` (the angle of :func:`adcskit.attitude._device.qerr`, whose
+    ``qdiff`` has ``d4 >= 0``: the same double except for ``d = (0, 0, 0, -0.0)``, a zero
+    quaternion, where ``qerr``'s ``atan2(0, -0.0)`` gives 2 pi), with the ``atan2`` and the
+    square root only within a relative 1e-6 of the edge. Away from it ``tan(angle/2)^2 = |d|^2 / d4^2`` decides against
+    ``tb_lo`` / ``tb_hi`` (:func:`settle_bounds`; rounding of the squares: ~1e-16 relative); a
+    non-positive ``tb_hi`` always takes the exact path, as do NaNs (both comparisons false).
+    The settling test of both closed-loop kernels (thrusters and wheels)."""
     # the sign that qdiff fixes (q4 >= 0) does not change the squares below
     d0, d1, d2, d3 = qdiff(q0, q1, q2, q3, r0, r1, r2, r3)
     e2 = d0 * d0 + d1 * d1 + d2 * d2
@@ -962,8 +1088,7 @@ def _outside(q0, q1, q2, q3, r0, r1, r2, r3, band, tb_lo, tb_hi):
             return True
         if e2 < tb_lo * c2:
             return False
-    _, _, _, ang = qerr(q0, q1, q2, q3, r0, r1, r2, r3)
-    return ang > band
+    return qangle(d0, d1, d2, d3) > band
 
 
 @register_jitable
@@ -1043,24 +1168,29 @@ sample_loop_jit = SAMPLE.cpu
 #: lanes". 16 measured no faster.
 LANES = 8
 
-# per-lane scalar state of block_loop, FS[lane, ...] (float) and IS[lane, ...] (int)
-_F_WE = 0  # estimated rate (3)
-_F_CTL = 3  # Schmitt outputs, PID integrals (6)
-_F_FIRE = 9  # firings, on-time (2)
-_F_PROP = 11
-_F_KACC2 = 12
-_F_NEES = 13  # last NEES, NEES sum (2)
-_F_MT = 15  # metric window sums: acc, acc2, ax2, ay2, az2, emax (6)
-_F_E = 21  # pointing error ex, ey, ez, angle (4)
-_F_WMAX2 = 25
-_F_DIST = 26  # disturbance constant, amplitude, phase (9)
-_F_DFRAC = 35
-N_FS = 36
-_I_NEES_N = 0  # NEES count, determinations, box active (3)
-_I_LAST_OUT = 3
-_I_ND = 4
-_I_DIAG = 5
-N_IS = 6
+# The per-lane scalar state of block_loop (what sample_loop keeps in locals), one line per
+# variable (name=width): FS[lane, _F.NAME + k] (float) and IS[lane, _I.NAME + k] (int).
+_F, N_FS = lane_slots(
+    "FloatSlots",
+    WE=3,  # estimated rate
+    CTL=6,  # Schmitt outputs, PID integrals
+    FIRE=2,  # firings, on-time
+    PROP=1,  # propellant used
+    KACC2=1,  # knowledge error sum of squares
+    NEES=2,  # last NEES, NEES sum
+    MT=6,  # metric window sums: acc, acc2, ax2, ay2, az2, emax
+    E=4,  # pointing error ex, ey, ez, angle
+    WMAX2=1,  # max |w|^2
+    DIST=9,  # disturbance constant, amplitude, phase
+    DFRAC=1,  # fractional delay
+)
+_I, N_IS = lane_slots(
+    "IntSlots",
+    NEES_N=3,  # NEES count, determinations, box active
+    LAST_OUT=1,  # last step outside the settling band
+    ND=1,  # whole delay steps
+    DIAG=1,  # 1: principal axes (the RK4 step without the zero terms)
+)
 
 
 #: :func:`rk4_step` inlined by numba into the lane loops (a copy of its code: the same
@@ -1116,9 +1246,189 @@ def _lanes_rk4(X, JG, T, WS, nl, dt, general):
             _lane_store(X, WS, l, _lane_principal(X, JG, T, l, dt))
 
 
-def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM,
-               FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR,
-               SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT, FS, IS, SS):
+@register_jitable
+def _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk):
+    """The lanes of :func:`block_loop` at the start: each sample's scratch (:func:`_init`),
+    state, inertia, delay, disturbance, counters and first trace row. Returns whether the
+    block's inertias are all diagonal, and whether none is."""
+    n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi = blk
+    record = A.REC.shape[0] > 0
+    x2o = n
+    all_diag = True
+    all_full = True
+    for l in range(nl):
+        i = i0 + l
+        J = A.P[i, P_J:P_J + 9]
+        Ji = A.P[i, P_JI:P_JI + 9]
+        diag = principal(J, Ji)
+        all_diag = all_diag and diag
+        all_full = all_full and not diag
+        IS[l, _I.DIAG] = 1 if diag else 0
+        for a in range(9):
+            JG[a, l] = J[a]
+            JG[9 + a, l] = Ji[a]
+        buf = A.BUF[i]
+        ts = A.TS[i]
+        est = (A.QE[i], A.BE[i], A.PE[i], A.WK[i], A.GY[i], A.BIAS[i], A.SQ[i])
+        _init(i, A.P, A.DIRS, A.POS, buf, ts, est, A.TOT, n)
+        for a in range(9):
+            FS[l, _F.DIST + a] = A.P[i, P_D0 + a]  # P_D0, P_DAMP, P_DPH: 3 each, consecutive
+        delay_steps = A.P[i, P_DELAY] / dt
+        nd = int(math.floor(delay_steps))
+        IS[l, _I.ND] = nd
+        FS[l, _F.DFRAC] = delay_steps - nd
+        SS[l] = A.SEEDS[i]
+        for a in range(4):
+            X[a, l] = A.P[i, P_Q0 + a]
+        for a in range(3):
+            X[4 + a, l] = A.P[i, P_W0 + a]
+            WS[a, l] = 0.0
+        for a in range(_F.MT):  # we, ctl, fire, prop, kacc2, last NEES, NEES sum
+            FS[l, a] = 0.0
+        FS[l, _F.NEES] = math.nan
+        for a in range(6):
+            FS[l, _F.MT + a] = 0.0
+        FS[l, _F.WMAX2] = 0.0
+        IS[l, _I.NEES_N] = 0
+        IS[l, _I.NEES_N + 1] = 0
+        IS[l, _I.NEES_N + 2] = 0
+        q0, q1, q2, q3 = X[0, l], X[1, l], X[2, l], X[3, l]
+        e = qerr(q0, q1, q2, q3, A.QREF[0, 0], A.QREF[0, 1], A.QREF[0, 2], A.QREF[0, 3])
+        FS[l, _F.E] = e[0]
+        FS[l, _F.E + 1] = e[1]
+        FS[l, _F.E + 2] = e[2]
+        FS[l, _F.E + 3] = e[3]
+        errf = qerr(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3])[3]
+        IS[l, _I.LAST_OUT] = 0 if errf > band else -1
+        if record:
+            _record(A.REC, i, 0, e[0], e[1], e[2], e[3], A.QE[i], q0, q1, q2, q3, X[4, l], X[5, l],
+                    X[6, l], math.nan, 0.0, ts, x2o, n)
+    return all_diag, all_full
+
+
+@njit(inline="always")
+def _lane_step(i, l, k, A, X, T, WS, FS, IS, SS, at, blk):
+    """Lane ``l`` (sample ``i``) at step ``k`` of :func:`block_loop`: the metrics of the step
+    that ended at ``k`` and the trace row, then (the step functions of :func:`sample_loop`, in
+    its order) the estimation, the metrics at the last step, or the control, the thrusters and
+    the environment torques into ``T[:, l]``. ``at``: the block's step flags and counters
+    (shared by its lanes); ``blk``: the block's constants."""
+    post, rec_now, win, need_e, gyro, know, last, ctrl, nwin, nkw, kc, tk = at
+    n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi = blk
+    x2o = n
+    so = 9 * n
+    q = (X[0, l], X[1, l], X[2, l], X[3, l])
+    w = (X[4, l], X[5, l], X[6, l])
+    qe = A.QE[i]
+    ts = A.TS[i]
+    if post:  # (the settling and rate tests do not read the pointing error)
+        if outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
+                    tb_hi):
+            IS[l, _I.LAST_OUT] = k
+        wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+        if wn2 > FS[l, _F.WMAX2]:
+            FS[l, _F.WMAX2] = wn2
+    if need_e:
+        e = qerr(q[0], q[1], q[2], q[3], A.QREF[k, 0], A.QREF[k, 1], A.QREF[k, 2], A.QREF[k, 3])
+        FS[l, _F.E] = e[0]
+        FS[l, _F.E + 1] = e[1]
+        FS[l, _F.E + 2] = e[2]
+        FS[l, _F.E + 3] = e[3]
+        if win:
+            mt = _window((FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
+                          FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin), e)
+            FS[l, _F.MT] = mt[0]
+            FS[l, _F.MT + 1] = mt[1]
+            FS[l, _F.MT + 2] = mt[2]
+            FS[l, _F.MT + 3] = mt[3]
+            FS[l, _F.MT + 4] = mt[4]
+            FS[l, _F.MT + 5] = mt[5]
+        if rec_now:
+            _record(A.REC, i, k // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2],
+                    q[3], w[0], w[1], w[2], FS[l, _F.NEES], FS[l, _F.PROP], ts, x2o, n)
+    if est_mode == EST_TRUTH:
+        qe[0] = q[0]
+        qe[1] = q[1]
+        qe[2] = q[2]
+        qe[3] = q[3]
+        FS[l, _F.WE] = w[0]
+        FS[l, _F.WE + 1] = w[1]
+        FS[l, _F.WE + 2] = w[2]
+    elif gyro:
+        est = (qe, A.BE[i], A.PE[i], A.WK[i], A.GY[i], A.BIAS[i], A.SQ[i])
+        obs = (A.VB[i], A.VR[i], A.WW[i])
+        ws = (WS[0, l], WS[1, l], WS[2, l])
+        ec = (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N], IS[l, _I.NEES_N + 1],
+              IS[l, _I.NEES_N + 2])
+        s, we, ec, nobs = _sense_estimate(k, A.C, A.ENV, q, w, SS[l], ws, ec, est, obs)
+        if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
+            det = (A.VB, A.VR, A.WW, A.WQ, A.WO, A.WC, A.SB[i], A.SR[i], A.SQP[i], A.SBB[i], A.SFF[i], A.SKK[i],
+                   A.SAA[i], A.SBK[i], A.RS[i])
+            ec = _determine(i, A.C, qe, ec, det)
+        SS[l] = s
+        FS[l, _F.WE] = we[0]
+        FS[l, _F.WE + 1] = we[1]
+        FS[l, _F.WE + 2] = we[2]
+        FS[l, _F.NEES] = ec[0]
+        FS[l, _F.NEES + 1] = ec[1]
+        IS[l, _I.NEES_N] = ec[2]
+        IS[l, _I.NEES_N + 1] = ec[3]
+        IS[l, _I.NEES_N + 2] = ec[4]
+        WS[0, l] = 0.0
+        WS[1, l] = 0.0
+        WS[2, l] = 0.0
+    if know:  # knowledge error at t_k, after this epoch's estimation
+        kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
+        FS[l, _F.KACC2] += kerr * kerr
+    if last:
+        _finish(A.OUT, i, (FS[l, _F.MT], FS[l, _F.MT + 1], FS[l, _F.MT + 2],
+                         FS[l, _F.MT + 3], FS[l, _F.MT + 4], FS[l, _F.MT + 5], nwin),
+                IS[l, _I.LAST_OUT], FS[l, _F.WMAX2], FS[l, _F.E + 3], FS[l, _F.KACC2], nkw,
+                FS[l, _F.PROP], (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]),
+                (FS[l, _F.NEES], FS[l, _F.NEES + 1], IS[l, _I.NEES_N],
+                 IS[l, _I.NEES_N + 1], IS[l, _I.NEES_N + 2]), n_steps, dt)
+        return
+    if ctrl:
+        scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
+               ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
+        ctl, fire = _control(
+            i, k, A.C, qe, (FS[l, _F.WE], FS[l, _F.WE + 1], FS[l, _F.WE + 2]),
+            (FS[l, _F.CTL], FS[l, _F.CTL + 1], FS[l, _F.CTL + 2], FS[l, _F.CTL + 3],
+             FS[l, _F.CTL + 4], FS[l, _F.CTL + 5]),
+            (FS[l, _F.FIRE], FS[l, _F.FIRE + 1]), thr, scr, ts, A.TOT, n)
+        FS[l, _F.CTL] = ctl[0]
+        FS[l, _F.CTL + 1] = ctl[1]
+        FS[l, _F.CTL + 2] = ctl[2]
+        FS[l, _F.CTL + 3] = ctl[3]
+        FS[l, _F.CTL + 4] = ctl[4]
+        FS[l, _F.CTL + 5] = ctl[5]
+        FS[l, _F.FIRE] = fire[0]
+        FS[l, _F.FIRE + 1] = fire[1]
+    t0, t1, t2, prop = _actuate(i, k, k - kc, IS[l, _I.ND], FS[l, _F.DFRAC], ts, A.BUF[i],
+                                bmask, A.FAILED, A.FLEV, A.MDOT, lag, dt, FS[l, _F.PROP], n)
+    FS[l, _F.PROP] = prop
+    # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
+    d0 = FS[l, _F.DIST]
+    d1 = FS[l, _F.DIST + 1]
+    d2 = FS[l, _F.DIST + 2]
+    a0 = FS[l, _F.DIST + 3]
+    a1 = FS[l, _F.DIST + 4]
+    a2 = FS[l, _F.DIST + 5]
+    t0 += d0 + a0 * math.sin(d_omega * tk + FS[l, _F.DIST + 6]) if a0 != 0.0 else d0
+    t1 += d1 + a1 * math.sin(d_omega * tk + FS[l, _F.DIST + 7]) if a1 != 0.0 else d1
+    t2 += d2 + a2 * math.sin(d_omega * tk + FS[l, _F.DIST + 8]) if a2 != 0.0 else d2
+    if n2orb > 0.0:
+        c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], A.ENV[k, 0], A.ENV[k, 1], A.ENV[k, 2])
+        h0, h1, h2 = _inertia_times(A.P[i, P_J:P_J + 9], IS[l, _I.DIAG] != 0, c0, c1, c2)
+        t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
+        t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
+        t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
+    T[0, l] = t0
+    T[1, l] = t1
+    T[2, l] = t2
+
+
+def block_loop(i0, size, A, FS, IS, SS):
     """Simulate samples ``i0 .. i0 + nl - 1`` (``nl = min(size, n - i0)``, ``size <= LANES``)
     over all steps: what
     :func:`sample_loop` computes for each of them, bit for bit, with the steps interleaved.
@@ -1133,86 +1443,35 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
     vectorise the RK4 loop) ``X`` (7 x LANES: q, omega), ``T`` (3 x LANES: torque), ``JG`` (18 x
     LANES: J and J^-1 row-major) and ``WS`` (3 x LANES: the gyro's rate sums); in the block's
     scratch (the last arguments, allocated by :func:`run_parallel`) ``FS`` (LANES x N_FS) and
-    ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F_*`` / ``_I_*``), and
+    ``IS`` (LANES x N_IS): the scalar state of :func:`sample_loop` (``_F.*`` / ``_I.*``), and
     ``SS`` (LANES, uint64): the noise state.
     The counters that every sample shares (gyro and command instants, window counts) are the
     block's.
     """
-    n = POS.shape[0]
-    nl = min(size, P.shape[0] - i0)
+    n = A.POS.shape[0]
+    nl = min(size, A.P.shape[0] - i0)
     X = stack_f64(7, LANES)
     T = stack_f64(3, LANES)
     WS = stack_f64(3, LANES)
     JG = stack_f64(18, LANES)
-    dt = C[DT]
-    n_steps = int(C[N_STEPS])
-    h_ctrl = int(C[H_CTRL])
-    h_gyro = int(C[H_GYRO])
-    est_mode = int(C[EST_MODE])
-    k_win = int(C[K_WIN])
-    band = C[SETTLE_BAND]
-    rec_every = int(C[REC_EVERY])
-    bmask = int(C[BUF_MASK])
-    record = REC.shape[0] > 0
-    lag = (C[A11], C[B1], C[A21], C[A22], C[B2], C[V1], C[V2], C[VU])
-    thr = (QREF, WREF, ATAB, ANOM, FNOM, AMASK)
-    tb2 = math.tan(0.5 * band) ** 2 if 0.5 * band < 1.5 else -1.0
-    tb_lo = tb2 * (1.0 - 1e-6)
-    tb_hi = tb2 * (1.0 + 1e-6)
-    n2orb = C[N2ORB]
-    d_omega = C[D_OMEGA]
-    x2o = n
-    so = 9 * n
-    qf = (QREF[n_steps, 0], QREF[n_steps, 1], QREF[n_steps, 2], QREF[n_steps, 3])
-    all_diag = True
-    all_full = True
-    for l in range(nl):
-        i = i0 + l
-        J = P[i, P_J:P_J + 9]
-        Ji = P[i, P_JI:P_JI + 9]
-        diag = principal(J, Ji)
-        all_diag = all_diag and diag
-        all_full = all_full and not diag
-        IS[l, _I_DIAG] = 1 if diag else 0
-        for a in range(9):
-            JG[a, l] = J[a]
-            JG[9 + a, l] = Ji[a]
-        buf = BUF[i]
-        ts = TS[i]
-        est = (QE[i], BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
-        _init(i, P, DIRS, POS, buf, ts, est, TOT, n)
-        for a in range(9):
-            FS[l, _F_DIST + a] = P[i, P_D0 + a]  # P_D0, P_DAMP, P_DPH: 3 each, consecutive
-        delay_steps = P[i, P_DELAY] / dt
-        nd = int(math.floor(delay_steps))
-        IS[l, _I_ND] = nd
-        FS[l, _F_DFRAC] = delay_steps - nd
-        SS[l] = SEEDS[i]
-        for a in range(4):
-            X[a, l] = P[i, P_Q0 + a]
-        for a in range(3):
-            X[4 + a, l] = P[i, P_W0 + a]
-            WS[a, l] = 0.0
-        for a in range(_F_MT):  # we, ctl, fire, prop, kacc2, last NEES, NEES sum
-            FS[l, a] = 0.0
-        FS[l, _F_NEES] = math.nan
-        for a in range(6):
-            FS[l, _F_MT + a] = 0.0
-        FS[l, _F_WMAX2] = 0.0
-        IS[l, _I_NEES_N] = 0
-        IS[l, _I_NEES_N + 1] = 0
-        IS[l, _I_NEES_N + 2] = 0
-        q0, q1, q2, q3 = X[0, l], X[1, l], X[2, l], X[3, l]
-        e = qerr(q0, q1, q2, q3, QREF[0, 0], QREF[0, 1], QREF[0, 2], QREF[0, 3])
-        FS[l, _F_E] = e[0]
-        FS[l, _F_E + 1] = e[1]
-        FS[l, _F_E + 2] = e[2]
-        FS[l, _F_E + 3] = e[3]
-        errf = qerr(q0, q1, q2, q3, qf[0], qf[1], qf[2], qf[3])[3]
-        IS[l, _I_LAST_OUT] = 0 if errf > band else -1
-        if record:
-            _record(REC, i, 0, e[0], e[1], e[2], e[3], QE[i], q0, q1, q2, q3, X[4, l], X[5, l],
-                    X[6, l], math.nan, 0.0, ts, x2o, n)
+    dt = A.C[DT]
+    n_steps = int(A.C[N_STEPS])
+    h_ctrl = int(A.C[H_CTRL])
+    h_gyro = int(A.C[H_GYRO])
+    est_mode = int(A.C[EST_MODE])
+    k_win = int(A.C[K_WIN])
+    band = A.C[SETTLE_BAND]
+    rec_every = int(A.C[REC_EVERY])
+    bmask = int(A.C[BUF_MASK])
+    record = A.REC.shape[0] > 0
+    lag = (A.C[A11], A.C[B1], A.C[A21], A.C[A22], A.C[B2], A.C[V1], A.C[V2], A.C[VU])
+    thr = (A.QREF, A.WREF, A.ATAB, A.ANOM, A.FNOM, A.AMASK)
+    tb_lo, tb_hi = settle_bounds(band)
+    n2orb = A.C[N2ORB]
+    d_omega = A.C[D_OMEGA]
+    qf = (A.QREF[n_steps, 0], A.QREF[n_steps, 1], A.QREF[n_steps, 2], A.QREF[n_steps, 3])
+    blk = (n, n_steps, dt, est_mode, bmask, rec_every, lag, thr, n2orb, d_omega, qf, band, tb_lo, tb_hi)
+    all_diag, all_full = _lanes_init(i0, nl, A, X, WS, JG, FS, IS, SS, blk)
     k_gyro = 0  # next gyro epoch
     k_ctrl = 0  # next command instant
     kc = 0
@@ -1237,176 +1496,44 @@ def block_loop(i0, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, 
             k_ctrl += h_ctrl
             kc = k
         tk = k * dt
+        at = (post, rec_now, win, need_e, gyro, know, last, ctrl, nwin, nkw, kc, tk)
         for l in range(nl):
-            i = i0 + l
-            q = (X[0, l], X[1, l], X[2, l], X[3, l])
-            w = (X[4, l], X[5, l], X[6, l])
-            qe = QE[i]
-            ts = TS[i]
-            if post:  # (the settling and rate tests do not read the pointing error)
-                if _outside(q[0], q[1], q[2], q[3], qf[0], qf[1], qf[2], qf[3], band, tb_lo,
-                            tb_hi):
-                    IS[l, _I_LAST_OUT] = k
-                wn2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-                if wn2 > FS[l, _F_WMAX2]:
-                    FS[l, _F_WMAX2] = wn2
-            if need_e:
-                e = qerr(q[0], q[1], q[2], q[3], QREF[k, 0], QREF[k, 1], QREF[k, 2], QREF[k, 3])
-                FS[l, _F_E] = e[0]
-                FS[l, _F_E + 1] = e[1]
-                FS[l, _F_E + 2] = e[2]
-                FS[l, _F_E + 3] = e[3]
-                if win:
-                    mt = _window((FS[l, _F_MT], FS[l, _F_MT + 1], FS[l, _F_MT + 2],
-                                  FS[l, _F_MT + 3], FS[l, _F_MT + 4], FS[l, _F_MT + 5], nwin), e)
-                    FS[l, _F_MT] = mt[0]
-                    FS[l, _F_MT + 1] = mt[1]
-                    FS[l, _F_MT + 2] = mt[2]
-                    FS[l, _F_MT + 3] = mt[3]
-                    FS[l, _F_MT + 4] = mt[4]
-                    FS[l, _F_MT + 5] = mt[5]
-                if rec_now:
-                    _record(REC, i, k // rec_every, e[0], e[1], e[2], e[3], qe, q[0], q[1], q[2],
-                            q[3], w[0], w[1], w[2], FS[l, _F_NEES], FS[l, _F_PROP], ts, x2o, n)
-            if est_mode == EST_TRUTH:
-                qe[0] = q[0]
-                qe[1] = q[1]
-                qe[2] = q[2]
-                qe[3] = q[3]
-                FS[l, _F_WE] = w[0]
-                FS[l, _F_WE + 1] = w[1]
-                FS[l, _F_WE + 2] = w[2]
-            elif gyro:
-                est = (qe, BE[i], PE[i], WK[i], GY[i], BIAS[i], SQ[i])
-                obs = (VB[i], VR[i], WW[i])
-                ws = (WS[0, l], WS[1, l], WS[2, l])
-                ec = (FS[l, _F_NEES], FS[l, _F_NEES + 1], IS[l, _I_NEES_N], IS[l, _I_NEES_N + 1],
-                      IS[l, _I_NEES_N + 2])
-                s, we, ec, nobs = _sense_estimate(k, C, ENV, q, w, SS[l], ws, ec, est, obs)
-                if (est_mode == EST_WAHBA or est_mode == EST_MINMAX) and nobs == 2:
-                    det = (VB, VR, WW, WQ, WO, WC, SB[i], SR[i], SQP[i], SBB[i], SFF[i], SKK[i],
-                           SAA[i], SBK[i], RS[i])
-                    ec = _determine(i, C, qe, ec, det)
-                SS[l] = s
-                FS[l, _F_WE] = we[0]
-                FS[l, _F_WE + 1] = we[1]
-                FS[l, _F_WE + 2] = we[2]
-                FS[l, _F_NEES] = ec[0]
-                FS[l, _F_NEES + 1] = ec[1]
-                IS[l, _I_NEES_N] = ec[2]
-                IS[l, _I_NEES_N + 1] = ec[3]
-                IS[l, _I_NEES_N + 2] = ec[4]
-                WS[0, l] = 0.0
-                WS[1, l] = 0.0
-                WS[2, l] = 0.0
-            if know:  # knowledge error at t_k, after this epoch's estimation
-                kerr = qerr(qe[0], qe[1], qe[2], qe[3], q[0], q[1], q[2], q[3])[3]
-                FS[l, _F_KACC2] += kerr * kerr
-            if last:
-                _finish(OUT, i, (FS[l, _F_MT], FS[l, _F_MT + 1], FS[l, _F_MT + 2],
-                                 FS[l, _F_MT + 3], FS[l, _F_MT + 4], FS[l, _F_MT + 5], nwin),
-                        IS[l, _I_LAST_OUT], FS[l, _F_WMAX2], FS[l, _F_E + 3], FS[l, _F_KACC2], nkw,
-                        FS[l, _F_PROP], (FS[l, _F_FIRE], FS[l, _F_FIRE + 1]),
-                        (FS[l, _F_NEES], FS[l, _F_NEES + 1], IS[l, _I_NEES_N],
-                         IS[l, _I_NEES_N + 1], IS[l, _I_NEES_N + 2]), n_steps, dt)
-                continue
-            if ctrl:
-                scr = (ts[4 * n:5 * n], ts[5 * n:6 * n], ts[so:so + 9], ts[so + 9:so + 12],
-                       ts[so + 12:so + 15], ts[so + 15:so + 18])  # F, free, S, r, y, idx
-                ctl, fire = _control(
-                    i, k, C, qe, (FS[l, _F_WE], FS[l, _F_WE + 1], FS[l, _F_WE + 2]),
-                    (FS[l, _F_CTL], FS[l, _F_CTL + 1], FS[l, _F_CTL + 2], FS[l, _F_CTL + 3],
-                     FS[l, _F_CTL + 4], FS[l, _F_CTL + 5]),
-                    (FS[l, _F_FIRE], FS[l, _F_FIRE + 1]), thr, scr, ts, TOT, n)
-                FS[l, _F_CTL] = ctl[0]
-                FS[l, _F_CTL + 1] = ctl[1]
-                FS[l, _F_CTL + 2] = ctl[2]
-                FS[l, _F_CTL + 3] = ctl[3]
-                FS[l, _F_CTL + 4] = ctl[4]
-                FS[l, _F_CTL + 5] = ctl[5]
-                FS[l, _F_FIRE] = fire[0]
-                FS[l, _F_FIRE + 1] = fire[1]
-            t0, t1, t2, prop = _actuate(i, k, k - kc, IS[l, _I_ND], FS[l, _F_DFRAC], ts, BUF[i],
-                                        bmask, FAILED, FLEV, MDOT, lag, dt, FS[l, _F_PROP], n)
-            FS[l, _F_PROP] = prop
-            # environment torques (a zero amplitude adds a signed zero: its sine is skipped)
-            d0 = FS[l, _F_DIST]
-            d1 = FS[l, _F_DIST + 1]
-            d2 = FS[l, _F_DIST + 2]
-            a0 = FS[l, _F_DIST + 3]
-            a1 = FS[l, _F_DIST + 4]
-            a2 = FS[l, _F_DIST + 5]
-            t0 += d0 + a0 * math.sin(d_omega * tk + FS[l, _F_DIST + 6]) if a0 != 0.0 else d0
-            t1 += d1 + a1 * math.sin(d_omega * tk + FS[l, _F_DIST + 7]) if a1 != 0.0 else d1
-            t2 += d2 + a2 * math.sin(d_omega * tk + FS[l, _F_DIST + 8]) if a2 != 0.0 else d2
-            if n2orb > 0.0:
-                c0, c1, c2 = rotate(q[0], q[1], q[2], q[3], ENV[k, 0], ENV[k, 1], ENV[k, 2])
-                h0, h1, h2 = _inertia_times(P[i, P_J:P_J + 9], IS[l, _I_DIAG] != 0, c0, c1, c2)
-                t0 += 3.0 * n2orb * (c1 * h2 - c2 * h1)
-                t1 += 3.0 * n2orb * (c2 * h0 - c0 * h2)
-                t2 += 3.0 * n2orb * (c0 * h1 - c1 * h0)
-            T[0, l] = t0
-            T[1, l] = t1
-            T[2, l] = t2
+            _lane_step(i0 + l, l, k, A, X, T, WS, FS, IS, SS, at, blk)
         if last:
             break
         if all_diag or all_full:
             _lanes_rk4(X, JG, T, WS, nl, dt, all_full)
         else:  # diagonal and full inertias in one block: each lane's own step, not vectorised
             for l in range(nl):
-                if IS[l, _I_DIAG] != 0:
+                if IS[l, _I.DIAG] != 0:
                     x = _lane_principal(X, JG, T, l, dt)
                 else:  # a call, not a third inlined copy of the step (compile time; rare path)
                     i = i0 + l
                     x = rk4_step(X[0, l], X[1, l], X[2, l], X[3, l], X[4, l], X[5, l], X[6, l],
-                                 P[i, P_J:P_J + 9], P[i, P_JI:P_JI + 9], T[0, l], T[1, l], T[2, l],
+                                 A.P[i, P_J:P_J + 9], A.P[i, P_JI:P_JI + 9], T[0, l], T[1, l], T[2, l],
                                  dt)
                 _lane_store(X, WS, l, x)
 
 
-@register_jitable
-def _busiest(n, size, threads):
-    """Samples on the busiest thread when ``n`` samples run in blocks of ``size`` on ``threads``
-    threads: ``prange`` gives each thread a contiguous run of ``ceil(blocks / threads)`` blocks
-    at most."""
-    return min(n, ((n + size - 1) // size + threads - 1) // threads * size)
-
-
-@register_jitable
 def block_size(n, threads):
-    """Samples per lane block for ``n`` samples on ``threads`` threads.
-
-    :data:`LANES` (a full vector loop) unless whole blocks would load the busiest thread
-    (:func:`_busiest`) more than 5/4 of an even share: ``n = 64`` on 16 threads makes 8 blocks
-    of 8 and leaves 8 threads idle, ``n = 24`` on 2 makes 3 blocks (16 samples on one thread).
-    Then the size (at most :data:`LANES`, the largest on a tie) that minimises the busiest
-    thread's samples: 4 (16 blocks) and 6 (4 blocks) in those examples. Blocks of fewer than 8
-    samples run their RK4 steps partly scalar; the results do not depend on the size
-    (tests/simulation/test_lanes.py)."""
-    if n < 1:
-        return 1
-    if threads <= 1 or 4 * _busiest(n, LANES, threads) * threads <= 5 * n:
-        return LANES
-    best = LANES
-    for size in range(LANES - 1, 0, -1):
-        if _busiest(n, size, threads) < _busiest(n, best, threads):
-            best = size
-    return best
+    """Samples per lane block for ``n`` samples on ``threads`` threads: blocks of at most
+    :data:`LANES` (:func:`adcskit._targets.lane_block_size`)."""
+    return lane_block_size(n, threads, LANES)
 
 
 block_loop_jit = njit(cache=True, nogil=True, inline="never", error_model="numpy", _nrt=False)(block_loop)
 
 
 @njit(parallel=True, cache=True, nogil=True)
-def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
-                 AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ,
-                 SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT):
+def run_parallel(size, A):
     """CPU driver: blocks of up to :data:`LANES` samples in parallel (``prange``), each through
     :func:`block_loop` (what :func:`sample_loop` computes, bit for bit: the GPU driver's
-    per-sample function and the reference of tests/simulation/test_lanes.py).
-    :func:`block_size` sets the block size from the sample and thread counts."""
-    n = P.shape[0]
-    size = block_size(n, get_num_threads())
+    per-sample function and the reference of tests/simulation/test_lanes.py). ``A``: the
+    kernel's arrays (:data:`Arrays`). ``size``: samples per block (:func:`run_cpu` passes
+    :func:`block_size` of the sample and thread counts: numba's in-kernel ``get_num_threads``
+    is a ctypes function pointer, a dynamic global that would stop numba from caching this
+    driver on disk)."""
+    n = A.P.shape[0]
     for b in prange((n + size - 1) // size):
         # the block's scratch: a few hundred bytes, once per block of LANES x n_steps
         FS = np.empty((LANES, N_FS))
@@ -1414,10 +1541,14 @@ def run_parallel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, AT
         SS = np.empty(LANES, dtype=np.uint64)
         # prange's index is uint64 in the parallel loop but int64 when numba first types this
         # function: the cast makes both the same signature, compiled once (the one that runs)
-        block_loop_jit(int64(b) * size, size, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV,
-                       QREF, WREF, ATAB, ANOM, FNOM, AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB,
-                       VR, WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK, SAA, SBK, SQP, RS, OUT, REC,
-                       TOT, FS, IS, SS)
+        block_loop_jit(int64(b) * size, size, A, FS, IS, SS)
+
+
+def run_cpu(A):
+    """CPU driver entry: :func:`run_parallel` over the arrays ``A`` (:data:`Arrays`) with the
+    block size for their sample count and numba's thread count (read here, in Python: see
+    :func:`run_parallel`)."""
+    run_parallel(block_size(A.P.shape[0], numba.get_num_threads()), A)
 
 
 rpi_allocate_jit = njit(cache=True, nogil=True)(rpi_allocate)
@@ -1428,20 +1559,13 @@ principal_jit = njit(cache=True, nogil=True)(principal)
 
 
 # --- CUDA driver -----------------------------------------------------------------------------
-# One thread per sample over the same argument list as run_parallel. The scratch stays the
-# per-sample rows of global arrays that the CPU driver gets (core.py allocates them): the loop
-# indexes BUF[i], TS[i], PE[i]..., whose lengths depend on the thruster count and the delay
+# One thread per sample over the same arrays as run_parallel (one Arrays tuple). The scratch
+# stays the per-sample rows of global arrays that the CPU driver gets (allocated from ARGS):
+# the loop indexes A.BUF[i], A.TS[i], A.PE[i]..., whose lengths depend on the thruster count and the delay
 # line (runtime values), so no change to the one source is needed and no kernel is compiled
 # per layout; each row is touched by its own thread only.
 THREADS_PER_BLOCK = 128
 CUDA_CHUNK = 1 << 16  # samples per device round trip (scratch ~ (9 + 2 L) n_thr + 200 floats each)
-
-#: Arguments of run_parallel / run_cuda that have one row per sample (the others are shared).
-_SHARED_ARGS = frozenset({"C", "POS", "FAILED", "ENV", "QREF", "WREF", "ATAB", "ANOM", "FNOM", "AMASK", "WC"})
-_ARG_NAMES = ("P", "C", "SEEDS", "DIRS", "FLEV", "POS", "MDOT", "FAILED", "ENV", "QREF", "WREF", "ATAB",
-              "ANOM", "FNOM", "AMASK", "BUF", "TS", "QE", "BE", "PE", "WK", "GY", "BIAS", "VB", "VR", "WW",
-              "WQ", "WO", "WC", "SB", "SR", "SQ", "SBB", "SFF", "SKK", "SAA", "SBK", "SQP", "RS", "OUT",
-              "REC", "TOT")
 
 cuda = None  # numba.cuda, bound on first GPU use (a module global: see adcskit._targets)
 
@@ -1452,14 +1576,10 @@ def _make_cuda_kernel():
     sample = SAMPLE.cuda()
 
     @cuda.jit
-    def kernel(P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM, AMASK,
-               BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ, SBB, SFF, SKK,
-               SAA, SBK, SQP, RS, OUT, REC, TOT):
+    def kernel(A):
         i = cuda.grid(1)
-        if i < P.shape[0]:
-            sample(i, P, C, SEEDS, DIRS, FLEV, POS, MDOT, FAILED, ENV, QREF, WREF, ATAB, ANOM, FNOM,
-                   AMASK, BUF, TS, QE, BE, PE, WK, GY, BIAS, VB, VR, WW, WQ, WO, WC, SB, SR, SQ, SBB,
-                   SFF, SKK, SAA, SBK, SQP, RS, OUT, REC, TOT)
+        if i < A.P.shape[0]:
+            sample(i, A)
 
     return kernel
 
@@ -1468,31 +1588,30 @@ CUDA_KERNELS = LazyKernels(_make_cuda_kernel)
 
 
 def _cuda_signature():
-    """numba argument types of the CUDA kernel (C-contiguous arrays, as :func:`run_cuda` passes)."""
+    """numba argument types of the CUDA kernel: one :data:`Arrays` of C-contiguous arrays (as
+    :func:`run_cuda` passes), from :data:`ARGS`."""
     from numba import types as t
 
-    f1, f2, f3 = t.float64[::1], t.float64[:, ::1], t.float64[:, :, ::1]
-    three = {"DIRS", "BUF", "PE", "VB", "VR", "WC", "SB", "SR", "SBB", "SFF", "SKK", "SAA", "SBK", "REC"}
-    one = {"C", "FAILED", "FNOM", "AMASK"}
-    return tuple(t.uint64[::1] if a == "SEEDS" else f3 if a in three else f1 if a in one else f2
-                 for a in _ARG_NAMES)
+    dtypes = {"f8": t.float64, "u8": t.uint64}
+    return (t.NamedTuple(tuple(t.Array(dtypes[a.dtype], a.ndim, "C") for a in ARGS), Arrays),)
 
 
-def run_cuda(*args, chunk=None):
-    """GPU driver: the same per-sample function as :func:`run_parallel` (same arguments, host
-    arrays), one CUDA thread per sample.
+def run_cuda(A, chunk=None):
+    """GPU driver: the same per-sample function as :func:`run_parallel` (the same arrays ``A``,
+    host arrays), one CUDA thread per sample.
 
     Samples go to the device in chunks of ``chunk`` rows (default :data:`CUDA_CHUNK`, read at
-    call time); the shared inputs are copied once. ``OUT``, ``TOT`` and (when recording)
-    ``REC`` are filled in place; the scratch arrays are not copied back.
+    call time); the arrays without a row per sample (:attr:`Arg.rows`) are copied once.
+    ``OUT``, ``TOT`` and (when recording) ``REC`` are filled in place; the scratch arrays are
+    not copied back.
     """
-    if len(args) != len(_ARG_NAMES):
-        raise TypeError(f"run_cuda takes {len(_ARG_NAMES)} arrays; got {len(args)}")
+    if not isinstance(A, Arrays):
+        raise TypeError(f"run_cuda takes an Arrays tuple; got {type(A).__name__}")
     if chunk is None:
         chunk = CUDA_CHUNK
     kernel = CUDA_KERNELS.get()  # binds the module global ``cuda``
-    named = dict(zip(_ARG_NAMES, args))
-    record = named["REC"].shape[0] > 0
-    launch_chunked(kernel, named, _ARG_NAMES, n=named["P"].shape[0], chunk=chunk, threads=THREADS_PER_BLOCK,
-                   shared=_SHARED_ARGS if record else _SHARED_ARGS | {"REC"},
-                   outputs=("OUT", "TOT", "REC") if record else ("OUT", "TOT"))
+    record = A.REC.shape[0] > 0
+    shared = {a.name for a in ARGS if not a.rows or (a.name == "REC" and not record)}
+    outputs = tuple(a.name for a in ARGS if a.role == "out" and a.name not in shared)
+    launch_chunked(kernel, A._asdict(), Arrays._fields, n=A.P.shape[0], chunk=chunk,
+                   threads=THREADS_PER_BLOCK, shared=shared, outputs=outputs, pack=Arrays)

@@ -26,7 +26,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import scipy.linalg
@@ -668,35 +668,32 @@ def _prepare(scenario: Scenario, n: int, gen: np.random.Generator) -> tuple[dict
     return {"shared": shared, "per_sample": per_sample, "feasibility": feas}, params
 
 
-def _run_block(task: tuple[Any, ...]) -> dict[str, Any]:
-    """Run one block of samples through the kernel (module level: picklable for executors).
+@dataclass(frozen=True)
+class _Block:
+    """One kernel call of :func:`simulate` (a campaign task): the shared and per-sample inputs
+    of :func:`_prepare` for a block of samples, their noise seeds, whether to record traces
+    and the target that runs it."""
 
-    ``task`` is ``(shared, per_sample, seeds, record)``, plus ``"cuda"`` as a fifth item for the
-    GPU driver (a CPU task keeps its four items: the same campaign keys as before)."""
-    shared, ps, seeds, record = task[:4]
-    run = _k.run_cuda if len(task) > 4 and task[4] == "cuda" else _k.run_parallel
-    C = shared["C"]
+    shared: dict[str, Any]
+    per_sample: dict[str, np.ndarray]
+    seeds: np.ndarray
+    record: bool
+    backend: Literal["cpu", "cuda"] = "cpu"
+
+
+def _run_block(task: _Block) -> dict[str, Any]:
+    """Run one block of samples through the kernel (module level: picklable for executors).
+    The kernel's arrays are allocated as :data:`adcskit.simulation._kernels.ARGS` declares."""
+    shared, ps = task.shared, task.per_sample
     n = ps["P"].shape[0]
-    nt = shared["POS"].shape[0]
-    n_steps = shared["n_steps"]
-    rec_every = int(C[_k.REC_EVERY])
-    n_rec = n_steps // rec_every + 1
-    OUT = np.empty((n, _k.N_METRICS))
-    TOT = np.empty((n, nt))
-    REC = np.full((n, n_rec, _k.N_REC_FIXED + nt), np.nan) if record else np.empty((0, 0, _k.N_REC_FIXED + nt))
-    e = np.empty
+    n_rec = shared["n_steps"] // int(shared["C"][_k.REC_EVERY]) + 1 if task.record else 0
+    dims = _k.Dims(n=n, nt=shared["POS"].shape[0], buf_len=shared["buf_len"], n_rec=n_rec)
+    A = _k.allocate_arrays({**shared, **ps, "SEEDS": task.seeds}, dims)
+    run = _k.run_cuda if task.backend == "cuda" else _k.run_cpu
     t0 = time.perf_counter()
-    run(
-        ps["P"], C, seeds, ps["DIRS"], ps["FLEV"], shared["POS"], ps["MDOT"], shared["FAILED"],
-        shared["ENV"], shared["QREF"], shared["WREF"], shared["ATAB"], shared["ANOM"], shared["FNOM"],
-        shared["AMASK"], np.zeros((n, shared["buf_len"], nt)), np.zeros((n, _k.N_TS_PER_THR * nt + _k.N_TS_EXTRA)),
-        e((n, 4)), e((n, 3)), e((n, 6, 6)), e((n, 48)), e((n, 12)), e((n, 3)),
-        np.zeros((n, 2, 3)), np.zeros((n, 2, 3)), np.ones((n, 2)), e((n, 4)), e((n, 3)), e((1, 0, 0)),
-        e((n, 2, 3)), e((n, 2, 3)), e((n, 4)), e((n, 3, 3)), e((n, 3, 3)), e((n, 4, 4)), e((n, 3, 3)),
-        e((n, 3, 3)), e((n, 8)), e((n, 16)), OUT, REC, TOT,
-    )
+    run(A)
     wall = time.perf_counter() - t0
-    return {"out": OUT, "tot": TOT, "rec": REC if record else None, "wall": wall}
+    return {"out": A.OUT, "tot": A.TOT, "rec": A.REC if task.record else None, "wall": wall}
 
 
 #: Estimator kinds that the GPU driver runs (the Wahba and min-max solvers are CPU-only).
@@ -838,8 +835,8 @@ def simulate(
     tasks = []
     for lo in range(0, n_samples, chunk_size):
         hi = min(n_samples, lo + chunk_size)
-        task = (shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi], record)
-        tasks.append(task + ("cuda",) if target == "cuda" else task)
+        tasks.append(_Block(shared, {k: np.ascontiguousarray(v[lo:hi]) for k, v in ps.items()}, seeds[lo:hi],
+                            record, target))
     from adcskit.uncertainty import run_campaign
 
     with auto_session(progress):

@@ -1256,26 +1256,18 @@ def _prepare(sc: WheelScenario, n: int, gen: np.random.Generator) -> tuple[dict[
 
 
 def _run_wheel_block(task: tuple[np.ndarray, np.ndarray, np.ndarray, bool], shared: dict[str, Any]) -> dict[str, Any]:
-    """Run one chunk of samples through the kernel (module level: picklable for executors)."""
+    """Run one chunk of samples through the kernel (module level: picklable for executors). The
+    kernel's arrays are allocated as :data:`adcskit.simulation._wheel_kernels.ARGS` declares."""
     P, AX, seeds, record = task
-    n = P.shape[0]
-    nw = shared["JW"].shape[0]
-    nt = shared["THR"].shape[1]
-    filt = shared["C"][_k.EST_ON] > 0.0
-    n_steps = shared["n_steps"]
-    rec_every = int(shared["C"][_k.REC_EVERY])
-    n_rec = n_steps // rec_every + 1
-    nc = _k.N_REC_FIXED + 2 * nw + (_k.N_REC_THR if nt else 0) + (1 if filt else 0)
-    REC = np.full((n, n_rec, nc), np.nan) if record else np.empty((n, 0, nc))
-    OUT = np.empty((n, _k.N_METRICS))
-    ns = 7 + nw
+    C = shared["C"]
+    n_rec = shared["n_steps"] // int(C[_k.REC_EVERY]) + 1 if record else 0
+    dims = _k.Dims(n=P.shape[0], nw=shared["JW"].shape[0], nt=shared["THR"].shape[1], n_rec=n_rec,
+                   filt=bool(C[_k.EST_ON] > 0.0))
+    A = _k.allocate_arrays({**shared, "P": P, "AX": AX, "SEEDS": seeds}, dims)
     t0 = time.perf_counter()
     run = _k.run_wheels_cuda if shared.get("backend") == "cuda" else _k.run_wheels
-    run(P, AX, shared["C"], shared["ENV"], shared["AXN"], shared["PINV"], shared["NULLP"], shared["HSTAR"],
-                  shared["WPAR"], shared["JW"], seeds, np.zeros((n, ns)), np.zeros((n, ns)), np.zeros((n, ns)),
-                  np.zeros((n, ns)), np.zeros((n, _k.tm_len(nw, nt))), OUT, REC, THR=shared["THR"],
-                  KP=np.zeros((n, 6, 6) if filt else (n, 0, 0)), KW=np.zeros((n, _k.N_KW if filt else 0)))
-    return {"out": OUT, "rec": REC if record else None, "wall": time.perf_counter() - t0}
+    run(A)
+    return {"out": A.OUT, "rec": A.REC if record else None, "wall": time.perf_counter() - t0}
 
 
 def simulate_wheels(scenario: WheelScenario, n_samples: int = 1, rng: Any = None, executor: Any = None, *,
