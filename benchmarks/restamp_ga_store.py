@@ -1,0 +1,24 @@
+"""Re-stamp the packaged onoff-tuning GA store after a change of its code or libraries.
+
+Runs :func:`adcskit.studies.onoff_tuning.ga_store.restamp` on
+``src/adcskit/studies/onoff_tuning/paper_scale_ga`` with the jobs of the study's default
+paper-scale run (root seed 0): every stored run is re-evaluated exactly on its training
+samples, the runs named by ``--recompute`` are re-run from scratch and compared bit for bit,
+and only then are the files given the fingerprint of this installation (their provenance says
+what was re-verified and recomputed) and the manifest renewed. Nothing is written on a failure.
+
+Usage:
+    PYTHONPATH=src python benchmarks/restamp_ga_store.py --recompute sweep_all_1 s4_all_mean [--note TEXT]
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+
+from adcskit.studies.onoff_tuning.ga_store import main  # noqa: E402
+
+if __name__ == "__main__":
+    main()
