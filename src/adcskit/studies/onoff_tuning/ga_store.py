@@ -29,7 +29,7 @@ refused with an error naming its file (never silently replayed, never silently s
 * **re-evaluated** on the GA's own training samples (the same LHS draw from the same seed),
   the stored gains give the stored objective, mean, std and largest overshoot **bit for bit**
   (:func:`~adcskit.control.tuning.robust_objective_at`, the computation ``tune_robust`` made
-  its result with; ~2 s per paper-scale GA on two cores). An edited ``x`` or ``fun`` is refused.
+  its result with; its cost: docs/benchmarks.md). An edited ``x`` or ``fun`` is refused.
 
 The backend is not in the fingerprint (CPU and CUDA agree to ~1e-9 relative and fire
 identically), but the exact re-evaluation runs on the backend of the study run: a CUDA-made run
@@ -336,11 +336,9 @@ class GAStore:
         if not self.directory.is_dir():
             return None
         manifest = read_manifest(self.directory)
-        for path in sorted(self.directory.glob(f"*_{fp[:16]}.json")):
-            data = self._load(path, manifest)
-            if data is not None and data.get("fingerprint") == fp:
-                return path, data
-        return None
+        # every candidate is loaded (and vouched for by the manifest) before one is returned
+        found = [(path, self._load(path, manifest)) for path in sorted(self.directory.glob(f"*_{fp[:16]}.json"))]
+        return next(((path, d) for path, d in found if d is not None and d.get("fingerprint") == fp), None)
 
     def _inputs_fingerprint(self, dists, kwargs: dict[str, Any]) -> str:
         bound = inspect.signature(tune_robust).bind(dists, **kwargs)
