@@ -18,7 +18,25 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
-from adcskit.studies.onoff_tuning.ga_store import main  # noqa: E402
+import argparse  # noqa: E402
+import json  # noqa: E402
+
+from adcskit.studies.onoff_tuning.config import Config  # noqa: E402
+from adcskit.studies.onoff_tuning.experiment import ga_jobs  # noqa: E402
+from adcskit.studies.onoff_tuning.ga_store import PACKAGED, restamp  # noqa: E402
+
+
+def main(argv: list[str] | None = None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--directory", default=str(PACKAGED))
+    ap.add_argument("--seed", type=int, default=0, help="root seed of the study run the store belongs to")
+    ap.add_argument("--recompute", nargs="+", required=True, help="labels of runs to recompute from scratch")
+    ap.add_argument("--note", default="")
+    args = ap.parse_args(argv)
+    out = restamp(args.directory, ga_jobs(Config(paper_scale=True), args.seed), tuple(args.recompute), note=args.note)
+    print(json.dumps(out, indent=1), file=sys.stderr)
+    return out
+
 
 if __name__ == "__main__":
     main()

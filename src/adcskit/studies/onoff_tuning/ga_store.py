@@ -50,7 +50,6 @@ Re-stamp the packaged store after a change of the code or the libraries (the qui
 
 from __future__ import annotations
 
-import argparse
 import ast
 import dataclasses
 import datetime as _dt
@@ -64,7 +63,6 @@ import json
 import os
 import platform
 import subprocess
-import sys
 import time
 import tokenize
 import warnings
@@ -514,20 +512,3 @@ def restamp(directory: str | os.PathLike[str], jobs, recompute: tuple[str, ...],
         written.append(target.name)
     write_manifest(directory)
     return {"files": written, "verify_s": verify_s, "recompute_s": recompute_s, "wall_s": entry["wall_s"]}
-
-
-def main(argv: list[str] | None = None) -> dict[str, Any]:
-    """Command line of :func:`restamp` for the packaged store (the jobs of the study's default
-    paper-scale run, root seed 0)."""
-    from adcskit.studies.onoff_tuning.config import Config
-    from adcskit.studies.onoff_tuning.experiment import ga_jobs
-
-    ap = argparse.ArgumentParser(description="re-stamp stored onoff-tuning GA runs (see the module docstring)")
-    ap.add_argument("--directory", default=str(PACKAGED))
-    ap.add_argument("--seed", type=int, default=0, help="root seed of the study run the store belongs to")
-    ap.add_argument("--recompute", nargs="+", required=True, help="labels of runs to recompute from scratch")
-    ap.add_argument("--note", default="")
-    args = ap.parse_args(argv)
-    out = restamp(args.directory, ga_jobs(Config(paper_scale=True), args.seed), tuple(args.recompute), note=args.note)
-    print(json.dumps(out, indent=1), file=sys.stderr)
-    return out
