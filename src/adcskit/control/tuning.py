@@ -7,6 +7,9 @@
   Latin-hypercube samples of the uncertain parameters with pymoo's single-objective GA
   (population 70 as printed), stopped by S4's rule (mean change of the best objective over
   the last 10 generations < 1e-7) or a generation cap.
+* :func:`robust_objective_at` — eq. (10) of given gains on the training samples of a
+  :func:`tune_robust` call, computed as that call computes its result (bit for bit): the check
+  a stored GA result passes before it is replayed.
 
 The same LHS samples are used for every candidate and generation (common random numbers),
 so the robust objective is a deterministic function of the gains and the GA can converge.
@@ -56,6 +59,7 @@ __all__ = [
     "estimate_tuning_time",
     "evaluate_gains",
     "monte_carlo",
+    "robust_objective_at",
     "tune_deterministic",
     "tune_robust",
 ]
@@ -363,44 +367,22 @@ def tune_robust(
     from pymoo.core.termination import Termination
     from pymoo.optimize import minimize
 
-    from adcskit.control.robust import weights_from_ratio
-
-    for name in dists:
-        if name not in LoopParams.__slots__ or name in GAIN_NAMES:  # type: ignore[attr-defined]
-            raise InputError(f"dists keys must be LoopParams fields other than the gains; got {name!r}")
-    w1, w2 = weights_from_ratio(ratio)
-    n_samples = check_int("n_samples", n_samples, minimum=2)
     pop_size = check_int("pop_size", pop_size, minimum=4)
     max_gen = check_int("max_gen", max_gen, minimum=1)
     window = check_int("window", window, minimum=1)
     tol = check_positive("tol", tol)
     lo, hi = _bounds(bounds)
-    osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
-    check_choice("penalty_on", penalty_on, ("sample", "mean"))
-    base = LoopParams() if base is None else base
-    target = resolve_backend(backend)
-    gen = as_rng(rng)
-    samples = latin_hypercube(dists, n_samples, gen)
-    seed = _seed(gen)
-    counter = {"nfev": 0}
+    prob = _robust_problem(dists, ratio=ratio, n_samples=n_samples, base=base, settings=settings,
+                           overshoot_max_pct=overshoot_max_pct, penalty_weight=penalty_weight, rng=rng,
+                           backend=backend, penalty_on=penalty_on)
+    objective, target, counter = prob.objective, prob.target, prob.counter
     if time_estimate:
         est = estimate_tuning_time(
-            RobustTuningScale(pop_size=pop_size, max_gen=max_gen, n_samples=n_samples, n_eval=0,
+            RobustTuningScale(pop_size=pop_size, max_gen=max_gen, n_samples=prob.n_samples, n_eval=0,
                               tol=tol, window=window),
             settings=settings, backend=target,
         )
         status(est.message)
-
-    def objective(x: np.ndarray) -> tuple[np.ndarray, OnOffMetrics]:
-        m = evaluate_gains(x, samples, base=base, settings=settings, backend=target)
-        counter["nfev"] += x.shape[0] * n_samples
-        err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
-        os = m.overshoot_pct.reshape(x.shape[0], n_samples)
-        f = robust_objective(
-            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight,
-            penalty_on=penalty_on,
-        )
-        return f, m
 
     class _Problem(Problem):
         def __init__(self) -> None:
@@ -427,19 +409,15 @@ def tune_robust(
     term = _S4Termination()
     with bar(f"robust GA ({target})", max_gen) as advance:
         res = minimize(
-            _Problem(), GA(pop_size=pop_size, eliminate_duplicates=True), term, seed=seed, verbose=False
+            _Problem(), GA(pop_size=pop_size, eliminate_duplicates=True), term, seed=prob.seed, verbose=False
         )
     term = res.algorithm.termination  # pymoo works on its own copy of the termination
     x = np.asarray(res.X, dtype=float).ravel()
-    f, m = objective(x[None, :])
-    err = np.degrees(m.mean_abs_err_last)
+    at = prob.at(x)
     converged = term.converged
     return RobustTuningResult(
         x=x,
-        fun=float(f[0]),
-        mean_abs_err_deg=float(np.mean(err)),
-        std_abs_err_deg=float(np.std(err)),
-        max_overshoot_pct=float(np.nanmax(m.overshoot_pct)),
+        **at,
         success=converged,
         status=0 if converged else 1,
         message=(
@@ -450,10 +428,118 @@ def tune_robust(
         nit=len(term.history),
         nfev=counter["nfev"],
         history=np.asarray(term.history),
-        w1=w1,
-        w2=w2,
+        w1=prob.w1,
+        w2=prob.w2,
         backend=target,
     )
+
+
+@dataclass(frozen=True, slots=True)
+class _RobustProblem:
+    """The robust objective of one :func:`tune_robust` call: its LHS training samples, pymoo seed
+    (drawn from ``rng`` right after the samples), weights and backend, and ``objective(x)`` ->
+    (eq. 10 per row of ``x``, the metrics)."""
+
+    objective: Any
+    seed: int
+    n_samples: int
+    w1: float
+    w2: float
+    target: str
+    counter: dict
+
+    def at(self, x: np.ndarray) -> dict[str, float]:
+        """Eq. 10 and its statistics at one gain triple, as :class:`RobustTuningResult` holds them."""
+        f, m = self.objective(np.asarray(x, dtype=float).reshape(1, 3))
+        err = np.degrees(m.mean_abs_err_last)
+        return {"fun": float(f[0]), "mean_abs_err_deg": float(np.mean(err)), "std_abs_err_deg": float(np.std(err)),
+                "max_overshoot_pct": float(np.nanmax(m.overshoot_pct))}
+
+
+def _robust_problem(dists, *, ratio, n_samples, base, settings, overshoot_max_pct, penalty_weight, rng, backend,
+                    penalty_on) -> _RobustProblem:
+    """Validate the objective's inputs, draw the training samples and the pymoo seed (one source for
+    :func:`tune_robust` and :func:`robust_objective_at`)."""
+    from adcskit.control.robust import weights_from_ratio
+
+    for name in dists:
+        if name not in LoopParams.__slots__ or name in GAIN_NAMES:  # type: ignore[attr-defined]
+            raise InputError(f"dists keys must be LoopParams fields other than the gains; got {name!r}")
+    w1, w2 = weights_from_ratio(ratio)
+    n_samples = check_int("n_samples", n_samples, minimum=2)
+    osmax = check_positive("overshoot_max_pct", overshoot_max_pct)
+    check_choice("penalty_on", penalty_on, ("sample", "mean"))
+    base = LoopParams() if base is None else base
+    target = resolve_backend(backend)
+    gen = as_rng(rng)
+    samples = latin_hypercube(dists, n_samples, gen)
+    seed = _seed(gen)
+    counter = {"nfev": 0}
+
+    def objective(x: np.ndarray) -> tuple[np.ndarray, OnOffMetrics]:
+        m = evaluate_gains(x, samples, base=base, settings=settings, backend=target)
+        counter["nfev"] += x.shape[0] * n_samples
+        err = np.degrees(m.mean_abs_err_last).reshape(x.shape[0], n_samples)
+        os = m.overshoot_pct.reshape(x.shape[0], n_samples)
+        f = robust_objective(
+            err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight,
+            penalty_on=penalty_on,
+        )
+        return f, m
+
+    return _RobustProblem(objective=objective, seed=seed, n_samples=n_samples, w1=w1, w2=w2, target=target,
+                          counter=counter)
+
+
+def robust_objective_at(
+    x: Any,
+    dists: Mapping[str, Gaussian | TruncatedGaussian | Fixed],
+    *,
+    ratio: float,
+    n_samples: int = 50,
+    base: LoopParams | None = None,
+    settings: LoopSettings | None = None,
+    overshoot_max_pct: float = 10.0,
+    penalty_weight: float = 1.0,
+    rng: Any = None,
+    backend: str = "cpu",
+    penalty_on: str = "sample",
+    **ga_keywords: Any,
+) -> dict[str, float]:
+    """S4 eq. (10) of the gains ``x`` on the training samples a :func:`tune_robust` call with the
+    same arguments optimised on (same LHS draw from ``rng``), computed as that call computes its
+    result's ``fun``: for the same ``x`` on the same machine and backend the value is the same
+    float, bit for bit. Used to verify a stored GA result before it is replayed.
+
+    ``ga_keywords`` takes the GA-only arguments of :func:`tune_robust` (``pop_size``,
+    ``max_gen``, ``tol``, ``window``, ``bounds``, ``time_estimate``), which do not enter the
+    objective; any other keyword is an error.
+
+    Returns
+    -------
+    dict
+        ``fun``, ``mean_abs_err_deg``, ``std_abs_err_deg``, ``max_overshoot_pct`` (the fields of
+        :class:`RobustTuningResult`).
+
+    Examples
+    --------
+    >>> from adcskit.uncertainty import Gaussian
+    >>> kw = dict(ratio=10.0, n_samples=3, settings=LoopSettings(t_final=2.0, t_window=1.0), rng=7)
+    >>> r = tune_robust({"disturbance": Gaussian(mean=0.05, std=0.05)}, pop_size=4, max_gen=1, **kw)
+    >>> robust_objective_at(r.x, {"disturbance": Gaussian(mean=0.05, std=0.05)}, **kw)["fun"] == r.fun
+    True
+    """
+    unknown = set(ga_keywords) - {"pop_size", "max_gen", "tol", "window", "bounds", "time_estimate"}
+    if unknown:
+        raise InputError(f"robust_objective_at got unexpected keywords {sorted(unknown)}; allowed: the arguments "
+                         "of tune_robust")
+    g = np.asarray(x, dtype=float)
+    if g.shape != (3,) or not np.all(np.isfinite(g)):
+        raise InputError(f"x must be 3 finite gains (K_p, K_i, K_d); got {x!r}")
+    prob = _robust_problem(dists, ratio=ratio, n_samples=n_samples, base=base, settings=settings,
+                           overshoot_max_pct=overshoot_max_pct, penalty_weight=penalty_weight, rng=rng,
+                           backend=backend, penalty_on=penalty_on)
+    return prob.at(g)
 
 
 @compact_repr

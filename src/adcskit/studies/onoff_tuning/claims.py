@@ -83,6 +83,24 @@ def _ga_source(m: Measurements) -> str:
     return f"; robust GA results: {st['n_stored']} of {st['n_runs']} replayed from the {'; '.join(st['sources'])}"
 
 
+def _replay_mark(m: Measurements, cases=CASES, default_only: bool = False) -> str:
+    """The marker a claim's deciding quantity carries (the overview table) when its robust gains come
+    from replayed GA runs: ``" [robust gains replayed: N of M GAs from stored runs]"`` ("" when none).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> rd = lambda src: NS(ga=NS(stored=src))
+    >>> seed = NS(cases={"all": NS(readings=(rd("CPU run"), rd("")))})
+    >>> _replay_mark(NS(seeds=(seed, seed)), ("all",)), _replay_mark(NS(seeds=(seed,)), ("all",), default_only=True)
+    (' [robust gains replayed: 2 of 4 GAs from stored runs]', ' [robust gains replayed: 1 of 1 GAs from stored runs]')
+    """
+    srcs = [rd.ga.stored for so in m.seeds for c in cases if c in so.cases
+            for rd in (so.cases[c].readings[:1] if default_only else so.cases[c].readings)]
+    n = sum(bool(s) for s in srcs)
+    return f" [robust gains replayed: {n} of {len(srcs)} GAs from stored runs]" if n else ""
+
+
 def _robust_std_claim(config: Config, m: Measurements, case: str) -> Claim:
     runs = {k: [{"r": v} for v in vals] for k, vals in _ratio_runs(config, m, case, "std").items()}
     r_def = _default_reading(config)
@@ -93,7 +111,8 @@ def _robust_std_claim(config: Config, m: Measurements, case: str) -> Claim:
                   f"w2/w1 = {config.ratio(case):g})",
         where=f"§5, Table 6, {CLAIM_FIGURES[case]}",
         quantity=f"per seed, std of |error| (mean over the last {config.t_window_s:g} s) of the robust gains / "
-                 f"of the deterministic gains on the same {m.ga['n_mc']} fresh LHS samples; holds below 1",
+                 f"of the deterministic gains on the same {m.ga['n_mc']} fresh LHS samples; holds below 1"
+                 + _replay_mark(m, (case,)),
         value=_r, threshold=1.0, better="below", unit="-",
         readings=tuple(k for k in runs if k != r_def), protocol_keys=PROTOCOL_KEYS,
         describe=lambda r: "robust/deterministic per seed: " + ", ".join(f"{v:.3f}" for v in r.values) + _ga_source(m),
@@ -122,7 +141,7 @@ def _typical_mean_claim(config: Config, m: Measurements) -> Claim:
         quantity=f"per seed, the number of the {len(CASES)} Table 6 cases (each uncertainty alone and all four, at the "
                  f"printed w2/w1) in which the robust gains' mean |error| exceeds the deterministic gains' on the same "
                  f"{m.ga['n_mc']} fresh LHS samples; 'typically' = {TYPICALLY}, so it holds above "
-                 f"{len(CASES) / 2:g} ('slightly' is not quantified; the ratios: measured.mean_ratio)",
+                 f"{len(CASES) / 2:g} ('slightly' is not quantified; the ratios: measured.mean_ratio)" + _replay_mark(m),
         value=_n, threshold=len(CASES) / 2, better="above", unit="cases",
         readings=tuple(k for k in runs if k != r_def), protocol_keys=PROTOCOL_KEYS, describe=describe,
     ).evaluate(runs, default=r_def)
@@ -140,11 +159,22 @@ def claims(config: Config, m: Measurements) -> list[Claim]:
             statement="a lower thruster command frequency raises the mean and the spread of the pointing error",
             where="§5, Figs. 20-21",
             quantity=f"per seed, the smallest ratio {rates[0]:g} Hz / {rates[-1]:g} Hz over (mean, std) x "
-                     f"(deterministic, robust gains), all four uncertainties, {config.n_mc_rate} runs; holds above 1",
+                     f"(deterministic, robust gains), all four uncertainties, {config.n_mc_rate} runs; holds above 1"
+                     + _replay_mark(m, ("all",), default_only=True),
             value=_r, threshold=1.0, better="above", unit="-", protocol_keys=protocol_keys(Config, "s4-loop", "tuning", "command-rates"),
-            describe=lambda r: "smallest ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values),
+            describe=lambda r: "smallest ratio per seed: " + ", ".join(f"{v:.3f}" for v in r.values) + _rate_source(m),
         ).evaluate({"default": [{"r": so.rate.ratio_min} for so in m.seeds]}))
     return out
+
+
+def _rate_source(m: Measurements) -> str:
+    """What ``command-rate``'s robust gains are: each seed's all-four GA (default reading), replayed or run here."""
+    srcs = [so.cases["all"].readings[0].ga.stored for so in m.seeds if "all" in so.cases]
+    n = sum(bool(s) for s in srcs)
+    if not n:
+        return "; robust gains: each seed's all-four GA of this run"
+    return (f"; robust gains: each seed's all-four GA (default reading), {n} of {len(srcs)} replayed from the "
+            f"{'; '.join(sorted({s for s in srcs if s}))} (verified on replay)")
 
 
 def _ratio_describe(r) -> str:

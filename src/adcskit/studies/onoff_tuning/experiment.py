@@ -39,7 +39,8 @@ from adcskit.studies.onoff_tuning.paper import CASES, PAPER_TABLE4, PAPER_TABLE6
 from adcskit.uncertainty.sampling import Gaussian, latin_hypercube
 
 __all__ = ["Measurements", "SeedRun", "CaseRun", "CaseReading", "GainEval", "GARun", "RateContrast",
-           "RobustCase", "OrderRow", "SweepRow", "StdRow", "RateRow", "StepTrace", "measure", "stored_ga"]
+           "RobustCase", "OrderRow", "SweepRow", "StdRow", "RateRow", "StepTrace", "ga_jobs", "measure", "stored_ga",
+           "stored_sweep"]
 
 
 def row(rec: Any) -> dict[str, Any]:
@@ -81,6 +82,8 @@ class SweepRow(Result):
     mean_abs_err_deg: float
     std_abs_err_deg: float
     generations: int
+    #: where a stored sweep GA came from (as :attr:`GARun.stored`); "" = run here (or seed 0's claim GA)
+    stored: str = ""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, repr=False)
@@ -291,6 +294,22 @@ def stored_ga(m: Measurements) -> dict[str, Any]:
     return {"n_stored": sum(bool(s) for s in srcs), "n_runs": len(srcs), "sources": sorted({s for s in srcs if s})}
 
 
+def stored_sweep(m: Measurements) -> dict[str, Any]:
+    """How many of the all-four ratio sweep's own GAs (Figs 12-14) were replayed from a GA store, and
+    from which runs (its Table 6 ratio is seed 0's claim GA, counted by :func:`stored_ga`).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> rows = (NS(case="all", ratio=10.0, stored="CPU run of D on M"), NS(case="all", ratio=180.0, stored=""),
+    ...         NS(case="delay", ratio=10.0, stored=""))
+    >>> stored_sweep(NS(sweep_rows=rows, robust={"all": NS(ratio=180.0)}))
+    {'n_stored': 1, 'n_runs': 1, 'sources': ['CPU run of D on M']}
+    """
+    srcs = [r.stored for r in m.sweep_rows if r.case == "all" and r.ratio != m.robust["all"].ratio]
+    return {"n_stored": sum(bool(s) for s in srcs), "n_runs": len(srcs), "sources": sorted({s for s in srcs if s})}
+
+
 def _seeds(rng: np.random.Generator, n: int) -> list[int]:
     return [int(s) for s in rng.integers(0, 2**31 - 1, size=n)]
 
@@ -427,12 +446,17 @@ def stored_claim_gas(config: Config, seed: int, store) -> tuple[int, int]:
     return _count_stored(config, _seed_seqs(config, np.random.default_rng(seed)), store)
 
 
-def _count_stored(config: Config, seed_seqs: list[np.random.SeedSequence], store) -> tuple[int, int]:
+def _claim_jobs(config: Config, seed_seqs: list[np.random.SeedSequence]) -> list[tuple[str, str, str, dict]]:
+    """:func:`claim_gas` of every seed of a run (``seed_seqs`` as :func:`measure` draws them; not advanced)."""
     seed_seqs = copy.deepcopy(seed_seqs)  # spawning advances them
     settings, base, ga = config.settings(), config.base(), _ga_settings(config)
     bounds = (1e-3, config.gain_max)
     _seed0_nsga(seed_seqs)  # as in measure(): before the pipelines
-    jobs = [job for i, ss in enumerate(seed_seqs) for job in claim_gas(config, i, _kids(ss), ga, settings, base, bounds)]
+    return [job for i, ss in enumerate(seed_seqs) for job in claim_gas(config, i, _kids(ss), ga, settings, base, bounds)]
+
+
+def _count_stored(config: Config, seed_seqs: list[np.random.SeedSequence], store) -> tuple[int, int]:
+    jobs = _claim_jobs(config, seed_seqs)
     return sum(store.has(config.dists(case), **kw) for _, _, case, kw in jobs), len(jobs)
 
 
@@ -562,32 +586,62 @@ def _robust_summary(config: Config, seed0: SeedRun, ga: Mapping[str, Any]) -> di
     return robust
 
 
-def _sweep_row(case: str, r: float, res, ev) -> SweepRow:
+def _sweep_row(case: str, r: float, res, ev, stored: str = "") -> SweepRow:
     return SweepRow(case=case, ratio=r, kp=res.x[0], ki=res.x[1], kd=res.x[2], mean_abs_err_deg=ev.mean_abs_err_deg,
-                    std_abs_err_deg=ev.std_abs_err_deg, generations=res.nit)
+                    std_abs_err_deg=ev.std_abs_err_deg, generations=res.nit, stored=stored)
+
+
+def _sweep_seeds(config: Config, rng) -> list[tuple[float, int | None, int]]:
+    """``(ratio, GA seed or None, evaluation seed)`` of the all-four ratio sweep, drawn from ``rng`` in the
+    sweep's order (the Table 6 ratio reuses seed 0's GA: no GA seed)."""
+    out = []
+    for r in sorted(set(config.sweep_ratios) | {config.ratio_all}):
+        ga_seed = None if r == config.ratio_all else _seeds(rng, 1)[0]
+        out.append((r, ga_seed, _seeds(rng, 1)[0]))
+    return out
+
+
+def _sweep_ga(config: Config, r: float, seed: int, base, settings, bounds) -> tuple[str, dict[str, Any]]:
+    """``(label, tune_robust keywords)`` of the sweep GA at ratio ``r``."""
+    return f"sweep_all_{r:g}", dict(
+        ratio=r, n_samples=config.n_lhs, base=base, settings=settings, pop_size=config.ga_pop,
+        max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
+        overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
+        rng=seed, backend=config.backend)
 
 
 def _ratio_sweep(config: Config, rng, base, settings, bounds, mc_kw, robust_all) -> list[SweepRow]:
     """Weight-ratio sweep, all four uncertainties (Figs 12-14); the Table 6 ratio reuses seed 0's GA."""
     rows = []
-    ratios = sorted(set(config.sweep_ratios) | {config.ratio_all})
+    plan = _sweep_seeds(config, rng)
     store = resolve_store(config.ga_store, config.paper_scale)  # at paper scale 1000 LHS samples per candidate
-    for r in track(ratios, "ratio sweep", total=len(ratios)):
-        if r == config.ratio_all:
+    for r, ga_seed, mc_seed in track(plan, "ratio sweep", total=len(plan)):
+        src = None
+        if ga_seed is None:
             res = robust_all
         else:
             status(f"onoff-tuning: ratio sweep w2/w1 = {r:g}")
-            res, _ = _tune(  # stored like the claim GAs
-                store, f"sweep_all_{r:g}", config.dists("all"), ratio=r,
-                n_samples=config.n_lhs, base=base, settings=settings, pop_size=config.ga_pop,
-                max_gen=config.sweep_max_gen, tol=config.ga_tol_deg, window=config.ga_window, bounds=bounds,
-                overshoot_max_pct=config.overshoot_max_pct, penalty_weight=config.penalty_weight_deg_per_pct,
-                rng=_seeds(rng, 1)[0], backend=config.backend,
-            )
-        ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=_seeds(rng, 1)[0],
+            label, kw = _sweep_ga(config, r, ga_seed, base, settings, bounds)
+            res, src = _tune(store, label, config.dists("all"), **kw)  # stored like the claim GAs
+        ev = monte_carlo(res.x, config.dists("all"), config.n_mc_sweep, settings=settings, rng=mc_seed,
                          directory=_campaign_dir(config, f"sweep_{r:g}"), **mc_kw)
-        rows.append(_sweep_row("all", r, res, ev))
+        rows.append(_sweep_row("all", r, res, ev, _provenance(src)))
     return rows
+
+
+def ga_jobs(config: Config, seed: int) -> list[tuple[str, Any, dict[str, Any]]]:
+    """``(label, dists, tune_robust keywords)`` of every GA a run of ``config`` with root seed ``seed``
+    may keep in a GA store: the claim GAs of every seed, then the all-four ratio sweep's GAs (the
+    same inputs :func:`measure` passes, from the same random stream)."""
+    rng = np.random.default_rng(seed)
+    seed_seqs = _seed_seqs(config, rng)
+    jobs = [(label, config.dists(case), kw) for label, _, case, kw in _claim_jobs(config, seed_seqs)]
+    settings, base, bounds = config.settings(), config.base(), (1e-3, config.gain_max)
+    for r, ga_seed, _ in _sweep_seeds(config, rng):
+        if ga_seed is not None:
+            label, kw = _sweep_ga(config, r, ga_seed, base, settings, bounds)
+            jobs.append((label, config.dists("all"), kw))
+    return jobs
 
 
 def _case_sweep(config: Config, rng, base, settings, bounds, mc_kw) -> list[SweepRow]:

@@ -84,8 +84,9 @@ def _ratio_sweep(m: Measurements):
             continue
         x = [r.ratio for r in rows]
         style = "k-o" if case == "all" else "-o"
-        axes[0].plot(x, [r.std_abs_err_deg for r in rows], style, ms=4, label=case)
-        axes[1].plot(x, [r.mean_abs_err_deg for r in rows], style, ms=4, label=case)
+        label = case + (" (stored GAs replayed)" if any(r.stored for r in rows) else "")
+        axes[0].plot(x, [r.std_abs_err_deg for r in rows], style, ms=4, label=label)
+        axes[1].plot(x, [r.mean_abs_err_deg for r in rows], style, ms=4, label=label)
     for ax, what in zip(axes, ("std", "mean")):
         ax.set_xscale("log")
         ax.set_yscale("log")
