@@ -566,14 +566,20 @@ class RecursiveLeastSquares:
         self.P = self.delta * np.eye(self.Theta.shape[1])
         self.nit = 0
 
-    def update(self, phi, z) -> None:
-        """One sample: regressor ``phi`` (q,) and target ``z`` (n,) (plain float arrays).
+    def update(self, phi, z, *, validate: bool = True) -> None:
+        """One sample: regressor ``phi`` (q,) and target ``z`` (n,).
 
-        Deliberately **unvalidated** (a fast inner loop): ``phi`` and ``z`` must already be
-        finite float arrays of the right shapes, or the result is undefined. Use the
-        validated :meth:`update_batch` (or :func:`identify_model` with ``method="rls"``) for
-        untrusted input.
+        With ``validate=True`` (default) ``phi`` and ``z`` must be finite real arrays of shapes
+        ``(q,)`` and ``(n,)`` (``Theta0`` has shape ``(n, q)``), otherwise
+        :class:`~adcskit.errors.InputError` names the argument. ``validate=False`` is the fast
+        path for inner loops that pass already validated float arrays (:meth:`update_batch`,
+        the joint estimator): nothing is checked and the result of invalid input is undefined.
+        Both paths give bit-identical results on valid input.
         """
+        if validate:
+            n, q = self.Theta.shape
+            phi = as_array("phi", phi, shape=(q,))
+            z = as_array("z", z, shape=(n,))
         lam = self.forgetting
         Pphi = self.P @ phi
         k = Pphi / (lam + phi @ Pphi)
@@ -593,7 +599,7 @@ class RecursiveLeastSquares:
             raise InputError(f"Phi must have shape (N, {q}) to match Theta0; got shape {Phi.shape}")
         Z = as_array("Z", Z, shape=(Phi.shape[0], n), nonempty=False)
         for phi, z in zip(Phi, Z):
-            self.update(phi, z)
+            self.update(phi, z, validate=False)
 
 
 def _k_rls(Phi, Z, T0, Tp, o, gen):

@@ -245,7 +245,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
                 if rls is not None:
                     for s in range(rls.nit, t):
                         phi = np.concatenate([Xf[s], u[s]]) if estimate_B else Xf[s]
-                        rls.update(phi, Z_all[s])
+                        rls.update(phi, Z_all[s], validate=False)
                     Theta_new, ok, k_it = rls.Theta, bool(np.all(np.isfinite(rls.Theta))), 1
                 else:
                     Phi = np.hstack([Xf[:t], u[:t]]) if estimate_B else Xf[:t]
@@ -263,7 +263,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
             A_cur = Theta[:, :n]
             B_cur = Theta[:, n:] if estimate_B else B
             hist[t] = A_cur
-            Xf[t], _P, nus[t], _S = kf.step(y[t], u[t], A_cur, B_cur, C, Q, R)
+            Xf[t], _P, nus[t], _S = kf.step(y[t], u[t], A_cur, B_cur, C, Q, R, validate=False)
     ok = bool(np.all(np.isfinite(Xf)))
     return JointResult(
         A=Theta[:, :n].copy(),
