@@ -361,7 +361,7 @@ def augmented_ekf(
     model : callable
         ``model(p) -> (A_d, B_d)``, discrete model for parameters ``p`` (n_p,).
     p0 : array_like, shape (n_p,)
-        Prior parameter mean (e.g. ones: the assumed inertias are right).
+        Prior parameter mean (e.g. ones: the assumed inertias are right), each >= ``p_min``.
     P_p0 : array_like, shape (n_p, n_p) or float
         Prior parameter covariance (e.g. ``0.5**2`` for 50 % uncertainty).
     Q_p : array_like or float
@@ -400,6 +400,12 @@ def augmented_ekf(
     p0 = as_array("p0", p0, ndim=1)
     n_p = p0.shape[0]
     p_min = float(check_positive("p_min", p_min))  # > 0: the model is evaluated at the floor
+    if np.any(p0 < p_min):
+        i = int(np.argmin(p0 >= p_min))
+        raise InputError(
+            f"p0 must be >= p_min = {p_min:g} (the model has no meaning below its floor); "
+            f"got p0[{i}] = {float(p0[i])!r}"
+        )
     # the model is only ever evaluated at or above the documented floor, the first call included
     pair = model(np.maximum(p0, p_min))
     if not (isinstance(pair, tuple | list) and len(pair) == 2):
