@@ -488,7 +488,7 @@ def _param_matrix(params: LoopParams) -> np.ndarray:
     for name, (ok, what) in checks.items():
         if not np.all(ok):
             i = int(np.argmin(ok))
-            raise InputError(f"{name} must be {what}; got {np.atleast_1d(b[name])[i]!r} at sample {i}")
+            raise InputError(f"{name} must be {what}; got {float(np.atleast_1d(b[name])[i])!r} at sample {i}")
     return P
 
 

@@ -95,6 +95,7 @@ from adcskit._validation import (
     check_int,
     check_positive,
     check_range,
+    short_repr,
 )
 from adcskit.errors import InputError, InputTypeError
 
@@ -220,13 +221,18 @@ def regression_data(states, targets, inputs=None, *, B=None, estimate_B=False):
     estimate_B = check_flag("estimate_B", estimate_B)
     if estimate_B:
         if p == 0:
-            raise InputError("estimate_B=True needs inputs")
+            raise InputError("inputs must be given with estimate_B=True (the regressors are [x, u]); got None")
+        if B is not None:
+            raise InputError(f"B must be None with estimate_B=True (B is estimated); got {short_repr(B)}")
         return np.hstack([X, U]), Z
+    if B is not None and p == 0:
+        raise InputError(f"B is only used with inputs (B u is subtracted from the targets); got B={short_repr(B)} "
+                         "and inputs=None")
     if B is not None and p > 0:
         Bm = as_array("B", B, shape=(n, p))
         Z = Z - U @ Bm.T
     elif p > 0 and B is None:
-        raise InputError("B must be given when inputs are given and estimate_B is False")
+        raise InputError("B must be given when inputs are given and estimate_B is False; got None")
     return X, Z
 
 
@@ -576,7 +582,7 @@ class RecursiveLeastSquares:
         the joint estimator): nothing is checked and the result of invalid input is undefined.
         Both paths give bit-identical results on valid input.
         """
-        if validate:
+        if validate is not False and (validate is True or check_flag("validate", validate)):
             n, q = self.Theta.shape
             phi = as_array("phi", phi, shape=(q,))
             z = as_array("z", z, shape=(n,))
@@ -732,6 +738,10 @@ def identify_model(
     p = q - n
 
     def theta(name_a, a, name_b, b, default):
+        if b is not None and p == 0:
+            raise InputError(f"{name_b} is only used with inputs and estimate_B=True; got {short_repr(b)}")
+        if b is not None and a is None:
+            raise InputError(f"{name_b} needs {name_a} (the pair is the model [A B]); got {name_a}=None")
         if a is None:
             return None if default is None else default.copy()
         Am = as_array(name_a, a, shape=(n, n))
@@ -796,3 +806,10 @@ def _check_opts(method, o):
     elif method == "rls":
         check_positive("options['delta']", o["delta"])
         check_range("options['forgetting']", o["forgetting"], 0.0, 1.0, lo_open=True)
+    elif method == "lsqr":
+        check_positive("options['atol']", o["atol"], allow_zero=True)
+        check_positive("options['btol']", o["btol"], allow_zero=True)
+        if o["maxiter"] is not None:
+            check_int("options['maxiter']", o["maxiter"], minimum=1)
+    elif method == "qr":
+        check_positive("options['rank_tol']", o["rank_tol"], allow_zero=True)

@@ -50,7 +50,7 @@ from scipy.linalg import LinAlgError
 from scipy.linalg.lapack import dpotrf, dpotrs
 
 from adcskit._results import Result
-from adcskit._validation import as_array, as_rng, check_choice, check_positive
+from adcskit._validation import as_array, as_rng, check_choice, check_flag, check_positive
 from adcskit.errors import InputError
 
 __all__ = [
@@ -235,10 +235,10 @@ def _check_model(A, B, C, Q, R, *, a_name="A"):
         raise InputError(f"{a_name} must be square (n, n); got shape {A.shape}")
     B = as_array("B", B, ndim=2)
     if B.shape[0] != n:
-        raise InputError(f"B must have shape ({n}, p) to match A; got shape {B.shape}")
+        raise InputError(f"B must have shape ({n}, p) to match {a_name}; got shape {B.shape}")
     C = as_array("C", C, ndim=2)
     if C.shape[1] != n:
-        raise InputError(f"C must have shape (m, {n}) to match A; got shape {C.shape}")
+        raise InputError(f"C must have shape (m, {n}) to match {a_name}; got shape {C.shape}")
     m = C.shape[0]
     Q = _check_cov("Q", Q, n)
     R = _check_cov("R", R, m, positive=True)
@@ -324,7 +324,7 @@ class KalmanFilter:
             ``R`` must be ``(n, n)`` and ``(m, m)`` arrays, and the result of invalid input is
             undefined. Both paths give bit-identical results on valid array input.
         """
-        if validate:
+        if validate is not False and (validate is True or check_flag("validate", validate)):
             y, u, A, B, C, Q, R = self._check_step(y, u, A, B, C, Q, R)
         x_f, P_f, self.x_pred, self.P_pred, nu, S, _ = self._step(
             self.x_pred, self.P_pred, y, u, A, B, C, Q, R
