@@ -423,13 +423,17 @@ case("estimation.RecursiveLeastSquares.update", target=method("", _rls, "update"
 )
 
 
-def _kf() -> Any:
+def _kf_step() -> Callable[..., Any]:
+    """``KalmanFilter.step`` on a fresh filter per call (a step advances the filter's state)."""
     from adcskit.estimation import KalmanFilter
 
-    return KalmanFilter([0.0, 0.0], 1.0)
+    def step(y, u, A, B, C, Q, R, *, validate=True):
+        return KalmanFilter([0.0, 0.0], 1.0).step(y, u, A, B, C, Q, R, validate=validate)
+
+    return step
 
 
-case("estimation.KalmanFilter.step", target=method("", _kf, "step"), positive=("R", "Q"))(
+case("estimation.KalmanFilter.step", target=_kf_step, positive=("R", "Q"))(
     lambda: dict(y=[0.5, 0.1], u=[0.0], A=A2, B=B2, C=C2, Q=0.001, R=0.01, validate=True)
 )
 case("estimation.RecursiveLeastSquares.update_batch", target=method("", _rls, "update_batch"))(
