@@ -308,3 +308,25 @@ def test_cli_config_range_error_names_key_and_value(tmp_path: Path, capsys):
     rc = main(["run", "closed-loop", "--config", str(cfg), "--out", str(tmp_path / "o")])
     assert rc == 2
     assert "n_samples must be >= 2; got -10" in capsys.readouterr().err
+
+
+def test_cli_console_run_time_is_the_reports(monkeypatch, tmp_path: Path, capsys):
+    # issue 44: the console said 3.3 s, the report 2.0 s for the same custom-config run (two
+    # clocks: one around run_study, config and figure writing included, one around the study)
+    import json
+    import re
+
+    import adcskit.studies
+    import adcskit.studies._registry as registry
+    from adcskit.cli import main
+
+    monkeypatch.syspath_prepend(str(Path(__file__).parents[1]))  # tests/fake_study.py
+    studies = dict(registry.STUDIES)
+    studies["fake"] = registry.StudyInfo("fake", "fake_study", "none", "A fake study")
+    monkeypatch.setattr(registry, "STUDIES", studies)
+    monkeypatch.setattr(adcskit.studies, "STUDIES", studies)
+    out = tmp_path / "out"
+    assert main(["run", "fake", "--quick", "--out", str(out)]) == 0
+    console = re.search(r"fake: done in (\d+\.\d) s", capsys.readouterr().out)
+    report = json.loads((out / "fake" / "result.json").read_text())["runtime_s"]
+    assert console is not None and console.group(1) == f"{report:.1f}"
