@@ -577,8 +577,8 @@ class RecursiveLeastSquares:
 
         With ``validate=True`` (default) ``phi`` and ``z`` must be finite real arrays of shapes
         ``(q,)`` and ``(n,)`` (``Theta0`` has shape ``(n, q)``), otherwise
-        :class:`~adcskit.errors.InputError` names the argument. ``validate=False`` is the fast
-        path for inner loops that pass already validated float arrays (:meth:`update_batch`,
+        :class:`~adcskit.errors.InputError` names the argument. ``validate=False`` is the
+        fast path for inner loops that pass already validated float arrays (:meth:`update_batch`,
         the joint estimator): nothing is checked and the result of invalid input is undefined.
         Both paths give bit-identical results on valid input.
         """
