@@ -330,3 +330,28 @@ def test_cli_console_run_time_is_the_reports(monkeypatch, tmp_path: Path, capsys
     console = re.search(r"fake: done in (\d+\.\d) s", capsys.readouterr().out)
     report = json.loads((out / "fake" / "result.json").read_text())["runtime_s"]
     assert console is not None and console.group(1) == f"{report:.1f}"
+
+
+@pytest.mark.parametrize(
+    ("study", "changes", "message"),
+    [
+        ("closed-loop", {"n_samples": -10}, "n_samples must be >= 2; got -10"),
+        ("closed-loop", {"record_samples": 0}, "record_samples must be >= 1; got 0"),
+        ("closed-loop", {"q6_record_every": 0}, "q6_record_every must be >= 1; got 0"),
+        ("closed-loop", {"leo_window_s": 100.0}, "leo_window_s must be < leo_t_final_s = 60.0 s; got 100.0"),
+        ("thruster-layout", {"box_half_size_m": [1.0, -1.0, 1.0]}, "box_half_size_m must be > 0 per axis; got"),
+        ("model-estimation", {"rls_delta": 0.0}, "rls_delta must be > 0; got 0.0"),
+        ("model-estimation", {"noise_std_low": -1.0}, "noise_std_low must be >= 0; got -1.0"),
+        ("onoff-schmitt", {"n_ratio": 1}, "n_ratio must be >= 2; got 1"),
+        ("onoff-tuning", {"sweep_ratios": [1.0, -2.0]}, "sweep_ratios must be > 0 each; got"),
+        ("rendezvous", {"rows_m": []}, "rows_m must list at least one initial position (m); got"),
+        ("wahba-orbit", {"pop_size": 2}, "pop_size must be an integer >= 4; got 2"),
+    ],
+)
+def test_config_range_errors_name_the_key_and_the_value(study, changes, message):
+    from adcskit.errors import ConfigError
+    from adcskit.studies import resolve_config
+
+    with pytest.raises(ConfigError) as err:
+        resolve_config(study, changes)
+    assert message in str(err.value)
