@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import bar, track
-from adcskit._validation import check_callable, check_int, check_positive, short_repr
+from adcskit._validation import _first_line, check_callable, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
@@ -445,11 +445,6 @@ class DaskExecutor(Executor):
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
-
-
-def _first_line(exc: BaseException) -> str:
-    lines = str(exc).strip().splitlines()
-    return lines[0] if lines else type(exc).__name__
 
 
 def _parse_count(spec: str, text: str) -> int | None:
