@@ -153,7 +153,7 @@ def test_sensor_measure_rejects_degenerate_attitude_and_reference(A, r, fragment
 @pytest.mark.parametrize(
     ("fn", "kw", "fragment"),
     [
-        (lambda **k: control.LoopParams(**k), dict(torque=-1.0), "torque must be >= 0"),
+        (lambda **k: control.LoopParams(**k), dict(torque=-1.0), "torque must be > 0"),
         (thrusters.fuel_mass, dict(t_p=[0.01], mdot=-1e-3), "mdot must be >= 0 kg/s"),
         (thrusters.min_impulse_bit, dict(lever_arm=[1.0], f_max=-10.0), "f_max must be > 0 N"),
         (thrusters.score_layout, dict(torque_matrix=_cube_tm(), demands=np.eye(3), f_max=0.0), "f_max must be > 0 N"),
@@ -300,16 +300,17 @@ def test_zero_d_arrays_are_accepted_where_scalars_are(fn, arg):
     np.testing.assert_array_equal(plain, zero_d)
 
 
-# --- deliberately unvalidated inner loops --------------------------------------------------------
+# --- inner loops: validated by default, a documented validate=False fast path (issue 44) ---------
 
 
 @pytest.mark.parametrize(
     ("method", "entry"),
     [(estimation.KalmanFilter.step, "kalman_filter"), (estimation.RecursiveLeastSquares.update, "update_batch")],
 )
-def test_unvalidated_inner_loops_say_so_and_point_to_the_validated_entry(method, entry):
+def test_inner_loops_document_their_fast_path_and_its_callers(method, entry):
     doc = inspect.getdoc(method)
-    assert "unvalidated" in doc and entry in doc
+    assert "validate" in doc and "fast path" in doc and entry in doc
+    assert inspect.signature(method).parameters["validate"].default is True
 
 
 def test_rls_update_batch_is_validated():

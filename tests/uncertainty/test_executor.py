@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from adcskit.errors import InputError
+from adcskit.errors import AdcskitError, InputError
 from adcskit.uncertainty import SerialExecutor, make_executor
 
 TESTS = Path(__file__).resolve().parents[1]
@@ -81,15 +81,18 @@ def test_dask_executor_arguments_are_checked():
 @pytest.mark.parametrize(
     ("spec", "fragment"),
     [
-        ("threads", "executor must be one of serial, processes[:N], dask-local[:N], dask://HOST:PORT; got 'threads'"),
-        ("processes:0", "must end with a positive worker count"),
-        ("processes:x", "must end with a positive worker count"),
-        ("dask://nohost", "needs a host and a numeric port"),
-        (3, "executor must be one of"),
+        ("threads", "executor spec must be one of serial, processes[:N], dask-local[:N], dask://HOST:PORT; got 'threads'"),
+        ("processes:0", "must end with a worker count in [1, 1024] after ':'; got '0'"),
+        ("processes:x", "must end with a worker count in [1, 1024]"),
+        ("processes:100000", "must end with a worker count in [1, 1024]"),
+        ("dask://nohost", "needs a host and a numeric port in [1, 65535]"),
+        ("dask://host:70000", "needs a host and a numeric port in [1, 65535]; got 'dask://host:70000'"),
+        (3, "executor spec must be an Executor or a string"),
     ],
 )
 def test_bad_specs(spec, fragment):
-    with pytest.raises(InputError) as err:
+    # issue 44: each message names the spec, the value and what is allowed
+    with pytest.raises(AdcskitError) as err:
         make_executor(spec)
     assert fragment in str(err.value)
 

@@ -73,7 +73,9 @@ def test_robust_objective_eq10():
     f = robust_objective(e, os, w1=w1, w2=w2, penalty_weight=2.0)
     # row 0: 0.25*0.2 + 0.75*0.1 + 2*mean(0, 4) = 0.05 + 0.075 + 4
     np.testing.assert_allclose(f, [0.05 + 0.075 + 4.0, 0.25 * 0.2], rtol=1e-12)
-    assert robust_objective([np.nan, 1.0]) == np.inf
+    assert robust_objective([np.nan, 1.0], nonfinite="infeasible") == np.inf  # a diverged sample
+    with pytest.raises(InputError, match="errors must be finite"):  # issue 44: not silent by default
+        robust_objective([np.nan, 1.0])
 
 
 def test_robust_objective_penalty_on_mean_overshoot():

@@ -170,7 +170,7 @@ class LoopParams(Result):
     inertia : float or array
         Moment of inertia ``J`` [kg m²] (S4 Table 3: 10).
     torque : float or array
-        Torque level ``T`` of the thruster pair [N m] (S4 Table 3: 1).
+        Torque level ``T`` of the thruster pair [N m] (S4 Table 3: 1), > 0.
     delay : float or array
         Pure thruster delay ``τ`` [s] (S4 Table 3: 0.02), >= 0.
     disturbance : float or array
@@ -479,7 +479,7 @@ def _param_matrix(params: LoopParams) -> np.ndarray:
     P[:, _k.DOMEGA] = 2.0 * math.pi * np.atleast_1d(b["disturbance_freq_hz"])
     checks = {
         "inertia": (P[:, _k.INERTIA] > 0, "> 0 kg m^2"),
-        "torque": (P[:, _k.TORQUE] >= 0, ">= 0 N m"),
+        "torque": (P[:, _k.TORQUE] > 0, "> 0 N m (a thruster pair without torque cannot control)"),
         "delay": (P[:, _k.DELAY] >= 0, ">= 0 s"),
         "u_on": (u_on >= 0, ">= 0"),
         "off_ratio": ((ratio >= 0) & (ratio <= 1), "in [0, 1]"),
@@ -488,7 +488,7 @@ def _param_matrix(params: LoopParams) -> np.ndarray:
     for name, (ok, what) in checks.items():
         if not np.all(ok):
             i = int(np.argmin(ok))
-            raise InputError(f"{name} must be {what}; got {np.atleast_1d(b[name])[i]!r} at sample {i}")
+            raise InputError(f"{name} must be {what}; got {float(np.atleast_1d(b[name])[i])!r} at sample {i}")
     return P
 
 

@@ -46,6 +46,7 @@ def robust_objective(
     overshoot_max_pct: float = 10.0,
     penalty_weight: float = 1.0,
     penalty_on: str = "sample",
+    nonfinite: str = "raise",
 ) -> np.ndarray:
     """S4 eq. (10): ``F = w₁ E(|Error|) + w₂ σ(Error) + penalty`` over the last axis.
 
@@ -88,7 +89,9 @@ def robust_objective(
     >>> robust_objective(errors, overshoot).round(6)
     array([2.816497, 6.      ])
     """
-    e = as_array("errors", errors, finite=False)
+    check_choice("nonfinite", nonfinite, ("raise", "infeasible"))
+    finite = nonfinite == "raise"
+    e = as_array("errors", errors, finite=finite)
     if e.ndim == 0 or e.shape[-1] < 1:
         raise InputError(f"errors must have at least one sample on its last axis; got shape {e.shape}")
     w1 = check_positive("w1", w1, allow_zero=True)
@@ -99,7 +102,7 @@ def robust_objective(
     a = np.abs(e)
     f = w1 * a.mean(axis=-1) + w2 * a.std(axis=-1)
     if overshoot_pct is not None:
-        os = as_array("overshoot_pct", overshoot_pct, finite=False)
+        os = as_array("overshoot_pct", overshoot_pct, finite=finite)
         if os.shape != e.shape:
             raise InputError(f"overshoot_pct must have the shape of errors {e.shape}; got {os.shape}")
         os = np.nan_to_num(os, nan=0.0)

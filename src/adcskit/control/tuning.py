@@ -483,7 +483,7 @@ def _robust_problem(dists, *, ratio, n_samples, base, settings, overshoot_max_pc
         os = m.overshoot_pct.reshape(x.shape[0], n_samples)
         f = robust_objective(
             err, os, w1=w1, w2=w2, overshoot_max_pct=osmax, penalty_weight=penalty_weight,
-            penalty_on=penalty_on,
+            penalty_on=penalty_on, nonfinite="infeasible",
         )
         return f, m
 

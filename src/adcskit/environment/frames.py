@@ -274,6 +274,17 @@ def ecef_to_geodetic(r_ecef: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     (45.0, 10.0, 500000.0)
     """
     vec, batched = as_batch("r_ecef", r_ecef, (3,))
+    if vec.shape[0] == 0:
+        raise InputError("r_ecef must hold at least one position; got shape (0, 3)")
+    # inside the evolute of the meridian ellipse (|r| < a e^2 / (1 - f), about 42.8 km from the
+    # centre) the geodetic latitude is not unique; at the centre it is undefined
+    rad = np.linalg.norm(vec, axis=1)
+    r_min = WGS84_A * WGS84_E2 / (1.0 - WGS84_F)
+    if np.any(rad < r_min):
+        raise InputError(
+            f"r_ecef must be at least {r_min / 1e3:.1f} km from the Earth's centre (geodetic "
+            f"latitude is undefined or not unique closer in); got |r_ecef| = {rad.min():g} m"
+        )
     x, y, z = vec.T
     p = np.hypot(x, y)
     lon = np.arctan2(y, x)
@@ -327,8 +338,8 @@ def geocentric_to_ecef(radius: Any, colat: Any, lon: Any) -> np.ndarray:
     r_, th, ph = np.broadcast_arrays(
         as_array("radius", radius), as_array("colat", colat), as_array("lon", lon)
     )
-    if np.any(r_ < 0):
-        raise InputError(f"radius must be >= 0 m; got {r_.min():g}")
+    if np.any(r_ <= 0):
+        raise InputError(f"radius must be > 0 m (the geocentre has no direction); got {r_.min():g}")
     return np.stack(
         [r_ * np.sin(th) * np.cos(ph), r_ * np.sin(th) * np.sin(ph), r_ * np.cos(th)], axis=-1
     )

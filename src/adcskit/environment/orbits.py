@@ -278,7 +278,8 @@ def elements_to_rv(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Classical orbital elements to ECI position (m) and velocity (m/s).
 
-    ``true_anomaly`` (rad) may be an array; the results then have shape (N, 3).
+    ``true_anomaly`` (rad) is a scalar or a 1-D array of N values; the results then have
+    shape (3,) or (N, 3).
 
     References
     ----------
@@ -299,7 +300,7 @@ def elements_to_rv(
     inc = check_range("inclination", inclination, 0.0, np.pi, unit="rad")
     P = _perifocal_to_eci(check_finite("raan", raan), inc, check_finite("argp", argp))
     mu_ = check_positive("mu", mu, unit="m^3/s^2")
-    nu = as_array("true_anomaly", true_anomaly)
+    nu = as_array("true_anomaly", true_anomaly, ndim=(0, 1))
     return _elements_to_rv(a_, ecc, P, nu, mu_)
 
 

@@ -95,6 +95,7 @@ from adcskit._validation import (
     check_int,
     check_positive,
     check_range,
+    short_repr,
 )
 from adcskit.errors import InputError, InputTypeError
 
@@ -220,13 +221,18 @@ def regression_data(states, targets, inputs=None, *, B=None, estimate_B=False):
     estimate_B = check_flag("estimate_B", estimate_B)
     if estimate_B:
         if p == 0:
-            raise InputError("estimate_B=True needs inputs")
+            raise InputError("inputs must be given with estimate_B=True (the regressors are [x, u]); got None")
+        if B is not None:
+            raise InputError(f"B must be None with estimate_B=True (B is estimated); got {short_repr(B)}")
         return np.hstack([X, U]), Z
+    if B is not None and p == 0:
+        raise InputError(f"B is only used with inputs (B u is subtracted from the targets); got B={short_repr(B)} "
+                         "and inputs=None")
     if B is not None and p > 0:
         Bm = as_array("B", B, shape=(n, p))
         Z = Z - U @ Bm.T
     elif p > 0 and B is None:
-        raise InputError("B must be given when inputs are given and estimate_B is False")
+        raise InputError("B must be given when inputs are given and estimate_B is False; got None")
     return X, Z
 
 
@@ -566,14 +572,20 @@ class RecursiveLeastSquares:
         self.P = self.delta * np.eye(self.Theta.shape[1])
         self.nit = 0
 
-    def update(self, phi, z) -> None:
-        """One sample: regressor ``phi`` (q,) and target ``z`` (n,) (plain float arrays).
+    def update(self, phi, z, *, validate: bool = True) -> None:
+        """One sample: regressor ``phi`` (q,) and target ``z`` (n,).
 
-        Deliberately **unvalidated** (a fast inner loop): ``phi`` and ``z`` must already be
-        finite float arrays of the right shapes, or the result is undefined. Use the
-        validated :meth:`update_batch` (or :func:`identify_model` with ``method="rls"``) for
-        untrusted input.
+        With ``validate=True`` (default) ``phi`` and ``z`` must be finite real arrays of shapes
+        ``(q,)`` and ``(n,)`` (``Theta0`` has shape ``(n, q)``), otherwise
+        :class:`~adcskit.errors.InputError` names the argument. ``validate=False`` is the
+        fast path for inner loops that pass already validated float arrays (:meth:`update_batch`,
+        the joint estimator): nothing is checked and the result of invalid input is undefined.
+        Both paths give bit-identical results on valid input.
         """
+        if validate is not False and (validate is True or check_flag("validate", validate)):
+            n, q = self.Theta.shape
+            phi = as_array("phi", phi, shape=(q,))
+            z = as_array("z", z, shape=(n,))
         lam = self.forgetting
         Pphi = self.P @ phi
         k = Pphi / (lam + phi @ Pphi)
@@ -593,7 +605,7 @@ class RecursiveLeastSquares:
             raise InputError(f"Phi must have shape (N, {q}) to match Theta0; got shape {Phi.shape}")
         Z = as_array("Z", Z, shape=(Phi.shape[0], n), nonempty=False)
         for phi, z in zip(Phi, Z):
-            self.update(phi, z)
+            self.update(phi, z, validate=False)
 
 
 def _k_rls(Phi, Z, T0, Tp, o, gen):
@@ -726,6 +738,10 @@ def identify_model(
     p = q - n
 
     def theta(name_a, a, name_b, b, default):
+        if b is not None and p == 0:
+            raise InputError(f"{name_b} is only used with inputs and estimate_B=True; got {short_repr(b)}")
+        if b is not None and a is None:
+            raise InputError(f"{name_b} needs {name_a} (the pair is the model [A B]); got {name_a}=None")
         if a is None:
             return None if default is None else default.copy()
         Am = as_array(name_a, a, shape=(n, n))
@@ -790,3 +806,10 @@ def _check_opts(method, o):
     elif method == "rls":
         check_positive("options['delta']", o["delta"])
         check_range("options['forgetting']", o["forgetting"], 0.0, 1.0, lo_open=True)
+    elif method == "lsqr":
+        check_positive("options['atol']", o["atol"], allow_zero=True)
+        check_positive("options['btol']", o["btol"], allow_zero=True)
+        if o["maxiter"] is not None:
+            check_int("options['maxiter']", o["maxiter"], minimum=1)
+    elif method == "qr":
+        check_positive("options['rank_tol']", o["rank_tol"], allow_zero=True)

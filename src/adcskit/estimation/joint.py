@@ -245,7 +245,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
                 if rls is not None:
                     for s in range(rls.nit, t):
                         phi = np.concatenate([Xf[s], u[s]]) if estimate_B else Xf[s]
-                        rls.update(phi, Z_all[s])
+                        rls.update(phi, Z_all[s], validate=False)
                     Theta_new, ok, k_it = rls.Theta, bool(np.all(np.isfinite(rls.Theta))), 1
                 else:
                     Phi = np.hstack([Xf[:t], u[:t]]) if estimate_B else Xf[:t]
@@ -263,7 +263,7 @@ def _joint_kernel(y, u, A_prior, B, C, Q, R, x0, P0, method, opts, estimate_B, s
             A_cur = Theta[:, :n]
             B_cur = Theta[:, n:] if estimate_B else B
             hist[t] = A_cur
-            Xf[t], _P, nus[t], _S = kf.step(y[t], u[t], A_cur, B_cur, C, Q, R)
+            Xf[t], _P, nus[t], _S = kf.step(y[t], u[t], A_cur, B_cur, C, Q, R, validate=False)
     ok = bool(np.all(np.isfinite(Xf)))
     return JointResult(
         A=Theta[:, :n].copy(),
@@ -361,7 +361,7 @@ def augmented_ekf(
     model : callable
         ``model(p) -> (A_d, B_d)``, discrete model for parameters ``p`` (n_p,).
     p0 : array_like, shape (n_p,)
-        Prior parameter mean (e.g. ones: the assumed inertias are right).
+        Prior parameter mean (e.g. ones: the assumed inertias are right), each >= ``p_min``.
     P_p0 : array_like, shape (n_p, n_p) or float
         Prior parameter covariance (e.g. ``0.5**2`` for 50 % uncertainty).
     Q_p : array_like or float
@@ -400,6 +400,12 @@ def augmented_ekf(
     p0 = as_array("p0", p0, ndim=1)
     n_p = p0.shape[0]
     p_min = float(check_positive("p_min", p_min))  # > 0: the model is evaluated at the floor
+    if np.any(p0 < p_min):
+        i = int(np.argmin(p0 >= p_min))
+        raise InputError(
+            f"p0 must be >= p_min = {p_min:g} (the model has no meaning below its floor); "
+            f"got p0[{i}] = {float(p0[i])!r}"
+        )
     # the model is only ever evaluated at or above the documented floor, the first call included
     pair = model(np.maximum(p0, p_min))
     if not (isinstance(pair, tuple | list) and len(pair) == 2):

@@ -50,7 +50,7 @@ from scipy.linalg import LinAlgError
 from scipy.linalg.lapack import dpotrf, dpotrs
 
 from adcskit._results import Result
-from adcskit._validation import as_array, as_rng, check_choice, check_positive
+from adcskit._validation import as_array, as_rng, check_choice, check_flag, check_positive
 from adcskit.errors import InputError
 
 __all__ = [
@@ -235,10 +235,10 @@ def _check_model(A, B, C, Q, R, *, a_name="A"):
         raise InputError(f"{a_name} must be square (n, n); got shape {A.shape}")
     B = as_array("B", B, ndim=2)
     if B.shape[0] != n:
-        raise InputError(f"B must have shape ({n}, p) to match A; got shape {B.shape}")
+        raise InputError(f"B must have shape ({n}, p) to match {a_name}; got shape {B.shape}")
     C = as_array("C", C, ndim=2)
     if C.shape[1] != n:
-        raise InputError(f"C must have shape (m, {n}) to match A; got shape {C.shape}")
+        raise InputError(f"C must have shape (m, {n}) to match {a_name}; got shape {C.shape}")
     m = C.shape[0]
     Q = _check_cov("Q", Q, n)
     R = _check_cov("R", R, m, positive=True)
@@ -299,18 +299,52 @@ class KalmanFilter:
         self.form = check_choice("form", form, KALMAN_FORMS)
         self._step = _STEPS[form]
 
-    def step(self, y, u, A, B, C, Q, R):
+    def step(self, y, u, A, B, C, Q, R, *, validate: bool = True):
         """Process measurement ``y(t)`` and input ``u(t)``; returns ``(x_f, P_f, nu, S)``.
 
-        Deliberately **unvalidated** (this is the inner loop of :func:`kalman_filter` and of
-        the joint estimator): inputs must already be finite float arrays of consistent shapes,
-        or the result is undefined. For untrusted input use the validated entry point beside
-        it, :func:`kalman_filter`, which checks every argument once and runs this step.
+        Parameters
+        ----------
+        y : array_like, shape (m,)
+            Measurement ``y(t)``.
+        u : array_like, shape (p,)
+            Input ``u(t)``.
+        A, B, C : array_like
+            Model matrices of shapes (n, n), (n, p) and (m, n); ``n`` is the state size of
+            ``x0``.
+        Q : array_like, shape (n, n) or float
+            Process-noise covariance, symmetric positive semi-definite (scalar -> ``Q * I``).
+        R : array_like, shape (m, m) or float
+            Measurement-noise covariance, symmetric positive definite (scalar -> ``R * I``).
+        validate : bool
+            Check every argument (finite real numbers, consistent shapes, ``Q`` positive
+            semi-definite, ``R`` positive definite) and raise
+            :class:`~adcskit.errors.InputError` naming the argument otherwise (default).
+            ``False`` is the fast path for inner loops that pass already validated float
+            arrays (:func:`kalman_filter`, the joint estimator): nothing is checked, ``Q`` and
+            ``R`` must be ``(n, n)`` and ``(m, m)`` arrays, and the result of invalid input is
+            undefined. Both paths give bit-identical results on valid array input.
         """
+        if validate is not False and (validate is True or check_flag("validate", validate)):
+            y, u, A, B, C, Q, R = self._check_step(y, u, A, B, C, Q, R)
         x_f, P_f, self.x_pred, self.P_pred, nu, S, _ = self._step(
             self.x_pred, self.P_pred, y, u, A, B, C, Q, R
         )
         return x_f, P_f, nu, S
+
+    def _check_step(self, y, u, A, B, C, Q, R):
+        n = self.x_pred.shape[0]
+        A = as_array("A", A, ndim=2)
+        if A.shape != (n, n):
+            raise InputError(f"A must have shape ({n}, {n}) to match x0; got shape {A.shape}")
+        A, B, C, Q, R = _check_model(A, B, C, Q, R)
+        m, p = C.shape[0], B.shape[1]
+        y = as_array("y", y, ndim=(0, 1))
+        if y.shape != (m,) and not (m == 1 and y.shape == ()):
+            raise InputError(f"y must have shape ({m},) to match C; got shape {y.shape}")
+        u = as_array("u", u, ndim=(0, 1))
+        if u.shape != (p,) and not (p == 1 and u.shape == ()):
+            raise InputError(f"u must have shape ({p},) to match B; got shape {u.shape}")
+        return y.reshape(m), u.reshape(p), A, B, C, Q, R
 
 
 def kalman_filter(

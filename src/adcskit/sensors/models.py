@@ -240,6 +240,14 @@ class VectorSensor:
         mid, radius : numpy.ndarray
             See :func:`adcskit.sensors.midpoint_radius`. Gaussian noise is not covered.
         """
+        if self.normalize:
+            vec, _ = as_batch("measured", measured, (3,))
+            norm = np.linalg.norm(vec, axis=1)
+            if np.any(norm == 0.0):
+                raise InputError(
+                    f"measured must be non-zero direction vectors (this sensor outputs unit vectors); "
+                    f"got [0, 0, 0] at index {int(np.argmin(norm))}"
+                )
         return midpoint_radius(measured, angle_bound=self.angle_bound,
                                fraction=self.component_fraction, normalized=self.normalize)
 

@@ -321,6 +321,12 @@ def torque_matrix(positions: Any, directions: Any) -> np.ndarray:
         raise InputError(
             f"positions and directions must have equal shapes (n, 3) or (B, n, 3); got {r.shape} and {d.shape}"
         )
+    zero = ~np.any(d != 0.0, axis=-1)
+    if np.any(zero):
+        where = tuple(int(i) for i in np.argwhere(zero)[0])
+        raise InputError(
+            f"directions must be non-zero force directions (unit vectors); got [0, 0, 0] at index {where}"
+        )
     return _torque_matrix(r, d)
 
 

@@ -54,7 +54,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -276,7 +276,21 @@ def decode_layout(
     g = as_array("genes", genes, ndim=1)
     if g.size % GENES_PER_THRUSTER or g.size == 0:
         raise InputError(f"genes must have length 5 n (n >= 1); got {g.size}")
-    pos, d, k = _decode(g[None, :], _face_table(faces))
+    table = _face_table(faces)
+    G = g.reshape(-1, GENES_PER_THRUSTER)
+    nf = len(faces)
+    tol = 1e-9  # the optimisers' box bounds, up to rounding
+    for col, what, lo, hi in ((0, "face gene s", 0.0, nf), (1, "u", -1.0, 1.0), (2, "v", -1.0, 1.0),
+                              (3, "cant gene c", 0.0, 1.0)):
+        bad = (G[:, col] < lo - tol) | (G[:, col] > hi + tol) | ((col == 0) & (G[:, col] >= hi))
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            span = f"[0, {nf}) for {nf} faces" if col == 0 else f"[{lo:g}, {hi:g}]"
+            raise InputError(
+                f"genes[{GENES_PER_THRUSTER * i + col}] ({what} of thruster {i}) must be in {span}; "
+                f"got {float(G[i, col])!r}"
+            )
+    pos, d, k = _decode(g[None, :], table)
     return ThrusterSet(
         positions=pos[0], directions=d[0], com=com, names=tuple(faces[i].name for i in k[0]),
         **thruster_kw,
@@ -651,9 +665,12 @@ def design_layout(
     n = check_int("n_thrusters", n_thrusters, minimum=1, maximum=10_000)
     check_choice("algorithm", algorithm, DESIGN_ALGORITHMS)
     check_choice("de_strategy", de_strategy, DE_STRATEGIES)
+    if mounting is not None and (
+            isinstance(mounting, str | bytes | MountingFace) or not isinstance(mounting, Iterable)):
+        raise InputTypeError(f"mounting must be a non-empty sequence of MountingFace; got {short_repr(mounting)}")
     faces = tuple(mounting) if mounting is not None else box_faces()
     if len(faces) == 0 or not all(isinstance(f, MountingFace) for f in faces):
-        raise InputError("mounting must be a non-empty sequence of MountingFace")
+        raise InputError(f"mounting must be a non-empty sequence of MountingFace; got {short_repr(mounting)}")
     if not isinstance(paired, bool | np.bool_):
         raise InputError(f"paired must be a bool; got {paired!r}")
     twin = _parallel_faces(faces) if paired else None

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from adcskit._progress import bar, track
-from adcskit._validation import check_callable, check_int, check_positive, short_repr
+from adcskit._validation import _first_line, check_callable, check_int, check_positive, short_repr
 from adcskit.errors import InputError, InputTypeError
 
 __all__ = [
@@ -64,6 +64,12 @@ __all__ = [
 ]
 
 EXECUTOR_SPECS = ("serial", "processes[:N]", "dask-local[:N]", "dask://HOST:PORT")
+
+#: Seconds a :class:`DaskExecutor` waits for the scheduler at ``address`` to answer.
+CONNECT_TIMEOUT_S = 5.0
+
+#: Largest worker count an executor spec may ask for.
+MAX_SPEC_WORKERS = 1024
 
 NO_SHARED: Any = type("NoShared", (), {"__repr__": lambda self: "NO_SHARED"})()
 """Sentinel: ``map`` called without shared data (``fn(task)`` instead of ``fn(task, shared)``)."""
@@ -262,7 +268,9 @@ class DaskExecutor(Executor):
     timeout : float, s, optional
         Longest time one :meth:`map` may take (scatter, tasks and results together); past it
         the outstanding tasks are cancelled and :class:`TimeoutError` is raised. None (the
-        default) waits as long as the tasks take.
+        default) waits as long as the tasks take. Connecting to ``address`` waits at most
+        :data:`CONNECT_TIMEOUT_S` (or ``timeout`` if shorter); a scheduler that does not answer
+        in that time raises :class:`~adcskit.errors.InputError` naming the address.
 
     Notes
     -----
@@ -331,7 +339,14 @@ class DaskExecutor(Executor):
             self._client = Client(self._cluster)
             self.spec = f"dask-local:{n}"
         else:
-            self._client = Client(address, timeout=30)
+            connect = CONNECT_TIMEOUT_S if timeout is None else min(timeout, CONNECT_TIMEOUT_S)
+            try:
+                self._client = Client(address, timeout=connect)
+            except (OSError, TimeoutError) as exc:  # refused, unreachable, no scheduler
+                raise InputError(
+                    f"executor address {address!r} is not reachable: no Dask scheduler answered "
+                    f"within {connect:g} s ({type(exc).__name__}: {_first_line(exc)})"
+                ) from None
             self.spec = f"dask://{address.removeprefix('tcp://')}"
 
     @property
@@ -439,9 +454,9 @@ def _parse_count(spec: str, text: str) -> int | None:
         n = int(text)
     except ValueError:
         n = 0
-    if n < 1:
+    if not 1 <= n <= MAX_SPEC_WORKERS:
         raise InputError(
-            f"executor spec {spec!r} must end with a positive worker count after ':'; got {text!r}"
+            f"executor spec {spec!r} must end with a worker count in [1, {MAX_SPEC_WORKERS}] after ':'; got {text!r}"
         )
     return n
 
@@ -472,7 +487,9 @@ def make_executor(spec: str | Executor | None = None) -> Executor:
     if isinstance(spec, Executor):
         return spec
     if not isinstance(spec, str):
-        raise InputError(f"executor must be one of {', '.join(EXECUTOR_SPECS)}; got {spec!r}")
+        raise InputTypeError(
+            f"executor spec must be an Executor or a string, one of {', '.join(EXECUTOR_SPECS)}; got {short_repr(spec)}"
+        )
     s = spec.strip()
     if s == "serial":
         return SerialExecutor()
@@ -484,7 +501,9 @@ def make_executor(spec: str | Executor | None = None) -> Executor:
     if s.startswith("dask://"):
         address = s.removeprefix("dask://")
         host, _, port = address.rpartition(":")
-        if not host or not port.isdigit():
-            raise InputError(f"executor 'dask://HOST:PORT' needs a host and a numeric port; got {spec!r}")
+        if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+            raise InputError(
+                f"executor spec 'dask://HOST:PORT' needs a host and a numeric port in [1, 65535]; got {spec!r}"
+            )
         return DaskExecutor("tcp://" + address)
-    raise InputError(f"executor must be one of {', '.join(EXECUTOR_SPECS)}; got {spec!r}")
+    raise InputError(f"executor spec must be one of {', '.join(EXECUTOR_SPECS)}; got {spec!r}")

@@ -117,7 +117,16 @@ class TruncatedGaussian(_Distribution):
             return np.full(np.shape(u), float(self.mean))
         a = (self.low - self.mean) / self.std
         b = (self.high - self.mean) / self.std
-        return stats.truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std)
+        x = stats.truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std)
+        if not np.all(np.isfinite(x)):
+            # [low, high] is narrower than float64 resolves in units of std, or holds no
+            # probability mass that float64 can represent
+            raise InputError(
+                f"low and high must span a representable part of N(mean, std^2); got "
+                f"low={self.low!r}, high={self.high!r} (mean={self.mean!r}, std={self.std!r}: "
+                f"standardised bounds {a:.6g}, {b:.6g}), which give non-finite quantiles"
+            )
+        return x
 
     _kind = "truncated_gaussian"
 

@@ -130,16 +130,17 @@ class Config:
     record_samples: int = field(default=32, metadata=NEUTRAL)
 
     def __post_init__(self) -> None:
-        if self.n_seeds < 1 or self.n_samples < 2 or self.record_samples < 1:
-            raise ConfigError("n_seeds must be >= 1, n_samples >= 2, record_samples >= 1")
+        for name, lo in (("n_seeds", 1), ("n_samples", 2), ("record_samples", 1)):
+            if getattr(self, name) < lo:
+                raise ConfigError(f"{name} must be >= {lo}; got {getattr(self, name)!r}")
         for name in ("geo_dt_s", "geo_t_final_s", "geo_slew_deg", "geo_torque_level_nm", "leo_dt_s", "leo_t_final_s",
                      "leo_window_s", "s4_dt_s", "s4_t_final_s", "slew_deg", "switch_tc_s", "command_period_s",
                      "q5_wheel_bandwidth_rad_s", "q5_wheel_damping", "q5_wheel_momentum_nms", "q5_pointing_req_deg"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)!r}")
-        if self.q6_n_samples < 2 or self.q6_record_every < 1:
-            raise ConfigError(f"q6_n_samples must be >= 2 and q6_record_every >= 1; got {self.q6_n_samples!r}, "
-                              f"{self.q6_record_every!r}")
+        for name, lo in (("q6_n_samples", 2), ("q6_record_every", 1)):
+            if getattr(self, name) < lo:
+                raise ConfigError(f"{name} must be >= {lo}; got {getattr(self, name)!r}")
         if isinstance(self.q6_requirements, str) or not self.q6_requirements:
             raise ConfigError(f"q6_requirements must be a non-empty list of requirement lines; got "
                               f"{self.q6_requirements!r}")
@@ -151,6 +152,7 @@ class Config:
         if not 0 < self.slew_accel_fraction <= 1:
             raise ConfigError(f"slew_accel_fraction must be in (0, 1]; got {self.slew_accel_fraction!r}")
         if self.leo_window_s >= self.leo_t_final_s:
-            raise ConfigError("leo_window_s must be < leo_t_final_s")
+            raise ConfigError(f"leo_window_s must be < leo_t_final_s = {self.leo_t_final_s!r} s; "
+                              f"got {self.leo_window_s!r}")
         if self.s4_t_final_s <= 10.0:
-            raise ConfigError("s4_t_final_s must exceed S4's 10 s statistics window")
+            raise ConfigError(f"s4_t_final_s must exceed S4's 10 s statistics window; got {self.s4_t_final_s!r}")

@@ -158,8 +158,10 @@ class Config:
         for m in self.methods:
             if m not in METHODS:
                 raise ValueError(f"methods must be a subset of {METHODS}; got {m!r}")
-        if not self.noise_std > 0 or self.noise_std_low < 0:
-            raise ValueError("noise_std must be > 0 and noise_std_low >= 0")
+        if not self.noise_std > 0:
+            raise ValueError(f"noise_std must be > 0; got {self.noise_std!r}")
+        if not self.noise_std_low >= 0:
+            raise ValueError(f"noise_std_low must be >= 0; got {self.noise_std_low!r}")
         if min(self.inertia_kgm2) <= 0:
             raise ValueError(f"inertia_kgm2 must be positive (kg m^2); got {self.inertia_kgm2}")
         if not -1 < self.inertia_error:
@@ -168,8 +170,10 @@ class Config:
             raise ValueError(f"alpha0 must be in [0, 1]; got {self.alpha0}")
         if not 0 < self.rls_forgetting <= 1:
             raise ValueError(f"rls_forgetting must be in (0, 1]; got {self.rls_forgetting}")
-        if self.kalman_q < 0 or self.krylov_rtol <= 0 or self.rls_delta <= 0 or self.ekf_q_param < 0:
-            raise ValueError("kalman_q, ekf_q_param must be >= 0; krylov_rtol, rls_delta > 0")
+        for name, strict in (("kalman_q", False), ("ekf_q_param", False), ("krylov_rtol", True), ("rls_delta", True)):
+            v = getattr(self, name)
+            if not (v > 0 if strict else v >= 0):
+                raise ValueError(f"{name} must be {'>' if strict else '>='} 0; got {v!r}")
         if self.altitude_km < 0:
             raise ValueError(f"altitude_km must be >= 0 km; got {self.altitude_km}")
         if self.inertia_direction not in ("prior", "truth"):
@@ -183,7 +187,7 @@ class Config:
                 or self.s1_krylov_maxiter < 1:
             raise ValueError(f"s1_krylov_maxiter must be an integer >= 1; got {self.s1_krylov_maxiter!r}")
         if "low noise" in self.readings and not self.noise_std_low > 0:
-            raise ValueError("the 'low noise' reading needs noise_std_low > 0")
+            raise ValueError(f"noise_std_low must be > 0 with the 'low noise' reading; got {self.noise_std_low!r}")
 
 
 #: Protocol of our findings (the doc page's answers): every key but ``n_seeds``, which only adds

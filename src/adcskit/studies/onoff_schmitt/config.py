@@ -95,8 +95,9 @@ class Config(S4Loop):
         lo, hi = self.sweep_ratio
         if not 0 <= lo < hi <= 1:
             raise ValueError(f"sweep_ratio must be (lo, hi) in [0, 1]; got {self.sweep_ratio!r}")
-        if self.n_u_on < 2 or self.n_ratio < 2:
-            raise ValueError("n_u_on and n_ratio must be >= 2")
+        for name in ("n_u_on", "n_ratio"):
+            if getattr(self, name) < 2:
+                raise ValueError(f"{name} must be >= 2; got {getattr(self, name)!r}")
 
     def params(self, **changes) -> LoopParams:
         p = LoopParams(

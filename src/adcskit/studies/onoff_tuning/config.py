@@ -224,12 +224,13 @@ class Config(S4Loop):
         for name, lo in ints.items():
             if getattr(self, name) < lo:
                 raise ValueError(f"{name} must be >= {lo}; got {getattr(self, name)!r}")
-        if any(r <= 0 for r in self.sweep_ratios) or any(r <= 0 for r in self.sweep_cases_ratios):
-            raise ValueError(f"sweep ratios must be > 0; got {self.sweep_ratios!r}, {self.sweep_cases_ratios!r}")
+        for name in ("sweep_ratios", "sweep_cases_ratios"):
+            if any(r <= 0 for r in getattr(self, name)):
+                raise ValueError(f"{name} must be > 0 each; got {getattr(self, name)!r}")
         if not self.std_factors or any(f < 0 for f in self.std_factors):
             raise ValueError(f"std_factors must be >= 0 and non-empty; got {self.std_factors!r}")
         if not self.command_rates_hz:
-            raise ValueError("command_rates_hz must not be empty")
+            raise ValueError(f"command_rates_hz must not be empty; got {self.command_rates_hz!r}")
         if self.n_seeds < 1:
             raise ValueError(f"n_seeds must be >= 1; got {self.n_seeds!r}")
         if (not self.penalty_readings or len(set(self.penalty_readings)) != len(self.penalty_readings)

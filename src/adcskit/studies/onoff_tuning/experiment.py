@@ -364,7 +364,8 @@ def _eq10(config: Config, case: str, err_deg: np.ndarray, os_pct: np.ndarray, pe
     core = float(w1 * a.mean() + w2 * a.std())
     total = float(robust_objective(err_deg[None], os_pct[None], w1=w1, w2=w2,
                                    overshoot_max_pct=config.overshoot_max_pct,
-                                   penalty_weight=config.penalty_weight_deg_per_pct, penalty_on=penalty_on)[0])
+                                   penalty_weight=config.penalty_weight_deg_per_pct, penalty_on=penalty_on,
+                                   nonfinite="infeasible")[0])
     return {"eq10": total, "eq10_core": core, "eq10_penalty": total - core}
 
 

@@ -83,7 +83,7 @@ class Config:
 
     def __post_init__(self) -> None:
         if not self.rows_m:
-            raise ValueError("rows must list at least one initial position (m)")
+            raise ValueError(f"rows_m must list at least one initial position (m); got {self.rows_m!r}")
         for r in self.rows_m:
             if len(r) != 3 or not all(math.isfinite(float(v)) for v in r):
                 raise ValueError(f"each row must be 3 finite numbers (m); got {r!r}")

@@ -147,8 +147,9 @@ class Config:
                 raise ConfigError(f"{name} must be > 0; got {getattr(self, name)}")
         if self.t_min_s < 0:
             raise ConfigError(f"t_min_s must be >= 0 s; got {self.t_min_s}")
-        if any(h <= 0 for h in self.box_half_size_m) or any(j <= 0 for j in self.inertia_kgm2):
-            raise ConfigError("box_half_size_m and inertia_kgm2 must be > 0 per axis")
+        for name in ("box_half_size_m", "inertia_kgm2"):
+            if any(v <= 0 for v in getattr(self, name)):
+                raise ConfigError(f"{name} must be > 0 per axis; got {getattr(self, name)!r}")
         if not self.faces or any(f not in _FACE_NAMES for f in self.faces) or len(set(self.faces)) != len(self.faces):
             raise ConfigError(f"faces must be distinct names from {_FACE_NAMES}; got {self.faces}")
         if not 0 <= self.max_cant_deg <= 90:
@@ -165,7 +166,7 @@ class Config:
                 or any(r not in _EMIN_READINGS for r in self.e_min_readings)):
             raise ConfigError(f"e_min_readings must be distinct names from {_EMIN_READINGS}; got {self.e_min_readings}")
         if "paired couple" in self.e_min_readings and any(int(n) % 2 for n in self.n_thrusters):
-            raise ConfigError("the 'paired couple' reading needs even n_thrusters")
+            raise ConfigError(f"n_thrusters must be even for the 'paired couple' reading; got {self.n_thrusters!r}")
         opposite = {"+X": "-X", "-X": "+X", "+Y": "-Y", "-Y": "+Y", "+Z": "-Z", "-Z": "+Z"}
         if "paired couple" in self.e_min_readings and any(opposite[f] not in self.faces for f in self.faces):
             raise ConfigError(f"the 'paired couple' reading needs the parallel face of every face; got {self.faces}")
@@ -187,7 +188,7 @@ def parse_de(spec: str) -> tuple[str, float, float]:
         raise ConfigError(f"de_sensitivity entries must be 'strategy:F:CR'; got {spec!r}") from None
     if strat not in ("current-to-best/1/bin", "rand/1/bin") or len(parts) != 3 or F <= 0 or not 0 <= CR <= 1:
         raise ConfigError(
-            f"de_sensitivity entry {spec!r} must be 'strategy:F:CR' with strategy "
-            "'current-to-best/1/bin' or 'rand/1/bin', F > 0, CR in [0, 1]"
+            f"de_sensitivity entries must be 'strategy:F:CR' with strategy "
+            f"'current-to-best/1/bin' or 'rand/1/bin', F > 0, CR in [0, 1]; got {spec!r}"
         )
     return strat, F, CR

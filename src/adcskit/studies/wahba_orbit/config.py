@@ -111,8 +111,8 @@ class Config:
             if len(parts) != 2 or any(p not in ("dipole", "igrf") for p in parts):
                 raise ConfigError(f"cases must be 'truth/reference' with dipole or igrf; got {c!r}")
         if not self.cases:
-            raise ConfigError("cases must not be empty")
+            raise ConfigError(f"cases must not be empty; got {self.cases!r}")
         for name in ("nsga2_every", "pop_size", "n_gen"):
             v = getattr(self, name)
             if not (isinstance(v, int) and v >= (1 if name == "nsga2_every" else 4)):
-                raise ConfigError(f"{name} must be a positive integer (pop_size, n_gen >= 4); got {v!r}")
+                raise ConfigError(f"{name} must be an integer >= {1 if name == 'nsga2_every' else 4}; got {v!r}")
