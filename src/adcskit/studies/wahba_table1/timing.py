@@ -111,7 +111,7 @@ def time_epochs(epochs: list[tuple[int, int, Any, float]], cfg: Mapping[str, Any
     >>> sorted(t[0].times), len(t[0].times["nsga2-big-knee"]), t[0].identical
     (['minmax', 'minmax-slsqp', 'nsga2-big-knee', 'nsga2-knee'], 3, True)
     """
-    from adcskit.studies.wahba_table1.experiment import angle_deg, epoch_inputs
+    from adcskit.studies.wahba_table1.draws import angle_deg, epoch_inputs
     from adcskit.studies.wahba_table1.paper import q_exact
 
     out = []
