@@ -419,6 +419,47 @@ def _t_note(vals: Sequence[float], threshold: float | None, confidence: float) -
     return f"; {confidence:.0%} t-interval of the {what} [{lo:.4g}, {hi:.4g}] (shown, not deciding)"
 
 
+def _tally(values: Any, threshold: float | None, better: str, scale: str,
+           margin: float) -> tuple[tuple[float, ...], list[bool], int, int, int]:
+    """Per seed: supports, against, tie (within the margin) or failed. NaN / inf values are
+    allowed (a failed seed, which makes the reading inconclusive)."""
+    if threshold is None:
+        raise InputError("decide: values need a threshold")
+    threshold = check_finite("threshold", threshold, max_abs=None)
+    if scale == "log" and threshold <= 0:
+        raise InputError(f"decide: scale='log' needs a positive threshold (a ratio's); got {threshold}")
+    vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
+    sign = 1.0 if better == "above" else -1.0
+    ok: list[bool] = []
+    n_failed = n_tied = n_against = 0
+    for v in vals:
+        if not math.isfinite(v) or (scale == "log" and v <= 0):
+            n_failed += 1
+            ok.append(False)
+            continue
+        d = sign * (math.log(v / threshold) if scale == "log" else v - threshold)
+        ok.append(d > margin)
+        n_tied += int(-margin <= d <= margin)
+        n_against += int(d < -margin)
+    return vals, ok, n_failed, n_tied, n_against
+
+
+def _interval(vals: tuple[float, ...], k: int, n: int, stochastic: bool, confidence: float) -> tuple[float, float]:
+    """The sign test's interval of the median, or the exact Clopper-Pearson bounds of a fraction."""
+    if vals:
+        return median_interval(vals, confidence)
+    if n == 0:
+        return (0.0, 1.0)  # no seeds: nothing is known of the fraction
+    frac = k / n
+    if not stochastic:
+        return (frac, frac)  # a deterministic computation: no sampling interval
+    from scipy.stats import beta
+
+    alpha = 1.0 - confidence
+    return (float(beta.ppf(alpha, k, n - k + 1)) if k > 0 else 0.0,
+            float(beta.ppf(confidence, k + 1, n - k)) if k < n else 1.0)
+
+
 def decide(
     held: Sequence[bool] | None = None,
     *,
@@ -475,30 +516,12 @@ def decide(
     confidence = check_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     margin = check_range("margin", margin, 0.0, math.inf)
     premise_failures = tuple(str(x) for x in premise_failures)
-    vals: tuple[float, ...] = ()
-    n_failed = n_tied = n_against = 0
     if values is not None:
         if held is not None:
             raise InputError("decide: give held or values, not both (an extra condition is its own reading or check)")
-        if threshold is None:
-            raise InputError("decide: values need a threshold")
-        threshold = check_finite("threshold", threshold, max_abs=None)
-        if scale == "log" and threshold <= 0:
-            raise InputError(f"decide: scale='log' needs a positive threshold (a ratio's); got {threshold}")
-        # NaN / inf values are allowed: a failed seed, which makes the reading inconclusive
-        vals = tuple(as_array("values", values, ndim=1, finite=False, nonempty=False, max_abs=None).tolist())
-        sign = 1.0 if better == "above" else -1.0
-        ok = []
-        for v in vals:  # a seed supports, is against, ties (within the margin) or failed
-            if not math.isfinite(v) or (scale == "log" and v <= 0):
-                n_failed += 1
-                ok.append(False)
-                continue
-            d = sign * (math.log(v / threshold) if scale == "log" else v - threshold)
-            ok.append(d > margin)
-            n_tied += int(-margin <= d <= margin)
-            n_against += int(d < -margin)
+        vals, ok, n_failed, n_tied, n_against = _tally(values, threshold, better, scale, margin)
     elif held is not None:
+        vals, n_failed, n_tied = (), 0, 0
         ok = [bool(h) for h in held]
         n_against = len(ok) - sum(ok)
     else:
@@ -507,17 +530,7 @@ def decide(
     k = sum(ok)
     frac = k / n if n else math.nan
     alpha = 1.0 - confidence
-    if vals:
-        interval = median_interval(vals, confidence)
-    elif n == 0:
-        interval = (0.0, 1.0)  # no seeds: nothing is known of the fraction
-    elif not stochastic:
-        interval = (frac, frac)  # a deterministic computation: no sampling interval
-    else:
-        from scipy.stats import beta
-
-        interval = (float(beta.ppf(alpha, k, n - k + 1)) if k > 0 else 0.0,
-                    float(beta.ppf(confidence, k + 1, n - k)) if k < n else 1.0)
+    interval = _interval(vals, k, n, stochastic, confidence)
     why = f"{k}/{n} seeds support it"
     if n_against and n_against < n:
         why += f", {n_against} against"
