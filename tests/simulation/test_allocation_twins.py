@@ -4,7 +4,7 @@ allocation-free ``simulation._kernels.rpi_allocate`` and ``thrusters.allocate(me
 thruster that leaves ``[0, f_max]`` at its bound, re-solve for the rest); they differ in the 3x3
 solve of each pass: the kernel factors ``S + 1e-12 tr(S) I`` (Cholesky), the library takes a
 Cholesky only when every pivot exceeds ``1e-8 tr(S)`` and otherwise the exact pseudo-inverse
-(Jacobi eigen-solve, relative cut-off 1e-12). docs/decisions/0015-kernels-one-idiom-shared-device-helpers-the-simulator-s-loop.md says why they are
+(Jacobi eigen-solve, relative cut-off 1e-12). docs/decisions/kernel-step-functions.md says why they are
 not merged; this pins how far apart they are, on random layouts and demands.
 """
 

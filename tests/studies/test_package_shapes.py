@@ -18,7 +18,7 @@ import adcskit.studies
 STUDIES_DIR = Path(adcskit.studies.__file__).parent
 MODULES = {"__init__", "paper", "config", "experiment", "claims", "figures", "report"}
 #: modules a study adds to the six, and why: onoff-tuning keeps its stored paper-scale GA runs
-#: (issue 24 item 4; docs/decisions/0038-stored-paper-scale-ga-runs-replayed-by-fingerprint.md)
+#: (issue 24 item 4; docs/decisions/paper-scale-ga-store.md)
 EXTRA_MODULES = {"onoff_tuning": {"ga_store"},
                  "wahba_table1": {"timing", "draws"}}  # speed-600x timing (issue 45); epoch draws shared by both
 #: what a pure module must not name: random numbers, and each study's own solvers / simulators

@@ -8,7 +8,7 @@ The CPU driver :func:`run_parallel` (``prange`` over blocks of :data:`LANES` sam
 :func:`block_loop`: the same step functions for each sample of a block in turn, then the
 block's RK4 steps in one loop that LLVM vectorises across the lanes; bit for bit what
 :func:`sample_loop` computes for each sample (tests/simulation/test_lanes.py; why two loops:
-docs/decisions/0015-kernels-one-idiom-shared-device-helpers-the-simulator-s-loop.md). The helpers are
+docs/decisions/kernel-step-functions.md). The helpers are
 ``register_jitable`` / :func:`adcskit._targets.device` functions, the quaternion ones and the
 S4 actuator model (Schmitt trigger, delay, thruster lags) shared with the MEKF and the on-off
 kernel (:mod:`adcskit.attitude._device`, :mod:`adcskit.control._actuator`). The kernel's
@@ -612,7 +612,7 @@ def sample_loop(i, A):
     :func:`_sense_estimate` (at gyro epochs; :func:`_determine` after it for the Wahba and
     min-max estimators), :func:`_control` (at command instants), :func:`_actuate`, then the
     environment torques, the RK4 step and the metrics in the loop's own body (as calls, they
-    cost 14-20 % CPU: docs/decisions/0015-kernels-one-idiom-shared-device-helpers-the-simulator-s-loop.md); the scalar state travels as tuples,
+    cost 14-20 % CPU: docs/decisions/kernel-step-functions.md); the scalar state travels as tuples,
     the lane's arrays as tuples of views made once per sample. ``_sense_estimate`` and
     ``_control`` are inlined by numba (``inline="always"``: as calls they cost 6-8 % CPU on the
     full chain, 3-5 % on the truth path), the others are calls (LLVM inlines ``_actuate``).
