@@ -66,9 +66,12 @@ def test_wheel_builds_installs_and_reproduces(tmp_path):
     wheels = list((tmp_path / "dist").glob("adcskit-*.whl"))
     assert len(wheels) == 1 and list((tmp_path / "dist").glob("adcskit-*.tar.gz"))
     venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)  # no network
     py = venv / "bin" / "python"
-    subprocess.run([str(py), "-m", "pip", "install", "-q", str(wheels[0])], check=True)
+    subprocess.run([str(py), "-m", "pip", "install", "-q", "--no-deps", "--force-reinstall", str(wheels[0])], check=True)
+    where = subprocess.run([str(py), "-c", "import adcskit; print(adcskit.__file__)"], check=True, capture_output=True,
+                           text=True, cwd=tmp_path).stdout
+    assert str(venv) in where, f"adcskit imported from {where!r}, not from the wheel"
     out = tmp_path / "results"
     subprocess.run([str(venv / "bin" / "adcskit"), "reproduce", "--quick", "--out", str(out)],
                    check=True, cwd=tmp_path, timeout=3600)
