@@ -660,7 +660,8 @@ class ErrorCertificate(Result):
     Attributes
     ----------
     satisfied : bool
-        ``error_met and optimality_met``: what ``success`` of :func:`solve_adaptive` requires.
+        ``error_met`` and no applied optimality check failed (``optimality_met`` is True, or
+        None when no check applied): what ``success`` of :func:`solve_adaptive` requires.
     tol : float
     max_error : float
     worst_phase, worst_interval : int
@@ -673,11 +674,12 @@ class ErrorCertificate(Result):
         How the error was measured.
     error_met : bool
         The NLP converged and every interval's relative state error is ``<= tol``.
-    optimality_met : bool
-        The first-order optimality checks of
-        :func:`~adcskit.optimal_control.check_optimality` hold (single-phase problems; for a
-        multi-phase problem, or with ``check_optimality=False``, they are not checked and
-        this repeats the NLP's convergence: ``optimality_checks`` is then empty).
+    optimality_met : bool or None
+        True/False: the first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` (single-phase problems) hold / fail.
+        None ("not checked") when no check applied: a multi-phase problem,
+        ``check_optimality=False`` or a failed NLP; ``optimality_checks`` is then empty and
+        ``optimality_detail`` says why. Never True without a check.
     optimality_checks : tuple of str
         The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``).
     optimality_figures : dict
@@ -706,7 +708,7 @@ class ErrorCertificate(Result):
     mesh_iterations: int
     estimator: str
     error_met: bool = False
-    optimality_met: bool = False
+    optimality_met: bool | None = None
     optimality_checks: tuple[str, ...] = ()
     optimality_figures: dict[str, float] = field(default_factory=dict)
     optimality_detail: str = ""
@@ -801,10 +803,10 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, 
     else:
         why = ("not checked (check_optimality=False)" if not check else
                "not checked (multi-phase problem)" if multi else "not checked (the NLP failed)")
-        o_met, o_checks, o_fig, o_detail = bool(success), (), {}, why
+        o_met, o_checks, o_fig, o_detail = None, (), {}, why
     dyn_ok = bool(success and emax <= tol)
     return ErrorCertificate(
-        satisfied=bool(dyn_ok and o_met),
+        satisfied=bool(dyn_ok and o_met is not False),
         tol=tol,
         max_error=emax,
         worst_phase=ip,
@@ -814,11 +816,52 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, 
         mesh_iterations=n_iter,
         estimator=_estimator_text(extra),
         error_met=dyn_ok,
-        optimality_met=bool(o_met),
+        optimality_met=None if o_met is None else bool(o_met),
         optimality_checks=tuple(o_checks),
         optimality_figures=o_fig,
         optimality_detail=o_detail,
     )
+
+
+def _likely_causes(sol) -> str:
+    """Likely causes, with the parameter to change, when refinement of a converged solution stalls.
+
+    Looks at a single-phase solution for three patterns that make hp refinement blow up:
+    ``tf`` sitting at a finite bound of ``tf_bounds`` (the optimum may lie beyond it), an
+    unbounded control in a free-final-time problem (a minimum-time optimum that wants an
+    impulse) and an unbounded control whose values span more than ``2π`` or jump by about
+    ``2π`` (an angle the NLP can wrap onto another branch). Returns ``""`` when none applies
+    (and for a multi-phase solution).
+    """
+    pr = getattr(sol, "problem", None)
+    if not isinstance(pr, OptimalControlProblem) or not np.isfinite(sol.tf):
+        return ""
+    out = []
+    if pr.free_final_time:
+        lo_tf, hi_tf = pr.tf_bounds
+        span = max(abs(sol.tf - pr.t0), 1e-12)
+        for name, b in (("lower", lo_tf), ("upper", hi_tf)):
+            if np.isfinite(b) and b > pr.t0 and abs(sol.tf - b) <= 1e-6 * span:
+                out.append(f"tf = {sol.tf:.6g} s sits at its {name} bound (tf_bounds={pr.tf_bounds}): "
+                           "the optimum may lie beyond it; widen tf_bounds")
+    names = pr.control_names
+    u = np.asarray(sol.u, float)
+    for j in range(pr.n_controls):
+        if np.isfinite(pr.control_lower[j]) and np.isfinite(pr.control_upper[j]):
+            continue
+        uj = u[:, j][np.isfinite(u[:, j])]
+        if uj.size < 2:
+            continue
+        jumps = np.abs(np.diff(uj))
+        if np.ptp(uj) > 2.0 * np.pi or np.any(np.abs(jumps - 2.0 * np.pi) < 0.5):
+            out.append(f"control {names[j]!r} is unbounded and spans {np.ptp(uj):.3g} (> 2π or a ~2π jump): "
+                       "if it is an angle the NLP can wrap it onto another 2π branch; bound it to one branch "
+                       "(control_lower/control_upper) or write it as (cos, sin)")
+        if pr.free_final_time:
+            out.append(f"control {names[j]!r} is unbounded in a free-final-time problem (max |u| = "
+                       f"{np.max(np.abs(uj)):.3g}): a minimum-time optimum may want an impulse; bound it "
+                       "with control_lower/control_upper")
+    return "; ".join(out)
 
 
 def solve_adaptive(
@@ -1059,18 +1102,28 @@ def solve_adaptive(
             infeasible_meshes = infeasible_meshes + 1 if sol.status == 3 else 0
             if infeasible_meshes >= 2:
                 stop_infeasible = True
-                message = (
-                    f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive meshes "
-                    f"(last {meshes[0].label() if not multi else 'per-phase meshes'}); the problem's constraints "
-                    "(bounds, boundary values, tf_bounds, path) may have no solution"
-                )
+                where = meshes[0].label() if not multi else "per-phase meshes"
+                if good is not None:
+                    # an earlier mesh converged: the problem is feasible, the refined NLPs lost its basin
+                    message = (
+                        f"IPOPT reported local infeasibility on {infeasible_meshes} consecutive refined meshes "
+                        f"(last {where}) after an earlier mesh had converged (the problem is feasible): the "
+                        "refinement left the converged solution's basin; try the other method, a different "
+                        "initial mesh or guess, or a larger max_iterations"
+                    )
+                else:
+                    message = (
+                        f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive "
+                        f"meshes (last {where}); the problem's constraints (bounds, boundary values, tf_bounds, "
+                        "path) may have no solution"
+                    )
                 break
         opt_split = None
         if sol.success and emax <= tol:
             opt = None
             if check_optimality_flag and not multi:
                 opt = _check_optimality(sol, threshold=optimality_threshold)
-            if opt is None or opt.met:
+            if opt is None or opt.met is not False:  # None: no check applies (certificate says so)
                 converged = True
                 message = f"tolerance {tol:g} met on mesh iteration {len(history)}: max relative error {emax:.3g}"
                 break
@@ -1141,8 +1194,17 @@ def solve_adaptive(
         certificate=cert,
     )
     ok = bool(converged and sol.success and cert.satisfied)
-    if sol.success and cert.error_met and not cert.optimality_met:
+    if sol.success and cert.error_met and cert.optimality_met is False:
         message = f"optimality conditions NOT met ({cert.optimality_detail}); {message}"
+    if ok:
+        checked = ("optimality checks " + ", ".join(cert.optimality_checks) + " hold"
+                   if cert.optimality_checks else f"optimality {cert.optimality_detail}")
+        message = (f"locally optimal: {message}; {checked}; a local optimum of the NLP: "
+                   "multistart (or other guesses) searches for better ones")
+    elif sol.success and not cert.error_met and not multi:
+        causes = _likely_causes(sol)
+        if causes:
+            message = f"{message}; likely cause: {causes}"
     if multi:
         return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)
     base = {f.name: getattr(sol, f.name) for f in fields(OptimalControlSolution)}

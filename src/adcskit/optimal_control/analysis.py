@@ -277,8 +277,11 @@ class OptimalityCheck(Result):
 
     Attributes
     ----------
-    met : bool
-        Every applicable check is within its threshold.
+    met : bool or None
+        Every applicable check is within its threshold; None ("not checked") when no check
+        applies (``checks`` empty: e.g. a non-autonomous problem with an unbounded control,
+        or an active state bound with fixed ``tf`` and unbounded controls). Never True
+        without a check.
     checks : tuple of str
         Checks applied: ``"H-constant"`` (autonomous problem), ``"transversality"`` (free
         ``tf`` off its bounds), ``"switching-sign"`` (controls on a bound).
@@ -310,7 +313,7 @@ class OptimalityCheck(Result):
     (True, ('H-constant',), True)
     """
 
-    met: bool
+    met: bool | None
     checks: tuple[str, ...]
     h_spread: float
     h_target_error: float
@@ -485,9 +488,12 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
         checks.append("switching-sign")
         notes.append(f"switching-sign violation {sw_viol:.2e}")
     figs = [v for v in (h_spread, h_target, sw_viol) if np.isfinite(v)]
-    met = bool(all(v <= threshold for v in figs))
+    # no check applied: nothing is certified (None, "not checked"), never a vacuous True
+    met = bool(all(v <= threshold for v in figs)) if checks else None
+    if not checks:
+        notes.append("no first-order check applies to this problem")
     detail = (
-        f"{'met' if met else 'NOT met'} (threshold {threshold:.2g}, scale S = {S:.3g}, "
+        f"{'not checked' if met is None else 'met' if met else 'NOT met'} (threshold {threshold:.2g}, scale S = {S:.3g}, "
         f"{int(adj.sum())} switch-adjacent points left out): " + ", ".join(notes)
     )
     return OptimalityCheck(
