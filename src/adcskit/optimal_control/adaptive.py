@@ -934,7 +934,10 @@ def solve_adaptive(
     switch_times : bool
         Once a bang-bang structure is stable over two meshes, re-solve with the switch times
         as free phase boundaries (one constant-bound arc per phase, :func:`solve_multiphase`)
-        and continue from the joined solution (single phase; counts as one solve).
+        and continue from the joined solution (single phase; counts as one solve). A re-solve
+        that raises ``J`` by more than ``tol·|J|`` over the solution it started from is
+        rejected (the arc structure was not bang-bang, e.g. a short singular arc) and listed
+        in ``mesh_history``.
 
     Returns
     -------
@@ -1082,7 +1085,21 @@ def solve_adaptive(
                 polished = _switch_time_solve(problem, sol, structure, tol=tol, method=method, n_min=n_min,
                                               n_max=n_max, min_width=min_width, ipopt_options=ipopt_options)
                 n_solves += 1
-                if polished is not None and polished[0].success:
+                rise = (-np.inf if polished is None or not polished[0].success
+                        else float(polished[0].objective) - float(sol.objective))
+                if rise > tol * max(abs(float(sol.objective)), 1e-12):
+                    # the bang-bang re-solve raised J over the solution it started from: the
+                    # structure is not bang-bang (e.g. a short singular arc read as a smeared
+                    # switch); keep refining the solution before it
+                    p_sol, nit_p, build_p, ipopt_p = polished
+                    history.append(MeshIteration(
+                        meshes=(p_sol.mesh,), n_collocation=int(sum(p_sol.mesh.nodes)),
+                        max_error=float(np.max(_phase_errors([p_sol], extra)[0])),
+                        objective=float(p_sol.objective), success=True, nit=int(nit_p),
+                        solve_s=time.perf_counter() - t_start,
+                        warm_start=f"switch-times rejected (J rose by {rise:.3g} > tol·|J|)",
+                        build_s=build_p, ipopt_s=ipopt_p))
+                elif polished is not None and polished[0].success:
                     sol, nit_p, build_p, ipopt_p = polished
                     phase_sols = [sol]
                     errs = _phase_errors(phase_sols, extra)
