@@ -935,8 +935,9 @@ def solve_adaptive(
         Once a bang-bang structure is stable over two meshes, re-solve with the switch times
         as free phase boundaries (one constant-bound arc per phase, :func:`solve_multiphase`)
         and continue from the joined solution (single phase; counts as one solve). A re-solve
-        that raises ``J`` by more than ``tol·|J|`` over the solution it started from is
-        rejected (the arc structure was not bang-bang, e.g. a short singular arc) and listed
+        that raises ``J`` by more than ``tol·|J|`` over the solution it started from (when
+        that solution's mesh error ``e`` has ``e² <= tol``, so its ``J`` is trusted to
+        ``tol·|J|``) is rejected (the arc structure was not bang-bang, e.g. a short singular arc) and listed
         in ``mesh_history``.
 
     Returns
@@ -1087,7 +1088,9 @@ def solve_adaptive(
                 n_solves += 1
                 rise = (-np.inf if polished is None or not polished[0].success
                         else float(polished[0].objective) - float(sol.objective))
-                if rise > tol * max(abs(float(sol.objective)), 1e-12):
+                # judged only when the mesh before is accurate enough for its J to be trusted to
+                # tol·|J| (cost error ~ state error squared): emax² <= tol
+                if rise > tol * max(abs(float(sol.objective)), 1e-12) and emax * emax <= tol:
                     # the bang-bang re-solve raised J over the solution it started from: the
                     # structure is not bang-bang (e.g. a short singular arc read as a smeared
                     # switch); keep refining the solution before it
