@@ -870,8 +870,8 @@ def _likely_causes(sol) -> str:
     ``tf`` sitting at a finite bound of ``tf_bounds`` (the optimum may lie beyond it), an
     unbounded control in a free-final-time problem (a minimum-time optimum that wants an
     impulse) and an unbounded control whose values span more than ``2π`` or jump by about
-    ``2π`` (an angle the NLP can wrap onto another branch). Returns ``""`` when none applies
-    (and for a multi-phase solution).
+    ``2π`` (an angle the NLP can wrap onto another branch). Returns ``""`` when none applies.
+    :func:`solve_adaptive` applies it to every phase of a multi-phase solution.
     """
     pr = getattr(sol, "problem", None)
     if not isinstance(pr, OptimalControlProblem) or not np.isfinite(sol.tf):
@@ -1262,8 +1262,9 @@ def solve_adaptive(
                    if cert.optimality_checks else f"optimality {cert.optimality_detail}")
         message = (f"locally optimal: {message}; {checked}; a local optimum of the NLP: "
                    "multistart (or other guesses) searches for better ones")
-    elif sol.success and not cert.error_met and not multi:
-        causes = _likely_causes(sol)
+    elif sol.success and not cert.error_met:
+        parts = [_likely_causes(ps) for ps in phase_sols]
+        causes = "; ".join(f"phase {i}: {c}" if multi else c for i, c in enumerate(parts) if c)
         if causes:
             message = f"{message}; likely cause: {causes}"
     if multi:
