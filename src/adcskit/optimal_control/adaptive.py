@@ -720,10 +720,12 @@ class ErrorCertificate(Result):
         ``check_optimality=False`` or a failed NLP; ``optimality_checks`` is then empty and
         ``optimality_detail`` says why. Never True without a check.
     optimality_checks : tuple of str
-        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``).
+        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``,
+        ``"singular-arc"``, ``"legendre-clebsch"``).
     optimality_figures : dict
-        ``h_spread``, ``h_target_error``, ``switching_violation`` and the ``threshold``
-        they were held to (relative to the size of the Hamiltonian's terms).
+        ``h_spread``, ``h_target_error``, ``switching_violation``, ``singular_violation``,
+        ``legendre_clebsch_violation`` and the ``threshold`` they were held to (relative to
+        the size of the Hamiltonian's terms).
     optimality_detail : str
 
     Examples
