@@ -61,10 +61,19 @@ def test_bang_singular_bang_never_a_false_success(tf, method):
     _no_false_success(sol, 2.0 / 3.0)
 
 
-def test_long_singular_arc_gauss_is_certified():
-    sol = solve_adaptive(bang_singular_bang(3.0), tol=TOL, method="gauss")
-    assert sol.success and abs(sol.objective - 2.0 / 3.0) <= TOL
-    assert "singular-arc" in sol.certificate.optimality_checks
+@pytest.mark.parametrize("tf", [3.0, 2.06])
+def test_singular_arc_success_only_with_the_state_held(tf):
+    # on a singular arc J is flat in the state (J - J* = ∫ δx² dt), so J right to tol leaves
+    # the state O(sqrt(tol)) free: success must also hold the state near the exact
+    # x*(t) = max(1 - t, 0, t - (tf - 1)) (problems/singular.py), else name the singular arc
+    sol = solve_adaptive(bang_singular_bang(tf), tol=TOL, method="gauss")
+    assert abs(sol.objective - 2.0 / 3.0) <= 2.0 * TOL  # J right either way
+    if sol.success:
+        t = np.linspace(0.0, tf, 2001)
+        x_star = np.maximum.reduce([1.0 - t, np.zeros_like(t), t - (tf - 1.0)])
+        assert np.max(np.abs(sol.state_at(t)[:, 0] - x_star)) <= 1e-3
+    else:
+        assert "singular arc" in sol.message
 
 
 def test_mixed_path_constraint_min_time():

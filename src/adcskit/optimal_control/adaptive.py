@@ -836,7 +836,7 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, 
     piece = phase_sols[ip].pieces[ir]
     opt = None
     if check and not multi and success:
-        opt = _check(phase_sols[0], threshold=threshold)
+        opt = _check(phase_sols[0], threshold=threshold, singular_threshold=min(threshold, 2.0 * math.sqrt(tol)))
     if opt is not None:
         o_met, o_checks, o_fig, o_detail = opt.met, opt.checks, dict(
             h_spread=opt.h_spread, h_target_error=opt.h_target_error,
@@ -1184,7 +1184,8 @@ def solve_adaptive(
         if sol.success and emax <= tol:
             opt = None
             if check_optimality_flag and not multi:
-                opt = _check_optimality(sol, threshold=optimality_threshold)
+                opt = _check_optimality(sol, threshold=optimality_threshold,
+                                        singular_threshold=min(optimality_threshold, 2.0 * math.sqrt(tol)))
             if opt is None or opt.met is not False:  # None: no check applies (certificate says so)
                 converged = True
                 message = f"tolerance {tol:g} met on mesh iteration {len(history)}: max relative error {emax:.3g}"
@@ -1285,7 +1286,7 @@ def _optimality_split(sol, opt, min_width: float) -> Mesh | None:
 
     dev = np.abs(sol.hamiltonian - opt.h_median) / opt.h_scale
     bad = dev > opt.threshold if np.isfinite(opt.h_spread) and opt.h_spread > opt.threshold else None
-    if opt.singular_points and not (opt.singular_violation <= opt.threshold):
+    if opt.singular_points and not (opt.singular_violation <= opt.singular_threshold):
         # a singular arc whose switching function does not vanish: refine the arc
         sing = np.zeros(sol.t_control.size, bool)
         sing[list(opt.singular_points)] = True
