@@ -209,7 +209,7 @@ def _legendre_decay(piece) -> float:
     return float(sig)
 
 
-def _control_jump(piece, lo, hi, threshold: float) -> float | None:
+def _control_jump(piece, lo, hi, threshold: float, *, junctions: bool = True) -> float | None:
     """Fraction of the interval (0..1) where a control jumps, or None.
 
     A jump is a change between consecutive collocation points larger than ``threshold``
@@ -230,7 +230,14 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
     if d[k, j] < threshold:
         j = _edge_switch(uc, lo, hi)
         if j is None:
-            return None
+            jn = _bound_junction(uc, lo, hi) if junctions else None
+            if jn is None:
+                return None
+            # a bound <-> interior junction (e.g. bang -> singular, -1 -> 0: half the range,
+            # smeared below ``threshold``): break mid-way between the two points
+            j, k = jn
+            tm = 0.5 * (piece.tc[k] + piece.tc[k + 1])
+            return float((tm - t_a) / (t_b - t_a))
         edge = True
         k = 0 if d[0, j] >= d[-1, j] else d.shape[0] - 1
     tm = 0.5 * (piece.tc[k] + piece.tc[k + 1])
@@ -261,6 +268,30 @@ def _control_jump(piece, lo, hi, threshold: float) -> float | None:
             if 0.0 < f_sw < 1.0:
                 frac = f_sw
     return float(frac)
+
+
+def _bound_junction(uc: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[int, int] | None:
+    """``(channel, k)`` of a junction between a control on a finite bound (within 0.1 % of
+    the span) at collocation point ``k`` or ``k + 1`` and one strictly inside (more than 2 %
+    of the span from both bounds) at the other (the largest change), or None."""
+    best, arg = 0.0, None
+    for j in range(uc.shape[1]):
+        lo_j, hi_j = lo[j], hi[j]
+        if not (np.isfinite(hi_j - lo_j) and hi_j > lo_j):
+            continue
+        span = hi_j - lo_j
+        col = uc[:, j]
+        near_lo, near_hi = np.abs(col - lo_j) <= 0.05 * span, np.abs(col - hi_j) <= 0.05 * span
+        if np.any(near_lo) and np.any(near_hi):
+            continue  # both bounds: a (smeared) bang-bang switch, placed by _control_jump's rule
+        on = (np.abs(col - lo_j) <= 1e-3 * span) | (np.abs(col - hi_j) <= 1e-3 * span)
+        inner = (col - lo_j > 0.02 * span) & (hi_j - col > 0.02 * span)
+        for k in range(col.size - 1):
+            if (on[k] and inner[k + 1]) or (inner[k] and on[k + 1]):
+                dk = abs(col[k + 1] - col[k]) / span
+                if dk > best:
+                    best, arg = dk, (j, k)
+    return arg
 
 
 def _edge_switch(uc: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> int | None:
@@ -369,6 +400,7 @@ def refine_mesh(
     n_max: int = 10,
     smooth_decay: float = 1.0,
     jump_threshold: float = 0.5,
+    bound_junctions: bool = True,
     reduce: bool = False,
     reduce_margin: float = 10.0,
     snap: float = 0.02,
@@ -396,6 +428,12 @@ def refine_mesh(
     jump_threshold : float
         A control jump larger than this fraction of its range between consecutive
         collocation points marks a nonsmooth interval (Liu, Hager & Rao 2015).
+    bound_junctions : bool
+        Also split at a junction between a control on a finite bound and one strictly
+        inside its bounds (a bang -> singular arc corner such as -1 -> 0, half the range
+        and smeared below ``jump_threshold``). :func:`solve_adaptive` turns it off for
+        problems with path constraints, whose interior arcs (a mixed constraint riding)
+        converged in fewer solves without it (rest-to-rest with ``u + v <= 1``: 6 vs > 12).
     reduce : bool
         Mesh size reduction (Liu, Hager & Rao 2015, §4: where the tolerance is met, lower the
         degree or merge adjacent intervals). Needs ``pieces``. An interval with
@@ -452,6 +490,7 @@ def refine_mesh(
     n_min = check_int("n_min", n_min, minimum=1)
     n_max = check_int("n_max", n_max, minimum=n_min)
     reduce = check_flag("reduce", reduce)
+    bound_junctions = check_flag("bound_junctions", bound_junctions)
     margin = check_positive("reduce_margin", reduce_margin)
     snap = check_range("snap", snap, 0.0, 0.5, hi_open=True)
     min_width = check_range("min_width", min_width, 0.0, 0.1)
@@ -493,7 +532,7 @@ def refine_mesh(
         if piece is not None:
             lo = np.full(piece.uc.shape[1], -np.inf) if control_lower is None else np.asarray(control_lower, float)
             hi = np.full(piece.uc.shape[1], np.inf) if control_upper is None else np.asarray(control_upper, float)
-            jump = _control_jump(piece, lo, hi, jump_threshold)
+            jump = _control_jump(piece, lo, hi, jump_threshold, junctions=bound_junctions)
             smooth = jump is None and _legendre_decay(piece) >= smooth_decay
         side = 0
         if jump is not None and snap > 0.0:
@@ -660,7 +699,8 @@ class ErrorCertificate(Result):
     Attributes
     ----------
     satisfied : bool
-        ``error_met and optimality_met``: what ``success`` of :func:`solve_adaptive` requires.
+        ``error_met`` and no applied optimality check failed (``optimality_met`` is True, or
+        None when no check applied): what ``success`` of :func:`solve_adaptive` requires.
     tol : float
     max_error : float
     worst_phase, worst_interval : int
@@ -673,16 +713,19 @@ class ErrorCertificate(Result):
         How the error was measured.
     error_met : bool
         The NLP converged and every interval's relative state error is ``<= tol``.
-    optimality_met : bool
-        The first-order optimality checks of
-        :func:`~adcskit.optimal_control.check_optimality` hold (single-phase problems; for a
-        multi-phase problem, or with ``check_optimality=False``, they are not checked and
-        this repeats the NLP's convergence: ``optimality_checks`` is then empty).
+    optimality_met : bool or None
+        True/False: the first-order optimality checks of
+        :func:`~adcskit.optimal_control.check_optimality` (single-phase problems) hold / fail.
+        None ("not checked") when no check applied: a multi-phase problem,
+        ``check_optimality=False`` or a failed NLP; ``optimality_checks`` is then empty and
+        ``optimality_detail`` says why. Never True without a check.
     optimality_checks : tuple of str
-        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``).
+        The checks applied (``"H-constant"``, ``"transversality"``, ``"switching-sign"``,
+        ``"singular-arc"``, ``"legendre-clebsch"``).
     optimality_figures : dict
-        ``h_spread``, ``h_target_error``, ``switching_violation`` and the ``threshold``
-        they were held to (relative to the size of the Hamiltonian's terms).
+        ``h_spread``, ``h_target_error``, ``switching_violation``, ``singular_violation``,
+        ``legendre_clebsch_violation`` and the ``threshold`` they were held to (relative to
+        the size of the Hamiltonian's terms).
     optimality_detail : str
 
     Examples
@@ -706,7 +749,7 @@ class ErrorCertificate(Result):
     mesh_iterations: int
     estimator: str
     error_met: bool = False
-    optimality_met: bool = False
+    optimality_met: bool | None = None
     optimality_checks: tuple[str, ...] = ()
     optimality_figures: dict[str, float] = field(default_factory=dict)
     optimality_detail: str = ""
@@ -793,18 +836,19 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, 
     piece = phase_sols[ip].pieces[ir]
     opt = None
     if check and not multi and success:
-        opt = _check(phase_sols[0], threshold=threshold)
+        opt = _check(phase_sols[0], threshold=threshold, singular_threshold=min(threshold, 2.0 * math.sqrt(tol)))
     if opt is not None:
         o_met, o_checks, o_fig, o_detail = opt.met, opt.checks, dict(
             h_spread=opt.h_spread, h_target_error=opt.h_target_error,
-            switching_violation=opt.switching_violation, threshold=opt.threshold), opt.detail
+            switching_violation=opt.switching_violation, singular_violation=opt.singular_violation,
+            legendre_clebsch_violation=opt.legendre_clebsch_violation, threshold=opt.threshold), opt.detail
     else:
         why = ("not checked (check_optimality=False)" if not check else
                "not checked (multi-phase problem)" if multi else "not checked (the NLP failed)")
-        o_met, o_checks, o_fig, o_detail = bool(success), (), {}, why
+        o_met, o_checks, o_fig, o_detail = None, (), {}, why
     dyn_ok = bool(success and emax <= tol)
     return ErrorCertificate(
-        satisfied=bool(dyn_ok and o_met),
+        satisfied=bool(dyn_ok and o_met is not False),
         tol=tol,
         max_error=emax,
         worst_phase=ip,
@@ -814,11 +858,52 @@ def _certificate(phase_sols, errs, tol, success, n_iter, extra, *, multi=False, 
         mesh_iterations=n_iter,
         estimator=_estimator_text(extra),
         error_met=dyn_ok,
-        optimality_met=bool(o_met),
+        optimality_met=None if o_met is None else bool(o_met),
         optimality_checks=tuple(o_checks),
         optimality_figures=o_fig,
         optimality_detail=o_detail,
     )
+
+
+def _likely_causes(sol) -> str:
+    """Likely causes, with the parameter to change, when refinement of a converged solution stalls.
+
+    Looks at a single-phase solution for three patterns that make hp refinement blow up:
+    ``tf`` sitting at a finite bound of ``tf_bounds`` (the optimum may lie beyond it), an
+    unbounded control in a free-final-time problem (a minimum-time optimum that wants an
+    impulse) and an unbounded control whose values span more than ``2π`` or jump by about
+    ``2π`` (an angle the NLP can wrap onto another branch). Returns ``""`` when none applies.
+    :func:`solve_adaptive` applies it to every phase of a multi-phase solution.
+    """
+    pr = getattr(sol, "problem", None)
+    if not isinstance(pr, OptimalControlProblem) or not np.isfinite(sol.tf):
+        return ""
+    out = []
+    if pr.free_final_time:
+        lo_tf, hi_tf = pr.tf_bounds
+        span = max(abs(sol.tf - pr.t0), 1e-12)
+        for name, b in (("lower", lo_tf), ("upper", hi_tf)):
+            if np.isfinite(b) and b > pr.t0 and abs(sol.tf - b) <= 1e-6 * span:
+                out.append(f"tf = {sol.tf:.6g} s sits at its {name} bound (tf_bounds={pr.tf_bounds}): "
+                           "the optimum may lie beyond it; widen tf_bounds")
+    names = pr.control_names
+    u = np.asarray(sol.u, float)
+    for j in range(pr.n_controls):
+        if np.isfinite(pr.control_lower[j]) and np.isfinite(pr.control_upper[j]):
+            continue
+        uj = u[:, j][np.isfinite(u[:, j])]
+        if uj.size < 2:
+            continue
+        jumps = np.abs(np.diff(uj))
+        if np.ptp(uj) > 2.0 * np.pi or np.any(np.abs(jumps - 2.0 * np.pi) < 0.5):
+            out.append(f"control {names[j]!r} is unbounded and spans {np.ptp(uj):.3g} (> 2π or a ~2π jump): "
+                       "if it is an angle the NLP can wrap it onto another 2π branch; bound it to one branch "
+                       "(control_lower/control_upper) or write it as (cos, sin)")
+        if pr.free_final_time:
+            out.append(f"control {names[j]!r} is unbounded in a free-final-time problem (max |u| = "
+                       f"{np.max(np.abs(uj)):.3g}): a minimum-time optimum may want an impulse; bound it "
+                       "with control_lower/control_upper")
+    return "; ".join(out)
 
 
 def solve_adaptive(
@@ -891,7 +976,11 @@ def solve_adaptive(
     switch_times : bool
         Once a bang-bang structure is stable over two meshes, re-solve with the switch times
         as free phase boundaries (one constant-bound arc per phase, :func:`solve_multiphase`)
-        and continue from the joined solution (single phase; counts as one solve).
+        and continue from the joined solution (single phase; counts as one solve). A re-solve
+        that raises ``J`` by more than ``tol·|J|`` over the solution it started from (when
+        that solution's mesh error ``e`` has ``e² <= tol``, so its ``J`` is trusted to
+        ``tol·|J|``) is rejected (the arc structure was not bang-bang, e.g. a short singular arc) and listed
+        in ``mesh_history``.
 
     Returns
     -------
@@ -1039,7 +1128,23 @@ def solve_adaptive(
                 polished = _switch_time_solve(problem, sol, structure, tol=tol, method=method, n_min=n_min,
                                               n_max=n_max, min_width=min_width, ipopt_options=ipopt_options)
                 n_solves += 1
-                if polished is not None and polished[0].success:
+                rise = (-np.inf if polished is None or not polished[0].success
+                        else float(polished[0].objective) - float(sol.objective))
+                # judged only when the mesh before is accurate enough for its J to be trusted to
+                # tol·|J| (cost error ~ state error squared): emax² <= tol
+                if rise > tol * max(abs(float(sol.objective)), 1e-12) and emax * emax <= tol:
+                    # the bang-bang re-solve raised J over the solution it started from: the
+                    # structure is not bang-bang (e.g. a short singular arc read as a smeared
+                    # switch); keep refining the solution before it
+                    p_sol, nit_p, build_p, ipopt_p = polished
+                    history.append(MeshIteration(
+                        meshes=(p_sol.mesh,), n_collocation=int(sum(p_sol.mesh.nodes)),
+                        max_error=float(np.max(_phase_errors([p_sol], extra)[0])),
+                        objective=float(p_sol.objective), success=True, nit=int(nit_p),
+                        solve_s=time.perf_counter() - t_start,
+                        warm_start=f"switch-times rejected (J rose by {rise:.3g} > tol·|J|)",
+                        build_s=build_p, ipopt_s=ipopt_p))
+                elif polished is not None and polished[0].success:
                     sol, nit_p, build_p, ipopt_p = polished
                     phase_sols = [sol]
                     errs = _phase_errors(phase_sols, extra)
@@ -1059,18 +1164,29 @@ def solve_adaptive(
             infeasible_meshes = infeasible_meshes + 1 if sol.status == 3 else 0
             if infeasible_meshes >= 2:
                 stop_infeasible = True
-                message = (
-                    f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive meshes "
-                    f"(last {meshes[0].label() if not multi else 'per-phase meshes'}); the problem's constraints "
-                    "(bounds, boundary values, tf_bounds, path) may have no solution"
-                )
+                where = meshes[0].label() if not multi else "per-phase meshes"
+                if good is not None:
+                    # an earlier mesh converged: the problem is feasible, the refined NLPs lost its basin
+                    message = (
+                        f"IPOPT reported local infeasibility on {infeasible_meshes} consecutive refined meshes "
+                        f"(last {where}) after an earlier mesh had converged (the problem is feasible): the "
+                        "refinement left the converged solution's basin; try the other method, a different "
+                        "initial mesh or guess, or a larger max_iterations"
+                    )
+                else:
+                    message = (
+                        f"infeasible: IPOPT proved the NLP locally infeasible on {infeasible_meshes} consecutive "
+                        f"meshes (last {where}); the problem's constraints (bounds, boundary values, tf_bounds, "
+                        "path) may have no solution"
+                    )
                 break
         opt_split = None
         if sol.success and emax <= tol:
             opt = None
             if check_optimality_flag and not multi:
-                opt = _check_optimality(sol, threshold=optimality_threshold)
-            if opt is None or opt.met:
+                opt = _check_optimality(sol, threshold=optimality_threshold,
+                                        singular_threshold=min(optimality_threshold, 2.0 * math.sqrt(tol)))
+            if opt is None or opt.met is not False:  # None: no check applies (certificate says so)
                 converged = True
                 message = f"tolerance {tol:g} met on mesh iteration {len(history)}: max relative error {emax:.3g}"
                 break
@@ -1103,6 +1219,7 @@ def solve_adaptive(
                     n_max=n_max,
                     reduce=mesh_reduction,
                     min_width=min_width,
+                    bound_junctions=getattr(ps.problem, "path", None) is None,
                 )
                 new_meshes.append(nm)
             if all(nm == m for nm, m in zip(new_meshes, meshes, strict=True)):
@@ -1141,8 +1258,18 @@ def solve_adaptive(
         certificate=cert,
     )
     ok = bool(converged and sol.success and cert.satisfied)
-    if sol.success and cert.error_met and not cert.optimality_met:
+    if sol.success and cert.error_met and cert.optimality_met is False:
         message = f"optimality conditions NOT met ({cert.optimality_detail}); {message}"
+    if ok:
+        checked = ("optimality checks " + ", ".join(cert.optimality_checks) + " hold"
+                   if cert.optimality_checks else f"optimality {cert.optimality_detail}")
+        message = (f"locally optimal: {message}; {checked}; a local optimum of the NLP: "
+                   "multistart (or other guesses) searches for better ones")
+    elif sol.success and not cert.error_met:
+        parts = [_likely_causes(ps) for ps in phase_sols]
+        causes = "; ".join(f"phase {i}: {c}" if multi else c for i, c in enumerate(parts) if c)
+        if causes:
+            message = f"{message}; likely cause: {causes}"
     if multi:
         return sol.with_adaptive(success=ok, message=f"{message} ({sol.message})", **extras)
     base = {f.name: getattr(sol, f.name) for f in fields(OptimalControlSolution)}
@@ -1159,6 +1286,11 @@ def _optimality_split(sol, opt, min_width: float) -> Mesh | None:
 
     dev = np.abs(sol.hamiltonian - opt.h_median) / opt.h_scale
     bad = dev > opt.threshold if np.isfinite(opt.h_spread) and opt.h_spread > opt.threshold else None
+    if opt.singular_points and not (opt.singular_violation <= opt.singular_threshold):
+        # a singular arc whose switching function does not vanish: refine the arc
+        sing = np.zeros(sol.t_control.size, bool)
+        sing[list(opt.singular_points)] = True
+        bad = sing if bad is None else bad | sing
     if bad is None or not np.any(bad):
         bad = _switch_adjacent(sol.u, lo, hi)
     if not np.any(bad):

@@ -277,15 +277,19 @@ class OptimalityCheck(Result):
 
     Attributes
     ----------
-    met : bool
-        Every applicable check is within its threshold.
+    met : bool or None
+        Every applicable check is within its threshold; None ("not checked") when no check
+        applies (``checks`` empty: e.g. a non-autonomous problem with an unbounded control,
+        or an active state bound with fixed ``tf`` and unbounded controls). Never True
+        without a check.
     checks : tuple of str
         Checks applied: ``"H-constant"`` (autonomous problem), ``"transversality"`` (free
-        ``tf`` off its bounds), ``"switching-sign"`` (controls on a bound).
+        ``tf`` off its bounds), ``"switching-sign"`` (controls on a bound), ``"singular-arc"``
+        and ``"legendre-clebsch"`` (a control-affine channel inside its bounds over an arc).
     h_spread : float
         ``max_k |H_k − median H| / S`` over the collocation points away from control switches
         (NaN when not applicable); ``S`` is the size of the Hamiltonian's terms,
-        ``median_k (|g_k| + Σ_i |λ_i f_i|_k)``.
+        ``median_k (|g_k| + Σ_i |λ_i f_i|_k)``, floored at a tenth of their time-weighted mean.
     h_target_error : float
         ``|median H + ∂φ/∂tf| / S`` for a free final time (NaN when not applicable).
     switching_violation : float
@@ -300,6 +304,18 @@ class OptimalityCheck(Result):
     n_excluded : int
         Collocation points left out as switch-adjacent.
     detail : str
+    singular_violation : float
+        On singular arcs (see :func:`check_optimality`): the largest of
+        ``|∂H/∂u_j| (upper_j − lower_j) / S̄`` and ``|d/dt ∂H/∂u_j| (upper_j − lower_j) T_arc / S̄``
+        with ``S̄ = max(S, time-weighted mean of H's terms)`` (the terms vanish on a singular
+        arc; NaN when no singular arc is found).
+    legendre_clebsch_violation : float
+        Fraction of singular-arc points where the generalised Legendre–Clebsch sign
+        ``−∂/∂u_j (d²/dt² ∂H/∂u_j) >= 0`` fails (NaN when not applicable).
+    singular_points : tuple of int
+        Collocation points (indices into ``t_control``) on singular arcs.
+    singular_threshold : float
+        Bound applied to ``singular_violation``.
 
     Examples
     --------
@@ -310,7 +326,7 @@ class OptimalityCheck(Result):
     (True, ('H-constant',), True)
     """
 
-    met: bool
+    met: bool | None
     checks: tuple[str, ...]
     h_spread: float
     h_target_error: float
@@ -320,6 +336,10 @@ class OptimalityCheck(Result):
     h_median: float
     n_excluded: int
     detail: str
+    singular_violation: float = np.nan
+    legendre_clebsch_violation: float = np.nan
+    singular_points: tuple[int, ...] = ()
+    singular_threshold: float = np.nan
 
 
 def _problem_funs(problem):
@@ -341,6 +361,81 @@ def _problem_funs(problem):
     fg = ca.Function("fg", [x, u, t], [f, g])
     cf = ca.Function("c", [x, u, t], [c]) if c is not None else None
     return fg, cf, autonomous
+
+
+def _singular_funs(problem):
+    """Per control channel: whether ``H = g + λᵀf`` is affine in it, and CasADi functions of
+    ``(x, λ, u, t)`` for the switching function ``σ = ∂H/∂u``, its time derivative along the
+    state/costate flow ``σ̇`` and, where ``σ̇`` does not depend on ``u`` (an order-1 singular
+    arc), ``∂σ̈/∂u`` (the generalised Legendre–Clebsch coefficient; Kelley's condition for a
+    minimum is ``−∂σ̈_j/∂u_j >= 0``)."""
+    import casadi as ca
+
+    from adcskit.optimal_control.transcription import _as_list, _scalar
+
+    nx, nu = problem.n_states, problem.n_controls
+    x, lam, u, t = ca.SX.sym("x", nx), ca.SX.sym("lam", nx), ca.SX.sym("u", nu), ca.SX.sym("t")
+    f = ca.vertcat(*_as_list(problem.dynamics(x, u, t), nx, "dynamics"))
+    g = ca.SX(0) if getattr(problem, "lagrange", None) is None else _scalar(problem.lagrange(x, u, t), "lagrange")
+    H = g + ca.dot(lam, f)
+    sig = ca.gradient(H, u)
+    lam_dot = -ca.gradient(H, x)
+
+    def ddt(e):  # total time derivative along ẋ = f, λ̇ = −H_x (u held: order-1 arcs)
+        return ca.jtimes(e, x, f) + ca.jtimes(e, lam, lam_dot) + ca.jacobian(e, t)
+
+    sig_dot = ddt(sig)
+    affine = np.array([not ca.depends_on(sig[j], u) for j in range(nu)], bool)
+    glc = []
+    for j in range(nu):
+        order1 = affine[j] and not ca.depends_on(sig_dot[j], u)
+        glc.append(ca.jacobian(ddt(sig_dot[j]), u[j]) if order1 else ca.SX(np.nan))
+    fun = ca.Function("singular", [x, lam, u, t], [sig, sig_dot, ca.vertcat(*glc)])
+    return affine, fun
+
+
+def _singular_runs(interior: np.ndarray, tc: np.ndarray, min_points: int, min_duration: float):
+    """Runs of consecutive True in ``interior`` with >= ``min_points`` points lasting
+    >= ``min_duration`` (s): ``[(first, last), ...]`` indices."""
+    runs, k, n = [], 0, interior.size
+    while k < n:
+        if not interior[k]:
+            k += 1
+            continue
+        a = k
+        while k + 1 < n and interior[k + 1]:
+            k += 1
+        if k - a + 1 >= min_points and tc[k] - tc[a] >= min_duration:
+            runs.append((a, k))
+        k += 1
+    return runs
+
+
+def _singular_check(solution, prob, xc, lc, adj, active, S):
+    """Singular-arc figures of :func:`check_optimality`: ``(violation, glc_fraction, points)``."""
+    lo, hi = prob.control_lower, prob.control_upper
+    span = np.where(np.isfinite(hi - lo) & (hi > lo), hi - lo, np.nan)
+    if not np.any(np.isfinite(span)):
+        return np.nan, np.nan, ()
+    affine, fun = _singular_funs(prob)
+    u, tc = solution.u, solution.t_control
+    T = float(solution.tf - solution.t0)
+    viol, glc_bad, glc_n, pts = 0.0, 0, 0, []
+    for j in np.flatnonzero(affine & np.isfinite(span)):
+        inside = (u[:, j] > lo[j] + 1e-3 * span[j]) & (u[:, j] < hi[j] - 1e-3 * span[j]) & ~adj & ~active
+        for a, b in _singular_runs(inside, tc, 3, 0.01 * T):
+            idx = np.arange(a, b + 1)
+            t_arc = float(tc[b] - tc[a])
+            for k in idx:
+                sg, sd, gl = (np.asarray(v, float).ravel() for v in fun(xc[k], lc[k], u[k], tc[k]))
+                viol = max(viol, abs(sg[j]) * span[j] / S, abs(sd[j]) * span[j] * t_arc / S)
+                if np.isfinite(gl[j]):
+                    glc_n += 1
+                    glc_bad += int(-gl[j] < -1e-9 * max(1.0, abs(gl[j])))
+            pts += idx.tolist()
+    if not pts:
+        return np.nan, np.nan, ()
+    return float(viol), (glc_bad / glc_n if glc_n else np.nan), tuple(sorted(set(pts)))
 
 
 def _mayer_dtf(problem, sol) -> float:
@@ -373,7 +468,8 @@ def _switch_adjacent(u: np.ndarray, lo: np.ndarray, hi: np.ndarray, jump: float 
     return out
 
 
-def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> OptimalityCheck:
+def check_optimality(solution: OptimalControlSolution, *, threshold: float,
+                     singular_threshold: float | None = None) -> OptimalityCheck:
     """First-order necessary conditions of the minimum principle, checked on the costates.
 
     * **H constant** on an autonomous problem (``f``, ``g`` and the path constraints do not
@@ -385,6 +481,15 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
       ``H = −∂φ/∂tf`` (``−1`` for minimum time).
     * **Switching sign**: where a control sits on a bound (within 0.1 % of its span) with no
       active path constraint, ``∂H/∂u`` has the sign that makes that bound the minimiser.
+
+    * **Singular arcs**: where a control enters ``H`` affinely and stays strictly inside its
+      bounds over a run of at least 3 collocation points lasting >= 1 % of the horizon (no
+      switch, no active path constraint, no active state bound), the switching function
+      ``σ = ∂H/∂u`` and its time derivative along the state/costate flow vanish
+      (``singular_violation``), and for an order-1 arc the generalised Legendre–Clebsch sign
+      ``−∂σ̈/∂u >= 0`` holds on most of the arc (Kelley 1964; Bryson & Ho 1975 §8.3). A
+      control ringing on a singular arc leaves ``H`` constant but makes ``σ̇`` (a function
+      of the state) non-zero.
 
     Collocation points adjacent to a control switch are left out of the H and sign checks:
     there the costate estimate of a bang-bang problem is not unique (the control-bound
@@ -398,6 +503,11 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
     threshold : float
         Largest admissible relative figure (dimensionless; :func:`solve_adaptive` uses
         :func:`~adcskit.optimal_control.default_optimality_threshold`, ``max(0.02, 2 √tol)``).
+    singular_threshold : float, optional
+        Bound of ``singular_violation`` (default ``threshold``). :func:`solve_adaptive` uses
+        ``min(threshold, 2 √tol)``: on a singular arc ``J`` is flat to first order in the
+        state, so the objective does not hold the state there and the switching function's
+        derivative (a function of the state) is held to the tolerance's square root instead.
 
     Returns
     -------
@@ -414,6 +524,7 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
     if not isinstance(solution, OptimalControlSolution):
         raise InputTypeError(f"solution must be an OptimalControlSolution; got {type(solution).__name__}")
     threshold = check_positive("threshold", threshold)
+    s_thr = threshold if singular_threshold is None else check_positive("singular_threshold", singular_threshold)
     prob = solution.problem
     fg, cf, autonomous = _problem_funs(prob)
     tc, u, H = solution.t_control, solution.u, solution.hamiltonian
@@ -431,7 +542,13 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
         fk, gk = fg(xc[k], u[k], tc[k])
         F[k], G[k] = np.asarray(fk).ravel(), float(gk)
     terms = np.abs(G) + np.sum(np.abs(lc * F), axis=1)  # size of H's terms at each point
-    S = float(np.median(terms))
+    # scale: the pointwise median of the terms, floored at a tenth of their time-weighted
+    # mean, so that a mesh crowded onto arcs where H's terms are small (a singular arc with
+    # x = λ = 0: median 1.5e-15 on bang-singular-bang) does not collapse it
+    fin = np.isfinite(terms)
+    w = np.gradient(tc) if n > 1 else np.ones(n)
+    S_time = float(np.sum(w[fin] * terms[fin]) / np.sum(w[fin])) if np.any(fin) and np.sum(w[fin]) > 0 else 0.0
+    S = max(float(np.median(terms)), 0.1 * S_time)
     S = S if np.isfinite(S) and S > 0 else 1.0
     Sk = np.maximum(np.where(np.isfinite(terms), terms, S), S)  # pointwise, never below S
     lo, hi = prob.control_lower, prob.control_upper
@@ -484,10 +601,35 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
         sw_viol = float(np.nanmax(np.where(np.isfinite(span), bad * span, 0.0)) / S) if bad.size else 0.0
         checks.append("switching-sign")
         notes.append(f"switching-sign violation {sw_viol:.2e}")
-    figs = [v for v in (h_spread, h_target, sw_viol) if np.isfinite(v)]
-    met = bool(all(v <= threshold for v in figs))
+    # singular arcs (scaled by the time-weighted mean of H's terms, which vanish on the arc):
+    # a control-affine channel strictly inside its bounds over a run of >= 3
+    # collocation points (>= 1 % of the horizon, no switch, no active path constraint): the
+    # switching function and its time derivative vanish there, and the generalised
+    # Legendre-Clebsch sign holds (Kelley 1964; Bryson & Ho 1975 §8.3)
+    act = np.zeros(n, bool)
+    if cf is not None:
+        C = np.vstack([np.asarray(cf(xc[k], u[k], tc[k])).ravel() for k in range(n)])
+        tol_c = 1e-6 * (1.0 + np.abs(C))
+        act = np.any((C >= prob.path_upper - tol_c) | (C <= prob.path_lower + tol_c), axis=1)
+    sing_viol, glc_viol, sing_pts = (np.nan, np.nan, ()) if state_active else _singular_check(
+        solution, prob, xc, lc, adj, act, max(S, S_time))
+    if sing_pts:
+        checks.append("singular-arc")
+        notes.append(f"singular arc on {len(sing_pts)} points: |σ|, |σ̇| figure {sing_viol:.2e} "
+                     f"(bound {s_thr:.2g})")
+        if np.isfinite(glc_viol):
+            checks.append("legendre-clebsch")
+            notes.append(f"generalised Legendre-Clebsch sign wrong on {glc_viol:.0%} of them")
+    glc_fig = np.nan if not np.isfinite(glc_viol) else (0.0 if glc_viol <= 0.5 else np.inf)
+    # the singular figure against its own bound, expressed on the common threshold's scale
+    sing_rel = sing_viol * threshold / s_thr if np.isfinite(sing_viol) else sing_viol
+    figs = [v for v in (h_spread, h_target, sw_viol, sing_rel, glc_fig) if not np.isnan(v)]
+    # no check applied: nothing is certified (None, "not checked"), never a vacuous True
+    met = bool(all(v <= threshold for v in figs)) if checks else None
+    if not checks:
+        notes.append("no first-order check applies to this problem")
     detail = (
-        f"{'met' if met else 'NOT met'} (threshold {threshold:.2g}, scale S = {S:.3g}, "
+        f"{'not checked' if met is None else 'met' if met else 'NOT met'} (threshold {threshold:.2g}, scale S = {S:.3g}, "
         f"{int(adj.sum())} switch-adjacent points left out): " + ", ".join(notes)
     )
     return OptimalityCheck(
@@ -501,4 +643,8 @@ def check_optimality(solution: OptimalControlSolution, *, threshold: float) -> O
         h_median=Hm,
         n_excluded=int(adj.sum()),
         detail=detail,
+        singular_violation=sing_viol,
+        legendre_clebsch_violation=glc_viol,
+        singular_points=tuple(int(k) for k in sing_pts),
+        singular_threshold=s_thr,
     )

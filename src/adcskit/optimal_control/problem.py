@@ -319,7 +319,7 @@ class Guess:
     x : (M, n_states) ndarray
     u : (M, n_controls) ndarray
     tf : float
-        Final time (s).
+        Final time (s); must equal ``t[-1]`` (to 1e-9·max(1, |tf|)), else InputError.
     t_u : (K,) ndarray, optional
         Sample times of ``u`` when they differ from ``t``.
 
@@ -354,7 +354,11 @@ class Guess:
         object.__setattr__(self, "x", x)
         object.__setattr__(self, "u", u)
         object.__setattr__(self, "t_u", None if self.t_u is None else tu)
-        object.__setattr__(self, "tf", check_positive("guess.tf", self.tf, unit="s"))
+        tf = check_positive("guess.tf", self.tf, unit="s")
+        if abs(t[-1] - tf) > 1e-9 * max(1.0, abs(tf)):
+            raise InputError(f"guess.tf = {tf!r} s must equal guess.t[-1] = {float(t[-1])!r} s (the samples end at the "
+                             "final time); allowed: guess.t[-1] == guess.tf to 1e-9·max(1, |tf|)")
+        object.__setattr__(self, "tf", tf)
 
     def check_widths(self, n_states: int, n_controls: int, *, what: str = "guess") -> None:
         """Raise :class:`InputError` unless ``x`` has ``n_states`` and ``u`` ``n_controls`` columns.

@@ -6,6 +6,12 @@ from adcskit.optimal_control.problems.double_integrator import (
 )
 from adcskit.optimal_control.problems.launch import launch_ascent, launch_ascent_guess
 from adcskit.optimal_control.problems.rendezvous import RendezvousParams, rendezvous_problem
+from adcskit.optimal_control.problems.singular import (
+    bang_singular_bang,
+    bang_singular_bang_objective,
+    rest_to_rest_mixed_path,
+    rest_to_rest_mixed_path_time,
+)
 from adcskit.optimal_control.problems.standard import (
     brachistochrone,
     brachistochrone_time,
@@ -23,6 +29,10 @@ from adcskit.optimal_control.problems.standard import (
 
 __all__ = [
     "RendezvousParams",
+    "bang_singular_bang",
+    "bang_singular_bang_objective",
+    "rest_to_rest_mixed_path",
+    "rest_to_rest_mixed_path_time",
     "brachistochrone",
     "brachistochrone_time",
     "bryson_denham",
