@@ -1029,6 +1029,12 @@ case("optimal_control.problems.bryson_denham", nan_ok=OCP_NAN, positive=("l",))(
 case("optimal_control.problems.hypersensitive", nan_ok=OCP_NAN, positive=("tf",))(lambda: dict(tf=10.0))
 case("optimal_control.problems.rigid_body_reorientation", nan_ok=OCP_NAN)(lambda: dict(angle_deg=180.0))
 case("optimal_control.problems.goddard_rocket", nan_ok=("*",))(lambda: dict())
+case("optimal_control.problems.bang_singular_bang", nan_ok=OCP_NAN, positive=("tf",))(lambda: dict(tf=3.0))
+case("optimal_control.problems.bang_singular_bang_objective", positive=("tf",))(lambda: dict(tf=3.0))
+case("optimal_control.problems.rest_to_rest_mixed_path", nan_ok=(*OCP_NAN, "path_lower"), positive=("distance",))(
+    lambda: dict(distance=1.0)
+)
+case("optimal_control.problems.rest_to_rest_mixed_path_time", positive=("distance",))(lambda: dict(distance=1.0))
 case("optimal_control.problems.launch_ascent", nan_ok=("*",))(lambda: dict())
 
 

@@ -319,7 +319,7 @@ class Guess:
     x : (M, n_states) ndarray
     u : (M, n_controls) ndarray
     tf : float
-        Final time (s); must equal ``t[-1]`` (to 1e-9·max(1, |tf|)), else InputError.
+        Final time (s); must equal ``t[-1]`` (to 1e-9·max(1, abs(tf))), else InputError.
     t_u : (K,) ndarray, optional
         Sample times of ``u`` when they differ from ``t``.
 
