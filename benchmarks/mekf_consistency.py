@@ -87,18 +87,25 @@ def _standalone_data(N: int, seed: int):
     for t in range(T):
         qt[:, t] = q * np.where(q[:, 3:] < 0, -1.0, 1.0)
         q = quat_multiply(np.broadcast_to(dq, (N, 4)), q)
+    bt, gyro, body = _gyro_and_vectors(rng, qt, r, SIG, SV, SU, DT, np.broadcast_to(RATE, (T, 3)), b_hat0 + x0[:, 3:])
+    return r, q_hat0, b_hat0, qt, bt, gyro, body
+
+
+def _gyro_and_vectors(rng, qt, r, sig, sv, su, dt, rate, bias0):
+    """Gyro readings and true biases (one RateGyro per run, initial bias ``bias0[k]``) and two
+    unit vector measurements every 10th step (noise ``sig``; NaN between), drawn from ``rng``."""
+    N, T = qt.shape[:2]
     bt = np.empty((N, T, 3))
     gyro = np.empty((N, T, 3))
-    for k in range(N):  # one RateGyro per run: its initial bias is drawn from P0
-        m = RateGyro(sigma_v=SV, sigma_u=SU, rate_hz=1 / DT, bias0=b_hat0[k] + x0[k, 3:]).measure(
-            np.broadcast_to(RATE, (T, 3)), rng=rng)
+    for k in range(N):
+        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=bias0[k]).measure(rate, rng=rng)
         gyro[k], bt[k] = m.omega, m.bias
     body = np.full((N, T, 2, 3), np.nan)
     A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
     for i in range(2):
-        v = np.einsum("ntij,j->nti", A, r[i]) + SIG[i] * rng.standard_normal(A.shape[:2] + (3,))
+        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
         body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
-    return r, q_hat0, b_hat0, qt, bt, gyro, body
+    return bt, gyro, body
 
 
 def run(N: int, seed: int) -> dict:
@@ -176,16 +183,7 @@ def _choice_data(N: int, seed: int, init_deg: float = 1.0):
     x0 = rng.standard_normal((N, 6)) @ np.sqrt(p0)
     q = quat_multiply(_rotvec_quat(x0[:, :3]), q_hat0)
     qt = np.broadcast_to((q * np.where(q[:, 3:] < 0, -1.0, 1.0))[:, None], (N, T, 4))
-    bt = np.empty((N, T, 3))
-    gyro = np.empty((N, T, 3))
-    for k in range(N):
-        m = RateGyro(sigma_v=sv, sigma_u=su, rate_hz=1 / dt, bias0=x0[k, 3:]).measure(np.zeros((T, 3)), rng=rng)
-        gyro[k], bt[k] = m.omega, m.bias
-    body = np.full((N, T, 2, 3), np.nan)
-    A = quat_to_dcm(qt[:, ::10].reshape(-1, 4)).reshape(N, -1, 3, 3)
-    for i in range(2):
-        v = np.einsum("ntij,j->nti", A, r[i]) + sig[i] * rng.standard_normal(A.shape[:2] + (3,))
-        body[:, ::10, i] = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    bt, gyro, body = _gyro_and_vectors(rng, qt, r, sig, sv, su, dt, np.zeros((T, 3)), x0[:, 3:])
     return r, q_hat0, p0, qt, bt, gyro, body
 
 
